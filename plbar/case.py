@@ -1,0 +1,126 @@
+"""A case: which bar, which load, where to search.  What ``plbar run`` solves.
+
+The default :class:`Case` is the paper's Sec. 4.1 example: the chain with
+``N = 5``, ``m = k = 1`` and a unit force on DOF 1.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+from ._check import choice, positive
+from .bar import ELEMENTS, MASSES, Bar, chain, graded_nodes
+from .errors import InputError
+from .load import Load
+from .paths import Domain, default_domain
+from .system import Problem, problem
+
+__all__ = ["Case", "MODELS"]
+
+MODELS = ("chain", "fe")
+
+
+@dataclass(frozen=True)
+class Case:
+    """Everything that defines a run.
+
+    Parameters
+    ----------
+    model : {"chain", "fe"}
+        The paper's mass-spring chain, or a finite-element bar.
+    n : int, optional
+        Masses of the chain / elements of the FE bar (default 5 / 8).
+    element, mass : str
+        FE element (``P1``/``P2``) and mass (``lumped``/``consistent``); the chain is P1 lumped.
+    length, EA, rhoA : float
+        FE bar length and section properties (the chain has ``L = N``).
+    m, k : float
+        Chain mass and spring stiffness.
+    grading : float
+        Ratio of last to first element length of the FE mesh (1 = uniform).
+    mesh_file : str, optional
+        A meshio-readable 1D line mesh for the FE bar (overrides ``n``, ``length``, ``grading``).
+    point_masses : tuple of (x, m)
+        Extra concentrated masses on FE vertices.
+    load_nodes : tuple of (k, amplitude)
+        Forces on free DOFs (1-based from the clamp).
+    load_points : tuple of (s, amplitude)
+        Point forces at positions ``s`` in ``(0, L]``.
+    grid : (int, int)
+        Scan grid over ``(T^I, T^II)``.
+    T1, T2 : (float, float), optional
+        Search domain; default ``(0, T0^alpha / 2]``.
+    """
+
+    model: str = "chain"
+    n: int | None = None
+    element: str = "P1"
+    mass: str = "lumped"
+    length: float = 1.0
+    EA: float = 1.0
+    rhoA: float = 1.0
+    m: float = 1.0
+    k: float = 1.0
+    grading: float = 1.0
+    mesh_file: str | None = None
+    point_masses: tuple = ()
+    load_nodes: tuple = ()
+    load_points: tuple = ()
+    grid: tuple[int, int] = (200, 200)
+    T1: tuple[float, float] | None = None
+    T2: tuple[float, float] | None = None
+    label: str = field(default="", compare=False)
+
+    def __post_init__(self):
+        choice("model", self.model, MODELS)
+        choice("element", self.element, ELEMENTS)
+        choice("mass", self.mass, MASSES)
+        if self.model == "chain" and (self.element, self.mass) != ("P1", "lumped"):
+            raise InputError("model = 'chain' is always P1 lumped; use model = 'fe' for element/mass choices")
+        if not self.load_nodes and not self.load_points:
+            object.__setattr__(self, "load_nodes", ((1, 1.0),))
+        object.__setattr__(self, "load_nodes", tuple(tuple(x) for x in self.load_nodes))
+        object.__setattr__(self, "load_points", tuple(tuple(x) for x in self.load_points))
+        object.__setattr__(self, "point_masses", tuple(tuple(x) for x in self.point_masses))
+        try:
+            g = tuple(int(v) for v in self.grid)
+        except (TypeError, ValueError):
+            raise InputError(f"grid = {self.grid!r} must be two integers (points along T1 and T2)") from None
+        if len(g) != 2 or min(g) < 3:
+            raise InputError(f"grid = {self.grid!r} must be two integers >= 3 (default 200 200)")
+        object.__setattr__(self, "grid", g)
+        for nm in ("length", "EA", "rhoA", "m", "k", "grading"):
+            positive(nm, getattr(self, nm))
+
+    @property
+    def n_eff(self) -> int:
+        return self.n if self.n is not None else (5 if self.model == "chain" else 8)
+
+    def bar(self) -> Bar:
+        """The bar of this case."""
+        if self.model == "chain":
+            return chain(self.n_eff, self.m, self.k)
+        if self.mesh_file:
+            from .meshfile import read_nodes
+
+            nodes = read_nodes(self.mesh_file)
+        else:
+            nodes = graded_nodes(self.n_eff, self.length, self.grading)
+        return Bar(nodes, self.element, self.mass, self.EA, self.rhoA, self.point_masses,
+                   f"fe-{self.element}-{self.mass}-{len(nodes) - 1}")
+
+    def load(self) -> Load:
+        return Load(points=self.load_points, nodes=self.load_nodes)
+
+    def problem(self) -> Problem:
+        return problem(self.bar(), self.load())
+
+    def domain(self, prob: Problem) -> Domain:
+        d = default_domain(prob)
+        return Domain(self.T1 or d.T1, self.T2 or d.T2)
+
+    def to_dict(self) -> dict:
+        d = asdict(self)
+        d["n"] = self.n_eff
+        d.pop("label")
+        return d

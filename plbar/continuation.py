@@ -1,0 +1,227 @@
+"""Pseudo-arclength continuation of the zero curves of ``D(T^I, T^II)``.
+
+The traced function is the bounded, pole-free
+
+``G = sign(det(Id - A)) (a1 b2 - a2 b1) / (a1^2 + b1^2 + a2^2 + b2^2)``,
+
+bounded by 1/2 and signed so that it changes sign at the zeros of ``D`` only
+(FORMULATION §4).  (Dividing by ``|(a1, b1)| |(a2, b2)|`` instead would be
+singular where one residual vanishes for every phase, a point that zero
+curves pass through.)  Curves are traced
+in coordinates normalised to the search domain with a tangent predictor, a
+corrector along the normal (secant iteration to round-off) and step control
+on the corrector effort and the turning angle.
+
+Every grid line the traced curve crosses is intersected exactly, so each
+crossing of the grid scan is identified by its grid edge: continuation and
+scan share their points to round-off, and a grid crossing that no trace
+passed through seeds a new trace.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .periodic import coefficients
+from .system import Problem
+
+__all__ = ["G", "Trace", "trace"]
+
+EPS = np.finfo(float).eps
+
+
+def G(prob: Problem, T1, T2) -> np.ndarray:
+    """The traced function at points ``(T1, T2)`` (arrays of equal shape)."""
+    co = coefficients(prob, np.ravel(T1), np.ravel(T2))
+    r = co.a1 ** 2 + co.b1 ** 2 + co.a2 ** 2 + co.b2 ** 2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        g = np.where(r > 0, co.D / np.where(r > 0, r, 1.0), 0.0) * co.sign
+    return g.reshape(np.shape(T1))
+
+
+@dataclass
+class Trace:
+    """An ordered traced curve (points in ``(T1, T2)``), with how each end stopped."""
+
+    P: np.ndarray
+    edges: dict          # grid edge id -> index into P of the exact crossing point
+    ends: tuple[str, str]
+
+
+class _Tracer:
+    def __init__(self, prob, t1, t2, hmax=None):
+        self.prob = prob
+        self.t1, self.t2 = t1, t2
+        self.lo = np.array([t1[0], t2[0]])
+        self.span = np.array([t1[-1] - t1[0], t2[-1] - t2[0]])
+        self.n1, self.n2 = t1.size, t2.size
+        self.hmax = hmax or 1.0 / max(self.n1, self.n2)
+        self.nevals = 0
+
+    def T(self, u):
+        return self.lo + np.asarray(u) * self.span
+
+    def g(self, U):
+        U = np.atleast_2d(U)
+        self.nevals += len(U)
+        T = self.T(U)
+        return G(self.prob, T[:, 0], T[:, 1])
+
+    def grad(self, u, d=1e-7):
+        U = u + d * np.array([[1, 0], [-1, 0], [0, 1], [0, -1]])
+        v = self.g(U)
+        return np.array([v[0] - v[1], v[2] - v[3]]) / (2 * d)
+
+    def correct(self, p, n, slope, h):
+        """Zero of g on the line ``p + s n`` near ``s = 0`` (secant), or None."""
+        s0, g0 = 0.0, self.g(p)[0]
+        if g0 == 0:
+            return p
+        if slope == 0 or not np.isfinite(slope):
+            return None
+        s1 = -g0 / slope
+        for _ in range(30):
+            if abs(s1) > 2 * h:
+                return None
+            g1 = self.g(p + s1 * n)[0]
+            if g1 == 0 or abs(s1 - s0) <= 4 * EPS * (1 + abs(s1)):
+                return p + s1 * n
+            if g1 == g0:
+                return p + s1 * n if abs(g1) < 1e-13 else None
+            s0, s1, g0 = s1, s1 - g1 * (s1 - s0) / (g1 - g0), g1
+        return None
+
+    def root_on_line(self, axis, value, a, b, guess):
+        """Exact zero of g on the grid line ``u_axis = value`` with the other coordinate in ``[a, b]``.
+
+        Illinois iteration from the bracket, started at ``guess``; None if
+        ``g`` does not change sign on the edge.
+        """
+        def pt(x):
+            u = np.empty(2)
+            u[axis] = value
+            u[1 - axis] = x
+            return u
+
+        fa, fb = self.g(np.array([pt(a), pt(b)]))
+        if np.sign(fa) == np.sign(fb) or fa == 0 or fb == 0:
+            return pt(a) if fa == 0 else (pt(b) if fb == 0 else None)
+        x = min(max(guess, a), b)
+        side = 0
+        for _ in range(100):
+            fx = self.g(pt(x))[0]
+            if fx == 0:
+                break
+            if np.sign(fx) == np.sign(fa):
+                a, fa = x, fx
+                if side == -1:
+                    fb *= 0.5
+                side = -1
+            else:
+                b, fb = x, fx
+                if side == 1:
+                    fa *= 0.5
+                side = 1
+            if b - a <= 4 * EPS * max(abs(a), abs(b), 1e-3):
+                break
+            x = (a * fb - b * fa) / (fb - fa)
+        return pt(x)
+
+    def edge_crossings(self, u, q):
+        """Exact crossings of the grid lines between consecutive points ``u -> q``; list of (frac, edge, point)."""
+        out = []
+        grids = ((self.t1 - self.lo[0]) / self.span[0], (self.t2 - self.lo[1]) / self.span[1])
+        H = (self.n1 - 1) * self.n2
+        for axis in (0, 1):
+            g = grids[axis]
+            a, b = sorted((u[axis], q[axis]))
+            for k in np.flatnonzero((g > a) & (g <= b)):
+                if q[axis] == u[axis]:
+                    continue
+                frac = (g[k] - u[axis]) / (q[axis] - u[axis])
+                other = u[1 - axis] + frac * (q[1 - axis] - u[1 - axis])
+                og = grids[1 - axis]
+                j = int(np.clip(np.searchsorted(og, other) - 1, 0, og.size - 2))
+                pt = self.root_on_line(axis, g[k], og[j], og[j + 1], other)
+                if pt is None:
+                    continue
+                # axis 0 fixed T1 = t1[k]: a vertical edge (k, j)-(k, j+1); axis 1 fixed T2: horizontal (j, k)-(j+1, k)
+                eid = H + k * (self.n2 - 1) + j if axis == 0 else j * self.n2 + k
+                out.append((frac, int(eid), pt))
+        out.sort(key=lambda x: x[0])
+        return out
+
+    def march(self, u0, t0, start, max_steps):
+        """Points from ``u0`` along tangent ``t0`` until the domain edge, a closed loop or failure."""
+        pts, edges = [], []
+        u, t, h = u0.copy(), t0.copy(), self.hmax
+        small = 0
+        gr = self.grad(u)
+        for _ in range(max_steps):
+            n = np.array([-t[1], t[0]])
+            slope = gr @ n
+            q = self.correct(u + h * t, n, slope, h)
+            if q is None:
+                h *= 0.5
+                if h < 1e-9:
+                    return pts, edges, "step failure"
+                continue
+            small = small + 1 if h < 1e-4 * self.hmax else 0
+            if small > 50:
+                return pts, edges, "step failure"
+            gq = self.grad(q)
+            tq = np.array([gq[1], -gq[0]])
+            nq = np.linalg.norm(tq)
+            if nq == 0:
+                return pts, edges, "singular point"
+            tq /= nq
+            if tq @ t < 0:
+                tq = -tq
+            ang = np.arccos(np.clip(tq @ t, -1, 1))
+            if ang > 0.2 and h > 1e-9:
+                h *= 0.5
+                continue
+            for frac, eid, pt in self.edge_crossings(u, q):
+                if np.all((pt >= -1e-12) & (pt <= 1 + 1e-12)):
+                    edges.append((len(pts), eid))
+                    pts.append(pt)
+            inside = np.all((q >= 0) & (q <= 1))
+            if not inside:
+                return pts, edges, "domain edge"
+            pts.append(q)
+            if len(pts) > 8 and np.linalg.norm(q - start) < 1.5 * h and (q - start) @ tq > 0:
+                return pts, edges, "closed loop"
+            u, t, gr = q, tq, gq
+            h = min(h * (1.5 if ang < 0.05 else 1.0), self.hmax)
+        return pts, edges, "max steps"
+
+
+def trace(prob: Problem, t1: np.ndarray, t2: np.ndarray, seed: np.ndarray, hmax: float | None = None,
+          max_steps: int = 20000) -> Trace:
+    """Trace the zero curve of :func:`G` through ``seed`` (an exact zero, in ``(T1, T2)``).
+
+    Parameters
+    ----------
+    t1, t2 : ndarray
+        Grid axes of the scan (define the domain box and the grid lines).
+    seed : ndarray, shape (2,)
+    hmax : float, optional
+        Largest step in normalised coordinates (default half a grid cell).
+    """
+    tr = _Tracer(prob, t1, t2, hmax)
+    u0 = (np.asarray(seed, float) - tr.lo) / tr.span
+    gr = tr.grad(u0)
+    t0 = np.array([gr[1], -gr[0]])
+    t0 /= np.linalg.norm(t0) or 1.0
+    fwd, efwd, endf = tr.march(u0, t0, u0, max_steps)
+    if endf == "closed loop":
+        bwd, ebwd, endb = [], [], "closed loop"
+    else:
+        bwd, ebwd, endb = tr.march(u0, -t0, u0, max_steps)
+    P = np.array(bwd[::-1] + [u0] + fwd)
+    nb = len(bwd)
+    edges = {eid: nb - 1 - i for i, eid in ebwd}
+    edges.update({eid: nb + 1 + i for i, eid in efwd})
+    return Trace(tr.T(P), edges, (endb, endf))

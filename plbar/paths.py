@@ -1,0 +1,351 @@
+"""Periodic paths: scan ``D(T^I, T^II)``, refine, link into ordered branches.
+
+The paper scans the 3D space ``(T^I, T^II, phi)`` (Sec. 4.1).  With ``phi``
+eliminated exactly (FORMULATION §4) the paths are the zero set of one scalar
+field on the ``(T^I, T^II)`` plane.  This module
+
+1. evaluates ``F = D sign(det(Id - A))`` on a grid in batches (``F`` changes
+   sign at the zeros of ``D`` but not at its poles);
+2. refines every grid edge with a sign change to machine precision with a
+   batched Illinois (modified regula falsi) iteration;
+3. keeps the true zeros (switch residuals at round-off), picks the admissible
+   one of ``phi`` and ``phi + pi`` (:mod:`plbar.admissible`);
+4. links the crossings into curves with the marching-squares topology and
+   cuts them into maximal admissible runs: the branches.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import admissible
+from .energy import Damping, damping
+from .errors import InputError
+from .orbit import Orbits, orbits
+from .periodic import Coefficients, coefficients, phase
+from .system import Problem
+
+__all__ = ["Domain", "Branch", "Paths", "find_paths", "scan_field", "default_domain"]
+
+ZERO_TOL = 1e-7   #: relative switch residual below which a refined crossing is a zero of D
+
+
+@dataclass(frozen=True)
+class Domain:
+    """Search domain ``T1 in (T1_lo, T1_hi]``, ``T2 in (T2_lo, T2_hi]``."""
+
+    T1: tuple[float, float]
+    T2: tuple[float, float]
+
+    def __post_init__(self):
+        for nm in ("T1", "T2"):
+            v = getattr(self, nm)
+            try:
+                lo, hi = (float(a) for a in v)
+            except (TypeError, ValueError):
+                raise InputError(f"search domain {nm} = {v!r} must be a pair (low, high)") from None
+            if not (np.isfinite(lo) and np.isfinite(hi)):
+                raise InputError(f"search domain {nm} = ({lo}, {hi}) must be finite")
+            if lo < 0 or hi <= 0:
+                raise InputError(f"search domain {nm} = ({lo:g}, {hi:g}) must lie in T > 0")
+            if hi <= lo:
+                raise InputError(f"search domain {nm} = ({lo:g}, {hi:g}) is reversed or empty; need low < high")
+            object.__setattr__(self, nm, (lo, hi))
+
+
+def default_domain(prob: Problem) -> Domain:
+    """The paper's domain ``T^alpha in (0, T0^alpha / 2]`` (Sec. 4.1)."""
+    T0I, T0II = prob.system.T0
+    return Domain((0.0, T0I / 2), (0.0, T0II / 2))
+
+
+@dataclass(frozen=True)
+class Branch:
+    """One ordered curve of admissible periodic responses.
+
+    Attributes
+    ----------
+    id : int
+    orbits : Orbits
+        The responses, ordered along the curve.
+    damping : Damping
+        ``Delta_PL`` and ``xi_eq`` at each point.
+    adm : admissible.Admissibility
+    e1, e2 : ndarray
+        Switch residuals, relative to their scale.
+    """
+
+    id: int
+    orbits: Orbits
+    damping: Damping
+    adm: admissible.Admissibility
+    e1: np.ndarray
+    e2: np.ndarray
+
+    @property
+    def T1(self):
+        return self.orbits.T1
+
+    @property
+    def T2(self):
+        return self.orbits.T2
+
+    @property
+    def phi(self):
+        return self.orbits.phi
+
+    @property
+    def T(self):
+        return self.orbits.T
+
+    @property
+    def dPL(self):
+        return self.damping.dPL
+
+    @property
+    def xi(self):
+        return self.damping.xi
+
+    @property
+    def grazing(self):
+        return self.adm.grazing
+
+    def __len__(self):
+        return len(self.orbits)
+
+
+@dataclass(frozen=True)
+class Paths:
+    """All branches found in a domain, with scan statistics."""
+
+    prob: Problem
+    domain: Domain
+    grid: tuple[int, int]
+    branches: tuple[Branch, ...]
+    stats: dict = field(default_factory=dict)
+
+    def points(self) -> Orbits | None:
+        """All path points of all branches as one :class:`Orbits` (None if empty)."""
+        if not self.branches:
+            return None
+        b = self.branches
+        cat = np.concatenate
+        o = [x.orbits for x in b]
+        return Orbits(self.prob, cat([x.T1 for x in o]), cat([x.T2 for x in o]), cat([x.phi for x in o]),
+                      cat([x.eta0 for x in o]), cat([x.v0 for x in o]), cat([x.eta_s for x in o]),
+                      cat([x.v_s for x in o]))
+
+
+def _chunked(prob: Problem, T1, T2) -> Coefficients:
+    """:func:`coefficients` in batches sized to keep memory bounded."""
+    n = 2 * prob.system.w1.size
+    step = max(1, int(2e7 // (n * n + 1)))
+    if T1.size <= step:
+        return coefficients(prob, T1, T2)
+    parts = [coefficients(prob, T1[i:i + step], T2[i:i + step]) for i in range(0, T1.size, step)]
+    return Coefficients(*[np.concatenate([getattr(p, f) for p in parts])
+                          for f in Coefficients.__dataclass_fields__])
+
+
+def scan_field(prob: Problem, domain: Domain, grid: tuple[int, int]):
+    """Grid axes and ``F = D sign(det(Id - A))`` on the grid, shape ``(n1, n2)``."""
+    n1, n2 = grid
+    t1 = np.linspace(domain.T1[0], domain.T1[1], n1 + 1)[1:] if domain.T1[0] == 0 else \
+        np.linspace(domain.T1[0], domain.T1[1], n1)
+    t2 = np.linspace(domain.T2[0], domain.T2[1], n2 + 1)[1:] if domain.T2[0] == 0 else \
+        np.linspace(domain.T2[0], domain.T2[1], n2)
+    G1, G2 = np.meshgrid(t1, t2, indexing="ij")
+    F = _chunked(prob, G1.ravel(), G2.ravel()).F.reshape(n1, n2)
+    return t1, t2, F
+
+
+def _illinois(prob, Pa, Pb, Fa, Fb, maxit=100):
+    """Batched Illinois root refinement of ``F`` on segments ``Pa -> Pb`` (each (E, 2))."""
+    sa, sb = np.zeros(len(Fa)), np.ones(len(Fa))
+    Fa, Fb = Fa.copy(), Fb.copy()
+    side = np.zeros(len(Fa), int)
+    active = np.ones(len(Fa), bool)
+    for _ in range(maxit):
+        idx = np.flatnonzero(active)
+        if idx.size == 0:
+            break
+        fa, fb = Fa[idx], Fb[idx]
+        s = (sa[idx] * fb - sb[idx] * fa) / (fb - fa)
+        s = np.where((s > sa[idx]) & (s < sb[idx]), s, 0.5 * (sa[idx] + sb[idx]))
+        P = Pa[idx] + s[:, None] * (Pb[idx] - Pa[idx])
+        F = _chunked(prob, P[:, 0], P[:, 1]).F
+        left = np.sign(F) == np.sign(fa)
+        # keep the bracket, halving the stale end's value (Illinois)
+        sa[idx] = np.where(left, s, sa[idx])
+        Fa[idx] = np.where(left, F, np.where(side[idx] == -1, 0.5 * fa, fa))
+        sb[idx] = np.where(left, sb[idx], s)
+        Fb[idx] = np.where(left, np.where(side[idx] == 1, 0.5 * fb, fb), F)
+        side[idx] = np.where(left, 1, -1)
+        span = np.abs(Pb[idx] - Pa[idx]).max(axis=1)
+        scale = np.abs(Pa[idx] + s[:, None] * (Pb[idx] - Pa[idx])).max(axis=1)
+        done = (F == 0) | ((sb[idx] - sa[idx]) * span <= 4 * np.finfo(float).eps * scale)
+        sa[idx[F == 0]] = s[F == 0]
+        sb[idx[F == 0]] = s[F == 0]
+        active[idx[done]] = False
+    s = np.where(np.abs(Fa) <= np.abs(Fb), sa, sb)
+    return Pa + s[:, None] * (Pb - Pa)
+
+
+def _link(F: np.ndarray, hmask: np.ndarray, vmask: np.ndarray):
+    """Chains of crossing edges by marching-squares topology.
+
+    Edges are numbered: horizontal (i, j)-(i+1, j) as ``i*n2 + j``; vertical
+    (i, j)-(i, j+1) as ``H + i*(n2-1) + j``.  Returns a list of edge-id lists.
+    """
+    n1, n2 = F.shape
+    H = (n1 - 1) * n2
+    pos = F >= 0
+    bottom = hmask[:, :-1]
+    top = hmask[:, 1:]
+    left = vmask[:-1, :]
+    right = vmask[1:, :]
+    cnt = bottom.astype(int) + top + left + right
+    I, J = np.meshgrid(np.arange(n1 - 1), np.arange(n2 - 1), indexing="ij")
+    eb = I * n2 + J
+    et = I * n2 + J + 1
+    el = H + I * (n2 - 1) + J
+    er = H + (I + 1) * (n2 - 1) + J
+    pairs = []
+    for i, j in zip(*np.nonzero(cnt == 2)):
+        es = [e[i, j] for e, m in ((eb, bottom), (et, top), (el, left), (er, right)) if m[i, j]]
+        pairs.append((es[0], es[1]))
+    for i, j in zip(*np.nonzero(cnt == 4)):
+        centre = (F[i, j] + F[i + 1, j] + F[i, j + 1] + F[i + 1, j + 1]) >= 0
+        if centre == pos[i, j]:
+            pairs += [(eb[i, j], er[i, j]), (el[i, j], et[i, j])]
+        else:
+            pairs += [(eb[i, j], el[i, j]), (er[i, j], et[i, j])]
+    adj: dict[int, list[int]] = {}
+    for a, b in pairs:
+        adj.setdefault(int(a), []).append(int(b))
+        adj.setdefault(int(b), []).append(int(a))
+    nodes = set(int(e) for e in np.flatnonzero(hmask.ravel())) | \
+        set(int(H + e) for e in np.flatnonzero(vmask.ravel()))
+    seen: set[int] = set()
+    chains = []
+    for start in sorted(nodes, key=lambda e: (len(adj.get(e, [])), e)):
+        if start in seen:
+            continue
+        chain = [start]
+        seen.add(start)
+        cur = start
+        while True:
+            nxt = [e for e in adj.get(cur, []) if e not in seen]
+            if not nxt:
+                break
+            cur = nxt[0]
+            seen.add(cur)
+            chain.append(cur)
+        chains.append(chain)
+    return chains
+
+
+def _choose_phase(prob, P, co):
+    """Admissible responses at refined zeros: try ``phi`` and ``phi + pi``."""
+    phi0 = phase(co)
+    orb = orbits(prob, P[:, 0], P[:, 1], phi0, co=co)
+    a0, a1 = admissible.check_both(orb)
+    flip = a1.ok & ~a0.ok
+    if flip.any():
+        orb = Orbits(prob, orb.T1, orb.T2, np.where(flip, phi0 + np.pi, phi0), np.where(flip[:, None], -orb.eta0,
+                     orb.eta0), np.where(flip[:, None], -orb.v0, orb.v0), np.where(flip[:, None], -orb.eta_s,
+                     orb.eta_s), np.where(flip[:, None], -orb.v_s, orb.v_s))
+    adm = admissible.Admissibility(*[np.where(flip, getattr(a1, f), getattr(a0, f))
+                                     for f in admissible.Admissibility.__dataclass_fields__])
+    return orb, adm, a0.ok | a1.ok
+
+
+def _take_adm(a: admissible.Admissibility, idx) -> admissible.Admissibility:
+    return admissible.Admissibility(*[getattr(a, f)[idx] for f in admissible.Admissibility.__dataclass_fields__])
+
+
+def _take_damp(d: Damping, idx) -> Damping:
+    return Damping(*[getattr(d, f)[idx] for f in Damping.__dataclass_fields__])
+
+
+def find_paths(prob: Problem, domain: Domain | None = None, grid: tuple[int, int] = (200, 200),
+               progress: bool = False) -> Paths:
+    """All admissible periodic paths of ``prob`` in ``domain``.
+
+    Parameters
+    ----------
+    prob : Problem
+    domain : Domain, optional
+        Default: the paper's ``(0, T0^alpha / 2]`` (:func:`default_domain`).
+    grid : (int, int)
+        Grid points along ``T^I`` and ``T^II`` for the scan of ``D``.
+    progress : bool
+        Unused for small problems; reserved for long scans.
+
+    Returns
+    -------
+    Paths
+        Branches ordered by their smallest period ``T``; each branch ordered
+        along its curve.
+    """
+    t0 = time.perf_counter()
+    domain = domain or default_domain(prob)
+    n1, n2 = (int(g) for g in grid)
+    if n1 < 3 or n2 < 3:
+        raise InputError(f"grid = ({n1}, {n2}) is too coarse; use at least 3 points per axis (default 200 x 200)")
+    t1, t2, F = scan_field(prob, domain, (n1, n2))
+    neg = F < 0
+    hmask = neg[:-1, :] != neg[1:, :]
+    vmask = neg[:, :-1] != neg[:, 1:]
+    hi, hj = np.nonzero(hmask)
+    vi, vj = np.nonzero(vmask)
+    Pa = np.concatenate([np.c_[t1[hi], t2[hj]], np.c_[t1[vi], t2[vj]]])
+    Pb = np.concatenate([np.c_[t1[hi + 1], t2[hj]], np.c_[t1[vi], t2[vj + 1]]])
+    Fa = np.concatenate([F[hi, hj], F[vi, vj]])
+    Fb = np.concatenate([F[hi + 1, hj], F[vi, vj + 1]])
+    ids = np.concatenate([hi * n2 + hj, (n1 - 1) * n2 + vi * (n2 - 1) + vj]).astype(int)
+    t_scan = time.perf_counter() - t0
+    stats = {"grid": [n1, n2], "crossings": int(ids.size)}
+    branches: list[Branch] = []
+    if ids.size:
+        P = _illinois(prob, Pa, Pb, Fa, Fb)
+        co = _chunked(prob, P[:, 0], P[:, 1])
+        phi0 = phase(co)
+        e1, e2 = co.a1 * np.cos(phi0) + co.b1 * np.sin(phi0), co.a2 * np.cos(phi0) + co.b2 * np.sin(phi0)
+        r1, r2 = np.abs(e1) / co.e1_scale, np.abs(e2) / co.e2_scale
+        zero = (r1 < ZERO_TOL) & (r2 < ZERO_TOL)
+        stats["zeros"] = int(zero.sum())
+        orb, adm, ok = _choose_phase(prob, P, co)
+        good = zero & ok
+        stats["admissible"] = int(good.sum())
+        t_ref = time.perf_counter()
+        where = {int(e): k for k, e in enumerate(ids)}
+        runs = []
+        for chain in _link(F, hmask, vmask):
+            run: list[int] = []
+            for e in chain + [-1]:
+                k = where.get(e, -1)
+                if k >= 0 and good[k]:
+                    run.append(k)
+                elif run:
+                    runs.append(run)
+                    run = []
+        sel = np.concatenate(runs) if runs else np.zeros(0, int)
+        if sel.size:
+            dmp = damping(orb.take(sel))
+            lookup = {int(k): j for j, k in enumerate(sel)}
+            order = sorted(range(len(runs)), key=lambda r: min(orb.T[runs[r]]))
+            for bid, r in enumerate(order):
+                run = runs[r]
+                if orb.T[run[0]] > orb.T[run[-1]]:
+                    run = run[::-1]
+                jj = [lookup[k] for k in run]
+                branches.append(Branch(bid, orb.take(run), _take_damp(dmp, jj), _take_adm(adm, run),
+                                       r1[run], r2[run]))
+        stats["t_refine"] = time.perf_counter() - t_ref
+    stats["t_scan"] = t_scan
+    stats["t_total"] = time.perf_counter() - t0
+    return Paths(prob, domain, (n1, n2), tuple(branches), stats)

@@ -1,0 +1,29 @@
+import os
+
+import numpy as np
+import pytest
+
+os.environ.setdefault("MPLBACKEND", "agg")
+os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+
+@pytest.fixture(autouse=True)
+def _strict_floats():
+    """A silent nan or overflow anywhere is a failing test (STYLE: py-pde)."""
+    old = np.seterr(all="raise", under="ignore")
+    yield
+    np.seterr(**old)
+
+
+@pytest.fixture(scope="session")
+def default_result():
+    import plbar
+
+    return plbar.solve()
+
+
+@pytest.fixture(scope="session")
+def fe_p2_result():
+    import plbar
+
+    return plbar.solve(plbar.Case(model="fe", n=8, element="P2", mass="consistent", load_points=((0.37, 1.0),)))
