@@ -99,7 +99,8 @@ def _refined_min(fun, tau, g, scale, rounds: int = 5, m: int = 17):
 def _margins(orb: Orbits, u):
     tI = orb.T1[:, None] * u
     tII = orb.T2[:, None] * u
-    return tI, tII, orb.reaction_margin(tI), -orb.gap(tII), orb.contact_velocity(tII)
+    xc, vc = orb.gap_signals(tII)
+    return tI, tII, orb.reaction_margin(tI), -xc, vc
 
 
 def check(orb: Orbits, tol: float = TOL, graze: float = GRAZE) -> Admissibility:

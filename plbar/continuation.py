@@ -34,11 +34,7 @@ EPS = np.finfo(float).eps
 
 def G(prob: Problem, T1, T2) -> np.ndarray:
     """The traced function at points ``(T1, T2)`` (arrays of equal shape)."""
-    co = coefficients(prob, np.ravel(T1), np.ravel(T2))
-    r = co.a1 ** 2 + co.b1 ** 2 + co.a2 ** 2 + co.b2 ** 2
-    with np.errstate(invalid="ignore", divide="ignore"):
-        g = np.where(r > 0, co.D / np.where(r > 0, r, 1.0), 0.0) * co.sign
-    return g.reshape(np.shape(T1))
+    return coefficients(prob, np.ravel(T1), np.ravel(T2)).G.reshape(np.shape(T1))
 
 
 @dataclass

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .flow import psi
+from .flow import gauss, psi
 from .orbit import Orbits
 
 __all__ = ["Damping", "damping", "impact_loss", "work_quadrature"]
@@ -69,14 +69,17 @@ def damping(orb: Orbits) -> Damping:
     return Damping(dpl, denom, xi, ok)
 
 
-def work_quadrature(orb: Orbits, n: int = 4000) -> np.ndarray:
+def work_quadrature(orb: Orbits, n: int | None = None) -> np.ndarray:
     """Work of the load over one period, ``int q(t) . v(t) dt``, by Gauss-Legendre.
 
     Independent of :func:`impact_loss`; on a periodic orbit the two agree
     (the impact is the only loss).
     """
-    x, w = np.polynomial.legendre.leggauss(n)
     p = orb.prob
+    if n is None:
+        k = (max(p.system.w2.max(), p.system.w1.max()) + orb.W.max()) * orb.T.max()
+        n = 20 * int(np.ceil((0.6 * k + 60) / 20))
+    x, w = gauss(n)
     out = np.zeros(len(orb))
     for seg, T0, Tl in ((1, 0.0 * orb.T1, orb.T1), (2, orb.T1, orb.T2)):
         tau = 0.5 * Tl[:, None] * (x + 1)

@@ -18,6 +18,8 @@ All functions broadcast over leading axes.
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 __all__ = ["kernels", "forced_coeffs", "segment", "psi", "psi_closed_form", "psi_quadrature", "sinc"]
@@ -135,6 +137,15 @@ def psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi):
     return psi, cancel
 
 
+@lru_cache(maxsize=64)
+def gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes and weights on [-1, 1] (cached)."""
+    x, w = np.polynomial.legendre.leggauss(int(n))
+    x.setflags(write=False)
+    w.setflags(write=False)
+    return x, w
+
+
 def psi_quadrature(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None):
     """``int_0^tau etadot^2`` by Gauss-Legendre on the exact velocity.
 
@@ -145,7 +156,8 @@ def psi_quadrature(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None):
     if n is None:
         k = float(np.max(2 * np.maximum(w, W) * tau)) if w.size else 0.0
         n = int(np.ceil(0.6 * k)) + 40
-    x, wt = np.polynomial.legendre.leggauss(n)
+        n = 20 * int(np.ceil(n / 20))
+    x, wt = gauss(n)
     u = 0.5 * tau[..., None] * (x + 1)
     _, v = segment(w[..., None], f[..., None], W[..., None], ts[..., None], u,
                    eta0[..., None], v0[..., None], cphi[..., None], sphi[..., None])

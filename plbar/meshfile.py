@@ -73,7 +73,8 @@ def write_nodes(path, nodes) -> None:
     x = np.asarray(nodes, float)
     pts = np.c_[x, np.zeros_like(x), np.zeros_like(x)]
     cells = [("line", np.c_[np.arange(x.size - 1), np.arange(1, x.size)])]
-    meshio.write(str(path), meshio.Mesh(pts, cells), file_format="gmsh22", binary=False)
+    tags = {"gmsh:physical": [np.ones(x.size - 1, int)], "gmsh:geometrical": [np.ones(x.size - 1, int)]}
+    meshio.write(str(path), meshio.Mesh(pts, cells, cell_data=tags), file_format="gmsh22", binary=False)
 
 
 def write_shipped(folder) -> list[Path]:

@@ -72,22 +72,67 @@ class Orbits:
         return segment(s.w2, self.prob.f2, self.W[:, None, None], self.T1[:, None, None], tau,
                        self.eta_s[:, None, :], self.v_s[:, None, :], c, sn)
 
+    def _signal(self, tau, state: int, c: np.ndarray):
+        """``sum_j c_j eta_j`` and ``sum_j c_j etadot_j`` in one state at times ``tau`` (P, K).
+
+        Away from resonance each mode is ``alpha cos(w tau) + beta sin(w tau)``
+        plus its particular part, and the particular parts of all modes sum
+        into one harmonic (one ``cos``/``sin`` per sample instead of a kernel
+        per mode).  Modes within ``|w - W| tau_max < 0.05`` of resonance use
+        the exact kernels of :mod:`plbar.flow` (no cancellation).
+        """
+        s, p = self.prob.system, self.prob
+        if state == 1:
+            w, f, ts, e0, v0 = s.w1, p.f1, np.zeros_like(self.T1), self.eta0, self.v0
+            span = self.T1
+        else:
+            w, f, ts, e0, v0 = s.w2, p.f2, self.T1, self.eta_s, self.v_s
+            span = self.T2
+        tau = np.asarray(tau, float)
+        W = self.W[:, None]
+        th = W * ts[:, None] - self.phi[:, None]                      # (P, 1)
+        near = np.abs(w[None, :] - W) * span[:, None] < 0.05          # (P, n)
+        d = w[None, :] ** 2 - W ** 2
+        g = np.where(near, 0.0, f / np.where(near, 1.0, d))           # particular amplitudes
+        ct, st = np.cos(th), np.sin(th)
+        alpha = np.where(near, 0.0, e0 - g * ct) * c                  # (P, n)
+        beta = np.where(near, 0.0, v0 / w + g * (W / w) * st) * c
+        gsum = (g * c).sum(axis=1)[:, None]                           # (P, 1)
+        wt = tau[..., None] * w                                        # (P, K, n)
+        co, si = np.cos(wt), np.sin(wt)
+        x = np.einsum("pkj,pj->pk", co, alpha) + np.einsum("pkj,pj->pk", si, beta)
+        v = np.einsum("pkj,pj->pk", co, beta * w) - np.einsum("pkj,pj->pk", si, alpha * w)
+        ph = W * tau + th
+        x = x + gsum * np.cos(ph)
+        v = v - gsum * W * np.sin(ph)
+        if near.any():
+            rows = np.flatnonzero(near.any(axis=1))
+            cph, sph = np.cos(self.phi[rows])[:, None, None], np.sin(self.phi[rows])[:, None, None]
+            sel = near[rows][:, None, :]
+            ex, ev = segment(w, f, self.W[rows, None, None], ts[rows, None, None], tau[rows][..., None],
+                             e0[rows, None, :], v0[rows, None, :], cph, sph)
+            x[rows] += np.sum(np.where(sel, ex, 0.0) * c, axis=-1)
+            v[rows] += np.sum(np.where(sel, ev, 0.0) * c, axis=-1)
+        return x, v
+
     def reaction_margin(self, tau):
         """``-R`` in state I at ``t = tau`` (``>= 0`` while in compression, Eq. (4)); (P, K)."""
-        s = self.prob.system
-        eta, _ = self.state_I(tau)
-        cosf = np.cos(self.W[:, None] * np.asarray(tau, float) - self.phi[:, None])
-        return -(eta @ s.r_eta + self.prob.r_q * cosf)
+        tau = np.asarray(tau, float)
+        x, _ = self._signal(tau, 1, self.prob.system.r_eta)
+        cosf = np.cos(self.W[:, None] * tau - self.phi[:, None])
+        return -(x + self.prob.r_q * cosf)
+
+    def gap_signals(self, tau):
+        """Contact displacement ``x_c`` and velocity ``v_c`` in state II at ``t = T^I + tau``; each (P, K)."""
+        return self._signal(np.asarray(tau, float), 2, self.prob.system.gap_row)
 
     def gap(self, tau):
         """Contact displacement ``x_c`` in state II at ``t = T^I + tau`` (``<= 0``, Eq. (5)); (P, K)."""
-        eta, _ = self.state_II(tau)
-        return eta @ self.prob.system.gap_row
+        return self.gap_signals(tau)[0]
 
     def contact_velocity(self, tau):
         """Contact velocity ``v_c`` in state II at ``t = T^I + tau``; (P, K)."""
-        _, v = self.state_II(tau)
-        return v @ self.prob.system.gap_row
+        return self.gap_signals(tau)[1]
 
     def end(self):
         """Modal state II at ``t = T^-`` (just before the impact): ``eta, etadot`` (P, n)."""

@@ -4,10 +4,10 @@ The paper scans the 3D space ``(T^I, T^II, phi)`` (Sec. 4.1).  With ``phi``
 eliminated exactly (FORMULATION §4) the paths are the zero set of one scalar
 field on the ``(T^I, T^II)`` plane.  This module
 
-1. evaluates ``F = D sign(det(Id - A))`` on a grid in batches (``F`` changes
+1. evaluates ``G = D sign(det(Id - A)) / |a, b|^2`` on a grid in batches (``G`` changes
    sign at the zeros of ``D`` but not at its poles);
 2. refines every grid edge with a sign change to machine precision with a
-   batched Illinois (modified regula falsi) iteration;
+   batched Anderson-Björck (modified regula falsi) iteration;
 3. keeps the true zeros (switch residuals at round-off), picks the admissible
    one of ``phi`` and ``phi + pi`` (:mod:`plbar.admissible`);
 4. links the crossings into curves with the marching-squares topology and
@@ -31,6 +31,20 @@ from .system import Problem
 __all__ = ["Domain", "Branch", "Paths", "find_paths", "scan_field", "default_domain"]
 
 ZERO_TOL = 1e-7   #: relative switch residual below which a refined crossing is a zero of D
+PERIODIC_TOL = 1e-10  #: relative periodicity error (through the flow) a path point must meet
+
+
+def periodicity_error(orb: Orbits) -> np.ndarray:
+    """``|z(T+) - z(0)| / |z(0)|`` with ``z(T+)`` from the closed-form flow and the impact map.
+
+    Rejects points where ``Id - A`` is numerically singular (a free periodic
+    motion of the two-state system), whose solve is not trustworthy.
+    """
+    e, v = orb.after_impact()
+    z0 = np.c_[orb.eta0, orb.v0]
+    nz = np.linalg.norm(z0, axis=1)
+    err = np.linalg.norm(np.c_[e, v] - z0, axis=1)
+    return np.divide(err, nz, out=np.full(nz.shape, np.inf), where=nz > 0)
 
 
 @dataclass(frozen=True)
@@ -151,46 +165,57 @@ def _chunked(prob: Problem, T1, T2) -> Coefficients:
 
 
 def scan_field(prob: Problem, domain: Domain, grid: tuple[int, int]):
-    """Grid axes and ``F = D sign(det(Id - A))`` on the grid, shape ``(n1, n2)``."""
+    """Grid axes and ``G = D sign(det(Id - A)) / |a, b|^2`` on the grid, shape ``(n1, n2)``."""
     n1, n2 = grid
     t1 = np.linspace(domain.T1[0], domain.T1[1], n1 + 1)[1:] if domain.T1[0] == 0 else \
         np.linspace(domain.T1[0], domain.T1[1], n1)
     t2 = np.linspace(domain.T2[0], domain.T2[1], n2 + 1)[1:] if domain.T2[0] == 0 else \
         np.linspace(domain.T2[0], domain.T2[1], n2)
     G1, G2 = np.meshgrid(t1, t2, indexing="ij")
-    F = _chunked(prob, G1.ravel(), G2.ravel()).F.reshape(n1, n2)
+    F = _chunked(prob, G1.ravel(), G2.ravel()).G.reshape(n1, n2)
     return t1, t2, F
 
 
 def _illinois(prob, Pa, Pb, Fa, Fb, maxit=100):
-    """Batched Illinois root refinement of ``F`` on segments ``Pa -> Pb`` (each (E, 2))."""
+    """Batched Anderson-Björck root refinement of ``F`` on segments ``Pa -> Pb`` (each (E, 2))."""
+    _illinois.trace = []
     sa, sb = np.zeros(len(Fa)), np.ones(len(Fa))
+    last = np.full(len(Fa), np.nan)
     Fa, Fb = Fa.copy(), Fb.copy()
     side = np.zeros(len(Fa), int)
     active = np.ones(len(Fa), bool)
-    for _ in range(maxit):
+    for it in range(maxit):
         idx = np.flatnonzero(active)
+        _illinois.trace.append(idx.size)
         if idx.size == 0:
             break
         fa, fb = Fa[idx], Fb[idx]
         s = (sa[idx] * fb - sb[idx] * fa) / (fb - fa)
         s = np.where((s > sa[idx]) & (s < sb[idx]), s, 0.5 * (sa[idx] + sb[idx]))
         P = Pa[idx] + s[:, None] * (Pb[idx] - Pa[idx])
-        F = _chunked(prob, P[:, 0], P[:, 1]).F
+        F = _chunked(prob, P[:, 0], P[:, 1]).G
         left = np.sign(F) == np.sign(fa)
-        # keep the bracket, halving the stale end's value (Illinois)
+        # keep the bracket; scale the stale end's value (Anderson-Bjorck, Illinois fallback)
+        prev = np.where(left, fa, fb)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            m = 1.0 - F / prev
+        m = np.where((m > 0) & np.isfinite(m), m, 0.5)
         sa[idx] = np.where(left, s, sa[idx])
-        Fa[idx] = np.where(left, F, np.where(side[idx] == -1, 0.5 * fa, fa))
+        Fa[idx] = np.where(left, F, np.where(side[idx] == -1, m * fa, fa))
         sb[idx] = np.where(left, sb[idx], s)
-        Fb[idx] = np.where(left, np.where(side[idx] == 1, 0.5 * fb, fb), F)
+        Fb[idx] = np.where(left, np.where(side[idx] == 1, m * fb, fb), F)
         side[idx] = np.where(left, 1, -1)
         span = np.abs(Pb[idx] - Pa[idx]).max(axis=1)
         scale = np.abs(Pa[idx] + s[:, None] * (Pb[idx] - Pa[idx])).max(axis=1)
-        done = (F == 0) | ((sb[idx] - sa[idx]) * span <= 4 * np.finfo(float).eps * scale)
+        tiny = 4 * np.finfo(float).eps * scale
+        done = (F == 0) | ((sb[idx] - sa[idx]) * span <= tiny) | (np.abs(s - last[idx]) * span <= tiny)
+        last[idx] = s
         sa[idx[F == 0]] = s[F == 0]
         sb[idx[F == 0]] = s[F == 0]
         active[idx[done]] = False
     s = np.where(np.abs(Fa) <= np.abs(Fb), sa, sb)
+    s = np.where(np.isnan(last), s, last)
+    _illinois.iterations = it
     return Pa + s[:, None] * (Pb - Pa)
 
 
@@ -312,6 +337,7 @@ def find_paths(prob: Problem, domain: Domain | None = None, grid: tuple[int, int
     branches: list[Branch] = []
     if ids.size:
         P = _illinois(prob, Pa, Pb, Fa, Fb)
+        stats["refine_iterations"] = _illinois.iterations
         co = _chunked(prob, P[:, 0], P[:, 1])
         phi0 = phase(co)
         e1, e2 = co.a1 * np.cos(phi0) + co.b1 * np.sin(phi0), co.a2 * np.cos(phi0) + co.b2 * np.sin(phi0)
@@ -319,7 +345,9 @@ def find_paths(prob: Problem, domain: Domain | None = None, grid: tuple[int, int
         zero = (r1 < ZERO_TOL) & (r2 < ZERO_TOL)
         stats["zeros"] = int(zero.sum())
         orb, adm, ok = _choose_phase(prob, P, co)
-        good = zero & ok
+        per = periodicity_error(orb)
+        stats["ill_conditioned"] = int((zero & ~(per < PERIODIC_TOL)).sum())
+        good = zero & ok & (per < PERIODIC_TOL)
         stats["admissible"] = int(good.sum())
         t_ref = time.perf_counter()
         where = {int(e): k for k, e in enumerate(ids)}

@@ -56,12 +56,41 @@ class Coefficients:
         """``D * sign(det(Id - A))``: changes sign at the zeros of ``D`` only."""
         return self.D * self.sign
 
+    @property
+    def G(self) -> np.ndarray:
+        """``F / (a1^2 + b1^2 + a2^2 + b2^2)``: bounded by 1/2, same sign as ``F``, smooth at its zeros.
+
+        The scan and the root refinement use ``G``: near a pole ``D`` is huge
+        but ``G`` stays bounded (it touches 0 there without a sign change).
+        """
+        r = self.a1 ** 2 + self.b1 ** 2 + self.a2 ** 2 + self.b2 ** 2
+        return np.divide(self.F, r, out=np.zeros_like(r), where=r > 0)
+
 
 def _flow_mats(w, T):
     """cos, sin/w, -w sin of the free flow over ``T`` for modes ``w``: shapes (B, n)."""
     wt = w[None, :] * T[:, None]
     co, si = np.cos(wt), np.sin(wt)
     return co, si / w, -w * si
+
+
+def _solve(IA: np.ndarray, c: np.ndarray):
+    """Batched solve of the periodicity system and ``sign(det)``.
+
+    An exactly singular ``Id - A`` (a free periodic motion of the two-state
+    system with period ``T``) gets the least-squares solution and sign 0,
+    so that it can never pass as a zero of ``D`` silently.
+    """
+    sign, logdet = np.linalg.slogdet(IA)
+    ok = (sign != 0) & np.isfinite(logdet)
+    Z = np.empty(c.shape)
+    if ok.all():
+        return np.linalg.solve(IA, c), sign
+    if ok.any():
+        Z[ok] = np.linalg.solve(IA[ok], c[ok])
+    for i in np.flatnonzero(~ok):
+        Z[i] = np.linalg.lstsq(IA[i], c[i], rcond=None)[0]
+    return Z, np.where(ok, sign, 0.0)
 
 
 def coefficients(prob: Problem, T1, T2) -> Coefficients:
@@ -99,8 +128,7 @@ def coefficients(prob: Problem, T1, T2) -> Coefficients:
     gv2 = ws2[..., None] * he + co2[..., None] * hv + np.stack([g2[2], g2[3]], axis=-1)
     c = np.concatenate([np.einsum("ij,bjk->bik", P21, ge2), np.einsum("ij,bjk->bik", Q21, gv2)], axis=1)
     IA = np.eye(2 * n1)[None] - A
-    Z = np.linalg.solve(IA, c)
-    sign = np.linalg.slogdet(IA)[0]
+    Z, sign = _solve(IA, c)
     # state at the end of state I, and at the end of state II
     e0, v0 = Z[:, :n1], Z[:, n1:]
     eI = co1[..., None] * e0 + sw1[..., None] * v0 + ge1
