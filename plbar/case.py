@@ -50,6 +50,8 @@ class Case:
         Scan grid over ``(T^I, T^II)``.
     T1, T2 : (float, float), optional
         Search domain; default ``(0, T0^alpha / 2]``.
+    method : {"continuation", "grid"}
+        How branches are built from the scan (:func:`plbar.find_paths`).
     """
 
     model: str = "chain"
@@ -69,12 +71,14 @@ class Case:
     grid: tuple[int, int] = (200, 200)
     T1: tuple[float, float] | None = None
     T2: tuple[float, float] | None = None
+    method: str = "continuation"
     label: str = field(default="", compare=False)
 
     def __post_init__(self):
         choice("model", self.model, MODELS)
         choice("element", self.element, ELEMENTS)
         choice("mass", self.mass, MASSES)
+        choice("method", self.method, ("continuation", "grid"))
         if self.model == "chain" and (self.element, self.mass) != ("P1", "lumped"):
             raise InputError("model = 'chain' is always P1 lumped; use model = 'fe' for element/mass choices")
         if not self.load_nodes and not self.load_points:

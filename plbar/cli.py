@@ -1,4 +1,4 @@
-"""Command line: ``plbar run``, ``plbar mesh``.
+"""Command line: ``plbar run``, ``mesh``, ``export``, ``render``, ``sweep-loads``, ``refine``, ``figures``.
 
 Each handler is a thin call into the public API.  Exit codes: 0 ok,
 1 failed, 2 bad input (one line on stderr).
@@ -38,6 +38,9 @@ def _case_args(p: argparse.ArgumentParser) -> None:
                    help="T1 search range [(0, T0_I/2]]")
     g.add_argument("--T2", type=float, nargs=2, default=None, metavar=("LO", "HI"),
                    help="T2 search range [(0, T0_II/2]]")
+    g.add_argument("--method", choices=("continuation", "grid"), default="continuation",
+                   help="branches by pseudo-arclength continuation seeded by the scan, or by linking the "
+                        "scan's crossings only (faster, may fragment) [continuation]")
 
 
 def _case(a):
@@ -47,7 +50,7 @@ def _case(a):
     points = tuple((s, 1.0) for s in (a.load_at or ()))
     return Case(model=a.model, n=a.elements, element=a.element, mass=a.mass, mesh_file=a.mesh_file,
                 grading=a.grading, load_nodes=nodes, load_points=points, grid=tuple(a.grid),
-                T1=tuple(a.T1) if a.T1 else None, T2=tuple(a.T2) if a.T2 else None)
+                T1=tuple(a.T1) if a.T1 else None, T2=tuple(a.T2) if a.T2 else None, method=a.method)
 
 
 def _human(summary: dict, files: dict) -> str:
@@ -57,22 +60,44 @@ def _human(summary: dict, files: dict) -> str:
              f"in {summary['run_time']:.3g} s"]
     for b in summary["branches"]:
         lines.append(f"  branch {b['branch']:2d}: {b['points']:4d} points, T in [{b['T_range'][0]:.5g}, "
-                     f"{b['T_range'][1]:.5g}], xi_eq in [{b['xi_range'][0]:.4g}, {b['xi_range'][1]:.4g}]")
-    lines.append("  wrote " + ", ".join(str(p) for p in files.values()))
+                     f"{b['T_range'][1]:.5g}], xi_eq in [{b['xi_range'][0]:.4g}, {b['xi_range'][1]:.4g}], "
+                     f"{b['stable_points']} stable")
+    lines.append("  wrote " + ", ".join(str(p) for p in files.values() if not isinstance(p, (list, tuple))))
     return "\n".join(lines)
 
 
 def _cmd_run(a) -> int:
     from .run import solve, write_results
 
-    res = solve(_case(a))
-    files = write_results(res, a.out, overwrite=a.overwrite)
+    if a.case:
+        from .cli_output import run_case_file
+
+        r = run_case_file(a.case, None if a.out == "plbar-out" else a.out, a.overwrite)
+        res, files = r["result"], r["files"]
+        out = files["summary"] and __import__("pathlib").Path(files["summary"]).parent
+    else:
+        res = solve(_case(a), progress=not (a.quiet or a.json))
+        files = write_results(res, a.out, overwrite=a.overwrite)
+        out = a.out
+    if not a.no_plot:
+        files.update(_plots(res, out))
     s = res.summary()
     if a.json:
         print(json.dumps({"summary": s, "files": {k: str(v) for k, v in files.items()}}))
     elif not a.quiet:
         print(_human(s, files))
     return 0
+
+
+def _plots(res, out) -> dict:
+    """The frequency-response view and the (T1, T2) map, if matplotlib is installed."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        return {}
+    from .plots import frequency_response, paths_plane
+
+    return {"frequency_response": frequency_response(res, out), "paths_plane": paths_plane(res, out)}
 
 
 def _cmd_mesh(a) -> int:
@@ -100,6 +125,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--overwrite", action="store_true", help="replace results of another case in DIR")
     r.add_argument("--quiet", "-q", action="store_true", help="print nothing on success")
     r.add_argument("--json", action="store_true", help="print the summary as JSON")
+    r.add_argument("--no-plot", action="store_true", help="skip the PNG plots")
+    r.add_argument("case", nargs="?", default=None, metavar="CASE.toml",
+                   help="a TOML case file (see examples/cases/); overrides the model/load/search options")
     _case_args(r)
     r.set_defaults(func=_cmd_run)
     m = sub.add_parser("mesh", help="regenerate the shipped mesh files",
@@ -107,6 +135,11 @@ def build_parser() -> argparse.ArgumentParser:
     m.add_argument("--out", default="meshes", metavar="DIR", help="output folder [meshes]")
     m.add_argument("--quiet", "-q", action="store_true")
     m.set_defaults(func=_cmd_mesh)
+    from .cli_output import register as register_output
+    from .cli_studies import register as register_studies
+
+    register_output(sub)
+    register_studies(sub)
     return p
 
 

@@ -44,11 +44,14 @@ class Trace:
     P: np.ndarray
     edges: dict          # grid edge id -> index into P of the exact crossing point
     ends: tuple[str, str]
+    nevals: int = 0
 
 
 class _Tracer:
-    def __init__(self, prob, t1, t2, hmax=None):
+    def __init__(self, prob, t1, t2, hmax=None, crossings=None, stop=None):
         self.prob = prob
+        self.crossings = crossings
+        self.stop = stop or set()
         self.t1, self.t2 = t1, t2
         self.lo = np.array([t1[0], t2[0]])
         self.span = np.array([t1[-1] - t1[0], t2[-1] - t2[0]])
@@ -126,32 +129,54 @@ class _Tracer:
         return pt(x)
 
     def edge_crossings(self, u, q):
-        """Exact crossings of the grid lines between consecutive points ``u -> q``; list of (frac, edge, point)."""
+        """Crossings of the grid lines between consecutive points ``u -> q``; list of (frac, edge, point).
+
+        With a table of the scan's refined crossings (edge id -> point), the
+        point of the crossed edge is taken from it (the same root); without
+        one it is located here on the grid line.
+        """
         out = []
         grids = ((self.t1 - self.lo[0]) / self.span[0], (self.t2 - self.lo[1]) / self.span[1])
         H = (self.n1 - 1) * self.n2
         for axis in (0, 1):
             g = grids[axis]
-            a, b = sorted((u[axis], q[axis]))
-            for k in np.flatnonzero((g > a) & (g <= b)):
-                if q[axis] == u[axis]:
-                    continue
+            if q[axis] == u[axis]:
+                continue
+            # lines strictly past u, up to and including q (a point on a line belongs to the step that reached it)
+            beyond = ((g - u[axis]) * (g - q[axis]) < 0) | (g == q[axis])
+            for k in np.flatnonzero(beyond):
                 frac = (g[k] - u[axis]) / (q[axis] - u[axis])
                 other = u[1 - axis] + frac * (q[1 - axis] - u[1 - axis])
                 og = grids[1 - axis]
-                j = int(np.clip(np.searchsorted(og, other) - 1, 0, og.size - 2))
-                pt = self.root_on_line(axis, g[k], og[j], og[j + 1], other)
-                if pt is None:
-                    continue
-                # axis 0 fixed T1 = t1[k]: a vertical edge (k, j)-(k, j+1); axis 1 fixed T2: horizontal (j, k)-(j+1, k)
-                eid = H + k * (self.n2 - 1) + j if axis == 0 else j * self.n2 + k
-                out.append((frac, int(eid), pt))
+                j0 = int(np.clip(np.searchsorted(og, other) - 1, 0, og.size - 2))
+                found = None
+                for j in (j0, j0 - 1, j0 + 1):
+                    if not 0 <= j <= og.size - 2:
+                        continue
+                    # axis 0 fixed T1 = t1[k]: vertical edge (k, j)-(k, j+1); axis 1 fixed T2: horizontal (j, k)-(j+1, k)
+                    eid = H + k * (self.n2 - 1) + j if axis == 0 else j * self.n2 + k
+                    if self.crossings is not None:
+                        if eid in self.crossings:
+                            found = (eid, (self.crossings[eid] - self.lo) / self.span)
+                            break
+                    else:
+                        pt = self.root_on_line(axis, g[k], og[j], og[j + 1], other)
+                        if pt is not None:
+                            found = (eid, pt)
+                            break
+                if found is not None:
+                    out.append((frac, found[0], found[1]))
         out.sort(key=lambda x: x[0])
         return out
 
-    def march(self, u0, t0, start, max_steps):
-        """Points from ``u0`` along tangent ``t0`` until the domain edge, a closed loop or failure."""
+    def march(self, u0, t0, start, max_steps, seen=None):
+        """Points from ``u0`` along tangent ``t0`` until the domain edge, a closed loop or failure.
+
+        ``seen`` (a set of edge ids, shared by both directions of one trace)
+        detects a closed loop: the walker crosses an edge it already crossed.
+        """
         pts, edges = [], []
+        seen = set() if seen is None else seen
         u, t, h = u0.copy(), t0.copy(), self.hmax
         small = 0
         gr = self.grad(u)
@@ -179,23 +204,31 @@ class _Tracer:
             if ang > 0.2 and h > 1e-9:
                 h *= 0.5
                 continue
+            closed = False
             for frac, eid, pt in self.edge_crossings(u, q):
+                if eid in seen:
+                    closed = True
+                    break
                 if np.all((pt >= -1e-12) & (pt <= 1 + 1e-12)):
+                    seen.add(eid)
                     edges.append((len(pts), eid))
                     pts.append(pt)
+                    if eid in self.stop:
+                        return pts, edges, "stop edge"
+            if closed:
+                return pts, edges, "closed loop"
             inside = np.all((q >= 0) & (q <= 1))
             if not inside:
                 return pts, edges, "domain edge"
             pts.append(q)
-            if len(pts) > 8 and np.linalg.norm(q - start) < 1.5 * h and (q - start) @ tq > 0:
-                return pts, edges, "closed loop"
             u, t, gr = q, tq, gq
             h = min(h * (1.5 if ang < 0.05 else 1.0), self.hmax)
         return pts, edges, "max steps"
 
 
 def trace(prob: Problem, t1: np.ndarray, t2: np.ndarray, seed: np.ndarray, hmax: float | None = None,
-          max_steps: int = 20000) -> Trace:
+          max_steps: int = 20000, crossings: dict | None = None, seed_edge: int | None = None,
+          stop: set | None = None) -> Trace:
     """Trace the zero curve of :func:`G` through ``seed`` (an exact zero, in ``(T1, T2)``).
 
     Parameters
@@ -204,20 +237,35 @@ def trace(prob: Problem, t1: np.ndarray, t2: np.ndarray, seed: np.ndarray, hmax:
         Grid axes of the scan (define the domain box and the grid lines).
     seed : ndarray, shape (2,)
     hmax : float, optional
-        Largest step in normalised coordinates (default half a grid cell).
+        Largest step in normalised coordinates (default one grid cell).
+    crossings : dict, optional
+        The scan's refined crossings, edge id -> point ``(T1, T2)``.
+    seed_edge : int, optional
+        The grid edge the seed lies on (so a closed loop stops when it returns).
+    stop : set of int, optional
+        Grid edges where a walker stops after recording the crossing (the
+        scan found no admissible response there: the branch ends within
+        that grid cell).
     """
-    tr = _Tracer(prob, t1, t2, hmax)
+    tr = _Tracer(prob, t1, t2, hmax, crossings, stop)
     u0 = (np.asarray(seed, float) - tr.lo) / tr.span
     gr = tr.grad(u0)
     t0 = np.array([gr[1], -gr[0]])
     t0 /= np.linalg.norm(t0) or 1.0
-    fwd, efwd, endf = tr.march(u0, t0, u0, max_steps)
+    seen = set() if seed_edge is None else {int(seed_edge)}
+    fwd, efwd, endf = tr.march(u0, t0, u0, max_steps, seen)
     if endf == "closed loop":
         bwd, ebwd, endb = [], [], "closed loop"
     else:
-        bwd, ebwd, endb = tr.march(u0, -t0, u0, max_steps)
+        bwd, ebwd, endb = tr.march(u0, -t0, u0, max_steps, seen)
     P = np.array(bwd[::-1] + [u0] + fwd)
     nb = len(bwd)
     edges = {eid: nb - 1 - i for i, eid in ebwd}
     edges.update({eid: nb + 1 + i for i, eid in efwd})
-    return Trace(tr.T(P), edges, (endb, endf))
+    if seed_edge is not None:
+        edges[int(seed_edge)] = nb
+    T = tr.T(P)
+    if crossings is not None:           # crossing points exactly as the scan refined them
+        for eid, i in edges.items():
+            T[i] = crossings[eid]
+    return Trace(T, edges, (endb, endf), tr.nevals)

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import admissible
+from . import admissible, stability
 from .energy import Damping, damping
 from .errors import InputError
 from .orbit import Orbits, orbits
@@ -90,6 +90,16 @@ class Branch:
     adm : admissible.Admissibility
     e1, e2 : ndarray
         Switch residuals, relative to their scale.
+    stab : stability.Stability
+        Floquet multipliers, ``max_abs`` and the ``stable`` flag per point.
+    ends : (str, str)
+        What ended the branch at its first and last point (``"domain edge"``,
+        ``"closed loop"``, ``"premature switch (reaction)"``, ``"premature
+        switch (gap)"``, ``"impact velocity <= 0"``, ``"not periodic"``, ...).
+    events : tuple of dict
+        Events detected along the branch (folds in ``T``, grazing, stability
+        changes classified by the critical multiplier), each with ``kind``,
+        ``index`` (between points ``index`` and ``index + 1``) and ``T1, T2, T``.
     """
 
     id: int
@@ -98,6 +108,17 @@ class Branch:
     adm: admissible.Admissibility
     e1: np.ndarray
     e2: np.ndarray
+    stab: "stability.Stability"
+    ends: tuple[str, str] = ("", "")
+    events: tuple = ()
+
+    @property
+    def stable(self):
+        return self.stab.stable
+
+    @property
+    def max_abs_multiplier(self):
+        return self.stab.max_abs
 
     @property
     def T1(self):
@@ -296,31 +317,8 @@ def _take_damp(d: Damping, idx) -> Damping:
     return Damping(*[getattr(d, f)[idx] for f in Damping.__dataclass_fields__])
 
 
-def find_paths(prob: Problem, domain: Domain | None = None, grid: tuple[int, int] = (200, 200),
-               progress: bool = False) -> Paths:
-    """All admissible periodic paths of ``prob`` in ``domain``.
-
-    Parameters
-    ----------
-    prob : Problem
-    domain : Domain, optional
-        Default: the paper's ``(0, T0^alpha / 2]`` (:func:`default_domain`).
-    grid : (int, int)
-        Grid points along ``T^I`` and ``T^II`` for the scan of ``D``.
-    progress : bool
-        Unused for small problems; reserved for long scans.
-
-    Returns
-    -------
-    Paths
-        Branches ordered by their smallest period ``T``; each branch ordered
-        along its curve.
-    """
-    t0 = time.perf_counter()
-    domain = domain or default_domain(prob)
-    n1, n2 = (int(g) for g in grid)
-    if n1 < 3 or n2 < 3:
-        raise InputError(f"grid = ({n1}, {n2}) is too coarse; use at least 3 points per axis (default 200 x 200)")
+def _scan(prob, domain, n1, n2):
+    """Grid scan and refinement of every sign-change edge: (t1, t2, F, hmask, vmask, ids, P)."""
     t1, t2, F = scan_field(prob, domain, (n1, n2))
     neg = F < 0
     hmask = neg[:-1, :] != neg[1:, :]
@@ -332,48 +330,195 @@ def find_paths(prob: Problem, domain: Domain | None = None, grid: tuple[int, int
     Fa = np.concatenate([F[hi, hj], F[vi, vj]])
     Fb = np.concatenate([F[hi + 1, hj], F[vi, vj + 1]])
     ids = np.concatenate([hi * n2 + hj, (n1 - 1) * n2 + vi * (n2 - 1) + vj]).astype(int)
-    t_scan = time.perf_counter() - t0
-    stats = {"grid": [n1, n2], "crossings": int(ids.size)}
+    P = _illinois(prob, Pa, Pb, Fa, Fb) if ids.size else np.zeros((0, 2))
+    return t1, t2, F, hmask, vmask, ids, P
+
+
+def _evaluate(prob, P):
+    """Everything about the points ``P`` (N, 2) on zero curves: orbits, admissibility, validity."""
+    co = _chunked(prob, P[:, 0], P[:, 1])
+    phi0 = phase(co)
+    c, sn = np.cos(phi0), np.sin(phi0)
+    r1 = np.abs(co.a1 * c + co.b1 * sn) / co.e1_scale
+    r2 = np.abs(co.a2 * c + co.b2 * sn) / co.e2_scale
+    zero = (r1 < ZERO_TOL) & (r2 < ZERO_TOL)
+    orb, adm, ok = _choose_phase(prob, P, co)
+    per = periodicity_error(orb)
+    periodic = per < PERIODIC_TOL
+    why = np.where(~zero, "not a zero of D", np.where(~periodic, "not periodic (Id - A singular)",
+                   np.where(ok, "", np.char.add("premature switch (", np.char.add(adm.reason.astype(str), ")")))))
+    why = np.where(why == "premature switch (impact)", "impact velocity <= 0", why)
+    return orb, adm, zero & periodic & ok, r1, r2, why
+
+
+def _events(b_T1, b_T2, T, adm, stab) -> list:
+    """Folds in T, grazing and stability changes along an ordered branch."""
+    ev = []
+    dT = np.diff(T)
+    for k in np.flatnonzero(dT[:-1] * dT[1:] < 0):
+        ev.append(dict(kind="fold in T", index=int(k + 1)))
+    g = adm.grazing
+    for k in np.flatnonzero(g[1:] & ~g[:-1]):
+        ev.append(dict(kind="grazing", index=int(k + 1)))
+    st = stab.max_abs < 1
+    for k in np.flatnonzero(st[1:] != st[:-1]):
+        j = k if not st[k] else k + 1              # the unstable side
+        mu = stab.multipliers[j]
+        crit = mu[np.argmin(np.abs(np.abs(mu) - 1.0))]
+        if abs(crit.imag) > 1e-6 * abs(crit):
+            kind = "Neimark-Sacker"
+        elif crit.real < 0:
+            kind = "period doubling"
+        else:
+            kind = "fold (mu = +1)"
+        ev.append(dict(kind=kind, index=int(k)))
+    for e in ev:
+        i = e["index"]
+        e.update(T1=float(b_T1[i]), T2=float(b_T2[i]), T=float(T[i]))
+    return sorted(ev, key=lambda e: e["index"])
+
+
+def _curves_grid(F, hmask, vmask, ids, P):
+    """Marching-squares chains as curves: list of (point indices into P, ends)."""
+    where = {int(e): k for k, e in enumerate(ids)}
+    out = []
+    for chain in _link(F, hmask, vmask):
+        out.append(([where[e] for e in chain if e in where], ("grid chain end", "grid chain end")))
+    return out
+
+
+def _curves_continuation(prob, t1, t2, F, hmask, vmask, ids, P, zero0, good0, progress):
+    """Continuation traces seeded by the admissible scan crossings.
+
+    Walkers stop at crossings the scan found inadmissible (or not periodic),
+    so only the admissible stretches of the zero curves are traced.
+    Returns a list of (points (M, 2), ends).
+    """
+    from .continuation import trace
+
+    crossings = {int(e): P[k] for k, e in enumerate(ids) if zero0[k]}
+    stop = {int(e) for k, e in enumerate(ids) if zero0[k] and not good0[k]}
+    seeds = {int(e) for k, e in enumerate(ids) if good0[k]}
+    visited: set[int] = set()
+    curves = []
+    order = sorted(_link(F, hmask, vmask), key=len, reverse=True)
+    bar = _progress(len(seeds), progress, "tracing")
+    for chain in order:
+        for e in chain:
+            if e in visited or e not in seeds:
+                continue
+            tr = trace(prob, t1, t2, crossings[e], crossings=crossings, seed_edge=e, stop=stop)
+            bar.update(len((set(tr.edges) - visited) & seeds))
+            visited |= set(tr.edges)
+            curves.append((tr.P, tr.ends))
+    bar.close()
+    return curves
+
+
+def _progress(total, enabled, desc):
+    if enabled:
+        from tqdm.auto import tqdm
+
+        return tqdm(total=total, desc=desc, unit="edge", leave=False, delay=1.0)
+
+    class _Null:
+        def update(self, *_):
+            pass
+
+        def close(self):
+            pass
+
+    return _Null()
+
+
+def find_paths(prob: Problem, domain: Domain | None = None, grid: tuple[int, int] = (200, 200),
+               method: str = "continuation", progress: bool = False) -> Paths:
+    """All admissible periodic paths of ``prob`` in ``domain``.
+
+    Parameters
+    ----------
+    prob : Problem
+    domain : Domain, optional
+        Default: the paper's ``(0, T0^alpha / 2]`` (:func:`default_domain`).
+    grid : (int, int)
+        Grid points along ``T^I`` and ``T^II`` for the scan of ``D``.
+    method : {"continuation", "grid"}
+        ``"continuation"``: the scan's crossings seed pseudo-arclength
+        continuation (:mod:`plbar.continuation`), so every branch is an
+        ordered curve resolved at least as finely as the grid, through the
+        scan's own points; ``"grid"``: the scan's crossings linked by the
+        marching-squares topology (faster; fragments where two curves come
+        closer than a grid cell).
+    progress : bool
+        Show a progress bar while tracing.
+
+    Returns
+    -------
+    Paths
+        Branches ordered by their smallest period ``T``; each branch ordered
+        along its curve.
+    """
+    if method not in ("continuation", "grid"):
+        raise InputError(f"method = {method!r} is not allowed; choose continuation or grid")
+    t0 = time.perf_counter()
+    domain = domain or default_domain(prob)
+    n1, n2 = (int(g) for g in grid)
+    if n1 < 3 or n2 < 3:
+        raise InputError(f"grid = ({n1}, {n2}) is too coarse; use at least 3 points per axis (default 200 x 200)")
+    t1, t2, F, hmask, vmask, ids, P = _scan(prob, domain, n1, n2)
+    stats = {"grid": [n1, n2], "method": method, "crossings": int(ids.size), "t_scan": time.perf_counter() - t0}
+    if ids.size and hasattr(_illinois, "iterations"):
+        stats["refine_iterations"] = _illinois.iterations
     branches: list[Branch] = []
     if ids.size:
-        P = _illinois(prob, Pa, Pb, Fa, Fb)
-        stats["refine_iterations"] = _illinois.iterations
-        co = _chunked(prob, P[:, 0], P[:, 1])
-        phi0 = phase(co)
-        e1, e2 = co.a1 * np.cos(phi0) + co.b1 * np.sin(phi0), co.a2 * np.cos(phi0) + co.b2 * np.sin(phi0)
-        r1, r2 = np.abs(e1) / co.e1_scale, np.abs(e2) / co.e2_scale
-        zero = (r1 < ZERO_TOL) & (r2 < ZERO_TOL)
-        stats["zeros"] = int(zero.sum())
-        orb, adm, ok = _choose_phase(prob, P, co)
-        per = periodicity_error(orb)
-        stats["ill_conditioned"] = int((zero & ~(per < PERIODIC_TOL)).sum())
-        good = zero & ok & (per < PERIODIC_TOL)
-        stats["admissible"] = int(good.sum())
-        t_ref = time.perf_counter()
-        where = {int(e): k for k, e in enumerate(ids)}
+        orb0, adm0, good0, r10, r20, why0 = _evaluate(prob, P)
+        stats["zeros"] = int((r10 < ZERO_TOL).sum())
+        stats["admissible_crossings"] = int(good0.sum())
+        t1c = time.perf_counter()
+        if method == "grid":
+            raw = _curves_grid(F, hmask, vmask, ids, P)
+            curves = [(np.asarray(ix, int), ends) for ix, ends in raw]
+            allP, orb, adm, good, r1, r2, why = P, orb0, adm0, good0, r10, r20, why0
+        else:
+            zero0 = (r10 < ZERO_TOL) & (r20 < ZERO_TOL)
+            traced = _curves_continuation(prob, t1, t2, F, hmask, vmask, ids, P, zero0, good0, progress)
+            sizes = [len(c[0]) for c in traced]
+            allP = np.concatenate([c[0] for c in traced]) if traced else np.zeros((0, 2))
+            offs = np.r_[0, np.cumsum(sizes)]
+            curves = [(np.arange(offs[i], offs[i + 1]), traced[i][1]) for i in range(len(traced))]
+            orb, adm, good, r1, r2, why = _evaluate(prob, allP) if len(allP) else (None,) * 6
+            stats["traced_points"] = int(len(allP))
+        stats["t_curves"] = time.perf_counter() - t1c
         runs = []
-        for chain in _link(F, hmask, vmask):
+        for ix, ends in curves:
             run: list[int] = []
-            for e in chain + [-1]:
-                k = where.get(e, -1)
+            start_reason = ends[0]
+            for pos, k in enumerate(list(ix) + [-1]):
                 if k >= 0 and good[k]:
+                    if not run:
+                        start_reason = ends[0] if pos == 0 else why[ix[pos - 1]]
                     run.append(k)
                 elif run:
-                    runs.append(run)
+                    end_reason = ends[1] if k < 0 else why[k]
+                    runs.append((run, (str(start_reason), str(end_reason))))
                     run = []
-        sel = np.concatenate(runs) if runs else np.zeros(0, int)
+        sel = np.concatenate([r for r, _ in runs]) if runs else np.zeros(0, int)
         if sel.size:
-            dmp = damping(orb.take(sel))
+            sorb = orb.take(sel)
+            dmp = damping(sorb)
+            stb = stability.stability(sorb)
             lookup = {int(k): j for j, k in enumerate(sel)}
-            order = sorted(range(len(runs)), key=lambda r: min(orb.T[runs[r]]))
+            order = sorted(range(len(runs)), key=lambda r: min(orb.T[runs[r][0]]))
             for bid, r in enumerate(order):
-                run = runs[r]
+                run, ends = runs[r]
                 if orb.T[run[0]] > orb.T[run[-1]]:
-                    run = run[::-1]
+                    run, ends = run[::-1], ends[::-1]
                 jj = [lookup[k] for k in run]
-                branches.append(Branch(bid, orb.take(run), _take_damp(dmp, jj), _take_adm(adm, run),
-                                       r1[run], r2[run]))
-        stats["t_refine"] = time.perf_counter() - t_ref
-    stats["t_scan"] = t_scan
+                st = stability.Stability(*[getattr(stb, f)[jj] if np.ndim(getattr(stb, f)) else getattr(stb, f)
+                                           for f in stability.Stability.__dataclass_fields__])
+                bo, ba = orb.take(run), _take_adm(adm, run)
+                branches.append(Branch(bid, bo, _take_damp(dmp, jj), ba, r1[run], r2[run], st, ends,
+                                       tuple(_events(bo.T1, bo.T2, bo.T, ba, st))))
+        stats["admissible"] = int(sel.size)
     stats["t_total"] = time.perf_counter() - t0
     return Paths(prob, domain, (n1, n2), tuple(branches), stats)

@@ -16,7 +16,7 @@ from .paths import Paths, find_paths
 
 __all__ = ["Result", "solve", "write_results", "CSV_HEADER"]
 
-CSV_HEADER = ["branch", "T1", "T2", "phi", "T", "dPL", "xi", "grazing"]
+CSV_HEADER = ["branch", "T1", "T2", "phi", "T", "dPL", "xi", "grazing", "stable", "max_abs_multiplier"]
 
 
 @dataclass(frozen=True)
@@ -46,6 +46,9 @@ class Result:
                 "dPL_range": [float(b.dPL.min()), float(b.dPL.max())],
                 "grazing_points": int(b.grazing.sum()),
                 "resonant_points": int((~b.damping.closed_form).sum()),
+                "stable_points": int(b.stable.sum()),
+                "ends": list(b.ends),
+                "events": list(b.events),
             })
         stats = {k: (round(v, 6) if isinstance(v, float) else v) for k, v in self.paths.stats.items()}
         return {
@@ -63,12 +66,12 @@ class Result:
         }
 
 
-def solve(case: Case | None = None) -> Result:
+def solve(case: Case | None = None, progress: bool = False) -> Result:
     """Solve ``case`` (default: the paper's chain N = 5, unit force on DOF 1)."""
     case = case or Case()
     t0 = time.perf_counter()
     prob = case.problem()
-    paths = find_paths(prob, case.domain(prob), case.grid)
+    paths = find_paths(prob, case.domain(prob), case.grid, method=case.method, progress=progress)
     return Result(case, paths, time.perf_counter() - t0)
 
 
@@ -83,6 +86,8 @@ def _rows(res: Result):
         cols["dPL"].append(b.dPL)
         cols["xi"].append(b.xi)
         cols["grazing"].append(b.grazing.astype(int))
+        cols["stable"].append(b.stable.astype(int))
+        cols["max_abs_multiplier"].append(b.max_abs_multiplier)
     return [np.concatenate(cols[k]) if cols[k] else np.zeros(0) for k in CSV_HEADER]
 
 
@@ -104,7 +109,7 @@ def write_results(res: Result, out, overwrite: bool = False) -> dict[str, Path]:
                                     "choose another --out or pass --overwrite")
     files = {
         "paths": write_csv(out / "paths.csv", CSV_HEADER, _rows(res),
-                           ["%d", "%.17g", "%.17g", "%.17g", "%.17g", "%.17g", "%.17g", "%d"]),
+                           ["%d", "%.17g", "%.17g", "%.17g", "%.17g", "%.17g", "%.17g", "%d", "%d", "%.17g"]),
     }
     files["summary"] = write_json(out / "summary.json", res.summary())
     return files

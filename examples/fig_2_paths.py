@@ -1,0 +1,16 @@
+"""Fig. 2: periodic paths of the chain N = 5 (DOF 1 forced) in (T1, T2, phi) and the T1-T2 plane.
+
+Usage: python fig_2_paths.py [OUT_DIR]   (default ./plbar-figures; PNG and PDF)
+Environment: PLBAR_GRID="N1,N2" scan grid (default 200,200).
+"""
+import os
+import sys
+
+from plbar import plots
+
+GRID = tuple(int(v) for v in os.environ.get("PLBAR_GRID", "200,200").split(","))
+
+if __name__ == "__main__":
+    out = sys.argv[1] if len(sys.argv) > 1 else "plbar-figures"
+    for f in plots.fig2_paths(out, grid=GRID):
+        print(f)
