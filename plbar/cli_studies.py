@@ -36,9 +36,20 @@ def _execute(a, study):
         return run_study(a.out, study, ex, progress=not a.quiet, overwrite=a.overwrite)
 
 
-def _cmd_sweep(a) -> int:
-    from .sweep import default_positions, load_sweep_study, node_pairs, sweep_tables, write_sweep_tables
+def _from_case_file(a) -> None:
+    """Take the bar and the grid of a TOML case file (``--case``) into the sweep arguments."""
+    from .casefile import load_case
 
+    case, _ = load_case(a.case)
+    a.model, a.elements, a.element, a.mass, a.grid = case.model, case.n_eff, case.element, case.mass, case.grid
+
+
+def _cmd_sweep(a) -> int:
+    from .sweep import (default_positions, load_sweep_study, node_pairs, sweep_tables, write_sweep_tables,
+                        xi_along_mesh)
+
+    if a.case:
+        _from_case_file(a)
     n = a.elements or (5 if a.model == "chain" else 8)
     pos = a.at if a.at else default_positions(n, a.per_element, a.model)
     pairs = node_pairs(n, a.model) if a.pairs else ()
@@ -46,6 +57,16 @@ def _cmd_sweep(a) -> int:
     res = _execute(a, st)
     tb = sweep_tables(st.tasks, res)
     files = write_sweep_tables(a.out, tb)
+    try:
+        from .case import Case
+        from .export import write_xi_along_mesh
+
+        bar = Case(model=a.model, n=n, element=a.element if a.model == "fe" else "P1",
+                   mass=a.mass if a.model == "fe" else "lumped").bar()
+        pos, fields = xi_along_mesh(tb)
+        files["xi_along_mesh"] = write_xi_along_mesh(bar, pos, fields, f"{a.out}/xi_along_mesh.vtu")
+    except ImportError:       # meshio/pyvista missing: the tables are still complete
+        pass
     if not a.quiet:
         for fam, e in tb.summary["best"].items():
             for kind, v in e.items():
@@ -58,6 +79,13 @@ def _cmd_sweep(a) -> int:
 
 def _cmd_refine(a) -> int:
     from .refine import refine_study, refine_tables, write_refine_tables
+
+    if a.case:
+        from .casefile import load_case
+
+        case, _ = load_case(a.case)
+        a.series = ["chain"] if case.model == "chain" else [f"fe-{case.element}-{case.mass}"]
+        a.grid = case.grid
 
     st = refine_study(a.n, a.series, a.frac, tuple(a.grid), tuple(a.T2_frac) if a.T2_frac else None)
     res = _execute(a, st)
@@ -99,6 +127,8 @@ def register(sub) -> None:
     s.add_argument("--per-element", type=int, default=10, metavar="K",
                    help="default positions: K per element, nodes included [10]")
     s.add_argument("--pairs", action="store_true", help="also every pair of nodes, amplitude 0.5 each")
+    s.add_argument("--case", default=None, metavar="FILE.toml",
+                   help="take the bar (model, N, element, mass) and the grid from a TOML case file")
     _run_args(s, "plbar-sweep")
     s.set_defaults(func=_cmd_sweep)
 
@@ -111,6 +141,8 @@ def register(sub) -> None:
                    help="chain and/or fe-P1-lumped, fe-P1-consistent, fe-P2-lumped, fe-P2-consistent [chain]")
     r.add_argument("--frac", type=float, nargs="+", default=[0.5], metavar="F",
                    help="load positions s/L [0.5]")
+    r.add_argument("--case", default=None, metavar="FILE.toml",
+                   help="take the series (model/element/mass), N and the grid from a TOML case file")
     r.add_argument("--T2-frac", type=float, nargs=2, default=None, metavar=("LO", "HI"),
                    help="search T2 in [LO, HI] * T0_II/2 only (cheaper for large N)")
     _run_args(r, "plbar-refine")

@@ -516,7 +516,8 @@ def write_xi_along_mesh(bar, positions, fields: dict, path) -> Path:
         Positions of the values (vertices, or any points on ``[0, L]``; a
         position that is not a vertex becomes an extra mesh point).
     fields : dict of str -> array_like, shape (m,)
-        Point data; nodes without a value get ``nan`` and ``has_value = 0``.
+        Point data; nodes without a value get 0 and ``has_value = 0`` (no
+        ``nan`` is written).
     path : path
         The ``.vtu`` file (written atomically).
     """
@@ -545,7 +546,9 @@ def write_xi_along_mesh(bar, positions, fields: dict, path) -> Path:
         vals = np.asarray(vals, float)
         if vals.shape != pos.shape:
             raise InputError(f"field {nm!r} has shape {vals.shape}; it needs one value per position {pos.shape}")
-        arr = np.full(pts.size, np.nan)
+        if not np.all(np.isfinite(vals)):
+            raise InputError(f"field {nm!r} has non-finite values; give finite numbers")
+        arr = np.zeros(pts.size)     # nodes without a value: 0 with has_value = 0 (never nan)
         arr[where] = vals
         grid.point_data[str(nm)] = arr
     path = Path(path)

@@ -35,7 +35,7 @@ from .study import Study
 from .tasks import branch_arrays
 
 __all__ = ["load_sweep_study", "default_positions", "node_pairs", "SweepTables", "sweep_tables",
-           "write_sweep_tables", "SWEEP_HEADER", "MAX_HEADER"]
+           "write_sweep_tables", "xi_along_mesh", "SWEEP_HEADER", "MAX_HEADER"]
 
 SWEEP_HEADER = ["case", "load", "s1", "a1", "s2", "a2", "family", "branch", "point",
                 "T1", "T2", "phi", "T", "dPL", "xi", "grazing"]
@@ -192,14 +192,57 @@ def _summary(mx: dict) -> dict:
     return out
 
 
+def _blank_nan(col):
+    """Column values for CSV with nan written as an empty field (single loads have no s2, a2)."""
+    return ["" if (isinstance(v, float) and np.isnan(v)) else repr(float(v)) for v in col]
+
+
 def write_sweep_tables(folder, tables: SweepTables) -> dict[str, Path]:
-    """Write ``sweep.csv``, ``sweep_max.csv`` and ``sweep_summary.json`` (atomically)."""
+    """Write ``sweep.csv``, ``sweep_max.csv`` and ``sweep_summary.json`` (atomically).
+
+    A single load has no second position: its ``s2, a2`` fields are empty
+    (no ``nan`` is ever written).
+    """
     folder = Path(folder)
     g = "%.17g"
-    f_rows = ["%d", "%s", g, g, g, g, "%s", "%d", "%d", g, g, g, g, g, g, "%d"]
-    f_max = ["%d", "%s", g, g, g, g, "%s", "%d", "%d"] + [g] * 11
+    f_rows = ["%d", "%s", g, g, "%s", "%s", "%s", "%d", "%d", g, g, g, g, g, g, "%d"]
+    f_max = ["%d", "%s", g, g, "%s", "%s", "%s", "%d", "%d"] + [g] * 11
+    rows = [(_blank_nan(tables.rows[k]) if k in ("s2", "a2") else tables.rows[k]) for k in SWEEP_HEADER]
+    maxi = [(_blank_nan(tables.maxima[k]) if k in ("s2", "a2") else tables.maxima[k]) for k in MAX_HEADER]
     return {
-        "sweep": write_csv(folder / "sweep.csv", SWEEP_HEADER, [tables.rows[k] for k in SWEEP_HEADER], f_rows),
-        "max": write_csv(folder / "sweep_max.csv", MAX_HEADER, [tables.maxima[k] for k in MAX_HEADER], f_max),
+        "sweep": write_csv(folder / "sweep.csv", SWEEP_HEADER, rows, f_rows),
+        "max": write_csv(folder / "sweep_max.csv", MAX_HEADER, maxi, f_max),
         "summary": write_json(folder / "sweep_summary.json", tables.summary),
     }
+
+
+def xi_along_mesh(tables: SweepTables) -> tuple[np.ndarray, dict]:
+    """Per single-load position: max ``xi_eq`` over all branches and per family, and the max ``Delta_PL``.
+
+    Returns the sorted positions (with the clamp ``s = 0`` added, where a
+    load does nothing: every value 0) and a dict of point fields for
+    :func:`plbar.export.write_xi_along_mesh`.
+    """
+    r = tables.rows
+    a2 = np.asarray(r["a2"], float)
+    s1 = np.asarray(r["s1"], float)
+    single = np.isnan(a2)
+    pos = np.unique(s1[single])
+    xi = np.asarray(r["xi"], float)
+    dpl = np.asarray(r["dPL"], float)
+    fam = np.asarray(r["family"], dtype=object)
+    fields = {"xi_eq_max": np.zeros(pos.size), "dPL_max": np.zeros(pos.size)}
+    for f in FAMILIES:
+        fields[f"xi_eq_max_{f.replace('/', '_')}"] = np.zeros(pos.size)
+    for i, s in enumerate(pos):
+        m = single & (s1 == s)
+        if not m.any():
+            continue
+        fields["xi_eq_max"][i] = xi[m].max()
+        fields["dPL_max"][i] = dpl[m].max()
+        for f in FAMILIES:
+            mf = m & (fam == f)
+            if mf.any():
+                fields[f"xi_eq_max_{f.replace('/', '_')}"][i] = xi[mf].max()
+    pos = np.r_[0.0, pos]
+    return pos, {k: np.r_[0.0, v] for k, v in fields.items()}

@@ -116,7 +116,7 @@ def test_orbits_source_and_xi_along_mesh(small, tmp_path):
     m = pv.read(str(path))
     assert m.n_points == bar.nodes.size
     np.testing.assert_allclose(np.asarray(m.point_data["xi_max"])[1:], np.linspace(0.01, 0.1, pos.size))
-    assert np.isnan(m.point_data["xi_max"][0]) and list(m.point_data["has_value"]) == [0] + [1] * pos.size
+    assert m.point_data["xi_max"][0] == 0.0 and list(m.point_data["has_value"]) == [0] + [1] * pos.size
     p2 = export.write_xi_along_mesh(bar.nodes, [1.25], {"xi": [0.05]}, tmp_path / "xi2.vtu")
     assert pv.read(str(p2)).n_points == bar.nodes.size + 1
     with pytest.raises(InputError, match="one value per position"):
