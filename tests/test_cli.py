@@ -92,3 +92,15 @@ def test_refuses_other_case_in_same_folder(tmp_path, capsys):
     assert main(["run", "--out", str(tmp_path), "--quiet", "--no-plot", "--grid", "41", "41"]) == 2
     assert "--overwrite" in capsys.readouterr().err
     assert main(["run", "--out", str(tmp_path), "--quiet", "--no-plot", "--grid", "41", "41", "--overwrite"]) == 0
+
+
+CASES = sorted((__import__("pathlib").Path(__file__).resolve().parents[1] / "examples" / "cases").glob("*.toml"))
+
+
+@pytest.mark.parametrize("path", CASES, ids=[p.stem for p in CASES])
+def test_every_example_case_file_runs(tmp_path, path):
+    assert main(["run", str(path), "--out", str(tmp_path), "--quiet", "--no-plot"]) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert s["n_branches"] >= 1
+    _, rows = _csv(tmp_path / "paths.csv")
+    assert rows and np.all(np.isfinite(np.array([[float(v) for v in r] for r in rows])))
