@@ -13,13 +13,59 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._check import choice, positive
+from ._check import choice, finite, integer, pairs, positive, show
 from .errors import InputError
 
 __all__ = ["Bar", "Assembled", "assemble", "chain", "uniform_bar", "graded_nodes", "uniform_nodes"]
 
 ELEMENTS = ("P1", "P2")
 MASSES = ("lumped", "consistent")
+
+
+#: smallest allowed element length, relative to the bar length
+MIN_ELEMENT = 1e-5
+#: largest allowed grading ratio (last / first element length) of :func:`graded_nodes`, and smallest 1 / it
+MAX_GRADING = 1e3
+#: largest allowed ratio of the largest to the smallest EA (or rhoA) of the elements
+MAX_CONTRAST = 1e4
+
+
+def _nodes(nodes) -> np.ndarray:
+    """Vertex coordinates as a read-only float array, validated (FORMULATION §1)."""
+    if isinstance(nodes, (str, bytes, dict)) or nodes is None:
+        raise InputError(f"nodes = {show(nodes)} must be an array of vertex coordinates starting at 0")
+    try:
+        x = np.array(nodes)
+    except (TypeError, ValueError):
+        raise InputError(f"nodes = {show(nodes)} must be an array of vertex coordinates starting at 0") from None
+    if x.dtype.kind not in "iuf":
+        raise InputError(f"nodes = {show(nodes)} must be an array of numbers (got dtype {x.dtype})")
+    x = x.astype(float)
+    if x.ndim != 1 or x.size < 3:
+        raise InputError(f"a bar needs at least 2 elements (3 nodes), got nodes of shape {x.shape}")
+    if not np.all(np.isfinite(x)):
+        i = int(np.flatnonzero(~np.isfinite(x))[0])
+        raise InputError(f"node {i} at x = {show(x[i])} is not allowed; node coordinates must be finite")
+    if x[0] != 0.0:
+        raise InputError(f"the first node must be the clamp at x = 0, got x = {show(x[0])}")
+    d = np.diff(x)
+    if np.any(d <= 0):
+        i = int(np.flatnonzero(d <= 0)[0])
+        kind = "duplicate" if d[i] == 0 else "unsorted"
+        raise InputError(f"nodes must be strictly increasing; {kind} nodes at x = {show(x[i])}, "
+                         f"{show(x[i + 1])}")
+    if d.min() < MIN_ELEMENT * x[-1]:
+        i = int(np.argmin(d))
+        raise InputError(f"element {i + 1} from x = {show(x[i])} to {show(x[i + 1])} is too short; every element "
+                         f"must be at least {MIN_ELEMENT:g} L = {MIN_ELEMENT * x[-1]:g} long")
+    x.setflags(write=False)
+    return x
+
+
+def _contrast(name: str, v: np.ndarray) -> None:
+    if v.max() > MAX_CONTRAST * v.min():
+        raise InputError(f"{name} per element ranges from {show(v.min())} to {show(v.max())}; the ratio "
+                         f"{v.max() / v.min():.3g} must be at most {MAX_CONTRAST:g}")
 
 
 def uniform_nodes(n_elements: int, length: float = 1.0) -> np.ndarray:
@@ -44,6 +90,9 @@ def graded_nodes(n_elements: int, length: float = 1.0, ratio: float = 1.0) -> np
     n = _n_elements(n_elements)
     length = positive("length", length)
     ratio = positive("ratio", ratio)
+    if not 1.0 / MAX_GRADING <= ratio <= MAX_GRADING:
+        raise InputError(f"grading ratio = {show(ratio)} is not allowed; it must lie in "
+                         f"[{1 / MAX_GRADING:g}, {MAX_GRADING:g}]")
     if n == 1 or ratio == 1.0:
         return np.linspace(0.0, length, n + 1)
     q = ratio ** (1.0 / (n - 1))
@@ -53,12 +102,7 @@ def graded_nodes(n_elements: int, length: float = 1.0, ratio: float = 1.0) -> np
 
 
 def _n_elements(n) -> int:
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
-        raise InputError(f"number of elements = {n!r} must be an integer >= 2")
-    if n < 2:
-        raise InputError(f"number of elements = {n} is too small; a bar needs at least 2 elements "
-                         "(one free DOF besides the contact node)")
-    return int(n)
+    return integer("number of elements", n, 2)
 
 
 @dataclass(frozen=True)
@@ -91,36 +135,26 @@ class Bar:
     paper_chain: bool = field(default=False, compare=False)
 
     def __post_init__(self):
-        x = np.asarray(self.nodes, dtype=float)
-        if x.ndim != 1 or x.size < 3:
-            raise InputError(f"a bar needs at least 2 elements (3 nodes), got nodes of shape {x.shape}")
-        if not np.all(np.isfinite(x)):
-            raise InputError("node coordinates must be finite")
-        if x[0] != 0.0:
-            raise InputError(f"the first node must be the clamp at x = 0, got x = {x[0]!r}")
-        d = np.diff(x)
-        if np.any(d <= 0):
-            i = int(np.flatnonzero(d <= 0)[0])
-            kind = "duplicate" if d[i] == 0 else "unsorted"
-            raise InputError(f"nodes must be strictly increasing; {kind} nodes at x = {x[i]!r}, {x[i + 1]!r}")
+        x = _nodes(self.nodes)
         choice("element", self.element, ELEMENTS)
         choice("mass", self.mass, MASSES)
         ne = x.size - 1
         for nm in ("EA", "rhoA"):
             v = positive(nm, getattr(self, nm), allow_array=True)
-            if isinstance(v, np.ndarray) and v.shape != (ne,):
-                raise InputError(f"{nm} per element must have {ne} values (one per element), got shape {v.shape}")
+            if isinstance(v, np.ndarray):
+                if v.shape != (ne,):
+                    raise InputError(f"{nm} per element must have {ne} values (one per element), got shape {v.shape}")
+                _contrast(nm, v)
             object.__setattr__(self, nm, v)
         pm = []
-        for item in self.point_masses:
-            try:
-                xp, mp = item
-            except (TypeError, ValueError):
-                raise InputError(f"a point mass must be a pair (x, m), got {item!r}") from None
+        for item in pairs("point_masses", self.point_masses, "(x, m)"):
+            xp, mp = item
+            xp = finite("point mass position x", xp, f"a free vertex of the mesh in (0, {x[-1]:g}]")
             mp = positive("point mass", mp)
-            j = np.flatnonzero(np.isclose(x, float(xp), rtol=0, atol=1e-12 * x[-1]))
+            j = np.flatnonzero(np.isclose(x, xp, rtol=0, atol=1e-12 * x[-1]))
             if j.size != 1 or j[0] == 0:
-                raise InputError(f"point mass position x = {xp!r} must be a free vertex of the mesh (0, {x[-1]:g}]")
+                raise InputError(f"point mass position x = {show(xp)} is not allowed; it must be a free vertex "
+                                 f"of the mesh in (0, {x[-1]:g}]")
             pm.append((float(x[j[0]]), mp))
         object.__setattr__(self, "point_masses", tuple(pm))
         x.setflags(write=False)
@@ -154,10 +188,9 @@ def chain(n: int, m: float = 1.0, k: float = 1.0) -> Bar:
     unit length with ``EA = k``, ``rhoA = m`` and lumped mass, plus a point
     mass ``m/2`` on the contact node.  Its matrices are Eqs. (23)-(24).
     """
+    n = integer("chain size N", n, 2)
     m = positive("m", m)
     k = positive("k", k)
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
-        raise InputError(f"chain size N = {n!r} must be an integer >= 2")
     x = np.arange(n + 1, dtype=float)
     return Bar(x, "P1", "lumped", k, m, ((float(n), m / 2.0),), f"chain-{n}", paper_chain=True)
 

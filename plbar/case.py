@@ -6,9 +6,11 @@ The default :class:`Case` is the paper's Sec. 4.1 example: the chain with
 
 from __future__ import annotations
 
+import os
 from dataclasses import asdict, dataclass, field
 
-from ._check import choice, positive
+from ._check import choice, integer, interval, pairs, positive, show
+from ._check import grid as check_grid
 from .bar import ELEMENTS, MASSES, Bar, chain, graded_nodes
 from .errors import InputError
 from .load import Load
@@ -81,20 +83,31 @@ class Case:
         choice("method", self.method, ("continuation", "grid"))
         if self.model == "chain" and (self.element, self.mass) != ("P1", "lumped"):
             raise InputError("model = 'chain' is always P1 lumped; use model = 'fe' for element/mass choices")
+        if self.n is not None:
+            object.__setattr__(self, "n", integer("n" if self.model == "fe" else "chain size N", self.n, 2))
+        for nm in ("length", "EA", "rhoA", "m", "k", "grading"):
+            object.__setattr__(self, nm, positive(nm, getattr(self, nm)))
+        if self.mesh_file is not None and not isinstance(self.mesh_file, (str, os.PathLike)):
+            raise InputError(f"mesh_file = {show(self.mesh_file)} must be a path (a string)")
+        if self.mesh_file is not None:
+            object.__setattr__(self, "mesh_file", os.fspath(self.mesh_file))
+        if not isinstance(self.label, str):
+            raise InputError(f"label = {show(self.label)} must be a string")
+        for nm, what in (("load_nodes", "(k, amplitude)"), ("load_points", "(s, amplitude)"),
+                         ("point_masses", "(x, m)")):
+            v = getattr(self, nm)
+            object.__setattr__(self, nm, () if v is None else pairs(nm, v, what))
         if not self.load_nodes and not self.load_points:
             object.__setattr__(self, "load_nodes", ((1, 1.0),))
-        object.__setattr__(self, "load_nodes", tuple(tuple(x) for x in self.load_nodes))
-        object.__setattr__(self, "load_points", tuple(tuple(x) for x in self.load_points))
-        object.__setattr__(self, "point_masses", tuple(tuple(x) for x in self.point_masses))
-        try:
-            g = tuple(int(v) for v in self.grid)
-        except (TypeError, ValueError):
-            raise InputError(f"grid = {self.grid!r} must be two integers (points along T1 and T2)") from None
-        if len(g) != 2 or min(g) < 3:
-            raise InputError(f"grid = {self.grid!r} must be two integers >= 3 (default 200 200)")
-        object.__setattr__(self, "grid", g)
-        for nm in ("length", "EA", "rhoA", "m", "k", "grading"):
-            positive(nm, getattr(self, nm))
+        ld = Load(points=self.load_points, nodes=self.load_nodes)      # validates types and signs
+        object.__setattr__(self, "load_nodes", ld.nodes)
+        object.__setattr__(self, "load_points", ld.points)
+        object.__setattr__(self, "grid", check_grid(self.grid, warn=False))
+        for nm in ("T1", "T2"):
+            if getattr(self, nm) is not None:
+                object.__setattr__(self, nm, interval(f"search domain {nm}", getattr(self, nm)))
+        if not (self.model == "fe" and self.mesh_file):
+            self.bar()          # fail now on the mesh, point masses and section (no file to read)
 
     @property
     def n_eff(self) -> int:
@@ -108,8 +121,12 @@ class Case:
             from .meshfile import read_nodes
 
             nodes = read_nodes(self.mesh_file)
-        else:
-            nodes = graded_nodes(self.n_eff, self.length, self.grading)
+            try:
+                return Bar(nodes, self.element, self.mass, self.EA, self.rhoA, self.point_masses,
+                           f"fe-{self.element}-{self.mass}-{len(nodes) - 1}")
+            except InputError as exc:
+                raise InputError(f"mesh file {self.mesh_file!r}: {exc}") from None
+        nodes = graded_nodes(self.n_eff, self.length, self.grading)
         return Bar(nodes, self.element, self.mass, self.EA, self.rhoA, self.point_masses,
                    f"fe-{self.element}-{self.mass}-{len(nodes) - 1}")
 

@@ -270,8 +270,8 @@ def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
             raise ctx.err("bar", f"{key} = {_fmt(bar[key])} is not allowed; it must be > 0")
     if "n" in bar and bar["n"] < 2:
         raise ctx.err("bar", f"n = {bar['n']} is not allowed; it must be >= 2")
-    for key in ("steps", "snapshots"):
-        lo = 4 if key == "steps" else 1
+    for key in ("steps", "snapshots", "branch", "index"):
+        lo = {"steps": 4, "snapshots": 1}.get(key, 0)
         if key in out and out[key] < lo:
             raise ctx.err("output", f"{key} = {out[key]} is not allowed; it must be >= {lo}")
     try:

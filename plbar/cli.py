@@ -9,10 +9,18 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import warnings
 
-from .errors import PlbarError
+from .errors import NonFiniteError, PlbarError, PlbarWarning
 
 __all__ = ["main"]
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line usage errors (exit code 2), like every other bad input."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {_one_line(message)} (see '{self.prog} --help')\n")
 
 
 def _case_args(p: argparse.ArgumentParser) -> None:
@@ -67,16 +75,22 @@ def _human(summary: dict, files: dict) -> str:
 
 
 def _cmd_run(a) -> int:
-    from .run import solve, write_results
+    from .run import check_output, solve, write_results
 
     if a.case:
+        from .casefile import load_case
         from .cli_output import run_case_file
 
-        r = run_case_file(a.case, None if a.out == "plbar-out" else a.out, a.overwrite)
+        out = None if a.out == "plbar-out" else a.out
+        case, st = load_case(a.case)                         # fail fast on the file and the output folder
+        check_output(case, out or st.dir or "plbar-out", a.overwrite or st.overwrite)
+        r = run_case_file(a.case, out, a.overwrite)
         res, files = r["result"], r["files"]
         out = files["summary"] and __import__("pathlib").Path(files["summary"]).parent
     else:
-        res = solve(_case(a), progress=not (a.quiet or a.json))
+        case = _case(a)
+        check_output(case, a.out, a.overwrite)
+        res = solve(case, progress=not (a.quiet or a.json))
         files = write_results(res, a.out, overwrite=a.overwrite)
         out = a.out
     if not a.no_plot:
@@ -112,7 +126,7 @@ def _cmd_mesh(a) -> int:
 def build_parser() -> argparse.ArgumentParser:
     from . import __version__
 
-    p = argparse.ArgumentParser(prog="plbar", description=(
+    p = _Parser(prog="plbar", description=(
         "Periodic responses of harmonically forced bars with a unilateral contact, the energy lost at "
         "each plastic impact and the equivalent viscous damping ratio xi_eq."))
     p.add_argument("--version", action="version", version=f"plbar {__version__}")
@@ -147,22 +161,45 @@ def main(argv=None) -> int:
     p = build_parser()
     try:
         a = p.parse_args(argv)
-    except SystemExit as exc:   # argparse: 2 on bad usage, 0 on --help
-        return int(exc.code or 0)
+    except SystemExit as exc:   # argparse: 2 on bad usage (one line, see _Parser.error), 0 on --help
+        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
     if not getattr(a, "func", None):
         p.print_help()
         return 2
-    try:
-        return a.func(a)
-    except PlbarError as exc:
-        print(f"plbar: error: {exc}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        print("plbar: interrupted", file=sys.stderr)
-        return 1
-    except Exception as exc:  # pragma: no cover - reported, not hidden
-        print(f"plbar: failed: {type(exc).__name__}: {exc}", file=sys.stderr)
-        return 1
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", PlbarWarning)
+        old_show = warnings.showwarning
+        warnings.showwarning = _show_warning(old_show)
+        try:
+            return a.func(a)
+        except NonFiniteError as exc:
+            print(f"plbar: failed: {_one_line(exc)}", file=sys.stderr)
+            return 1
+        except PlbarError as exc:
+            print(f"plbar: error: {_one_line(exc)}", file=sys.stderr)
+            return 2
+        except KeyboardInterrupt:
+            print("plbar: interrupted", file=sys.stderr)
+            return 1
+        except Exception as exc:  # pragma: no cover - reported, not hidden
+            print(f"plbar: failed: {type(exc).__name__}: {_one_line(exc)}", file=sys.stderr)
+            return 1
+        finally:
+            warnings.showwarning = old_show
+
+
+def _one_line(exc) -> str:
+    return " ".join(str(exc).split())
+
+
+def _show_warning(fallback):
+    """``warnings.showwarning`` that prints plbar's warnings as one line on stderr."""
+    def show(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, PlbarWarning):
+            print(f"plbar: warning: {_one_line(message)}", file=sys.stderr)
+        else:
+            fallback(message, category, filename, lineno, file, line)
+    return show
 
 
 def entry() -> None:

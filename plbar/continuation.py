@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .periodic import coefficients
+from . import periodic
 from .system import Problem
 
 __all__ = ["G", "Trace", "trace"]
@@ -34,7 +34,7 @@ EPS = np.finfo(float).eps
 
 def G(prob: Problem, T1, T2) -> np.ndarray:
     """The traced function at points ``(T1, T2)`` (arrays of equal shape)."""
-    return coefficients(prob, np.ravel(T1), np.ravel(T2)).G.reshape(np.shape(T1))
+    return periodic.G(prob, np.ravel(T1), np.ravel(T2)).reshape(np.shape(T1))
 
 
 @dataclass
@@ -247,6 +247,11 @@ def trace(prob: Problem, t1: np.ndarray, t2: np.ndarray, seed: np.ndarray, hmax:
         scan found no admissible response there: the branch ends within
         that grid cell).
     """
+    with periodic.single_thread_blas:
+        return _trace(prob, t1, t2, seed, hmax, max_steps, crossings, seed_edge, stop)
+
+
+def _trace(prob, t1, t2, seed, hmax, max_steps, crossings, seed_edge, stop) -> Trace:
     tr = _Tracer(prob, t1, t2, hmax, crossings, stop)
     u0 = (np.asarray(seed, float) - tr.lo) / tr.span
     gr = tr.grad(u0)

@@ -1,13 +1,20 @@
-"""Error types of plbar.
+"""Error and warning types of plbar.
 
 Every bad input is reported as a :class:`PlbarError` (a ``ValueError``) whose
 message names the offending value and the allowed range.  The CLI turns it
-into exit code 2 and a single line on stderr.
+into exit code 2 and a single line on stderr.  A result that is not finite
+(a solver failure, never a bad input) is a :class:`NonFiniteError`: it is
+refused before anything is written, and the CLI exits with code 1.
+
+Warnings (:class:`PlbarWarning` and subclasses, issued with
+:func:`warnings.warn`) flag inputs that are allowed but likely to give poor
+results, such as a scan grid too coarse to resolve the branches.
 """
 
 from __future__ import annotations
 
-__all__ = ["PlbarError", "InputError", "CaseFileError", "OutputExistsError"]
+__all__ = ["PlbarError", "InputError", "CaseFileError", "OutputExistsError", "NonFiniteError",
+           "PlbarWarning", "CoarseGridWarning"]
 
 
 class PlbarError(ValueError):
@@ -24,3 +31,15 @@ class CaseFileError(PlbarError):
 
 class OutputExistsError(PlbarError):
     """The output folder holds results of another run (use ``overwrite``)."""
+
+
+class NonFiniteError(PlbarError):
+    """A computed result is nan or infinite; it is never written to disk."""
+
+
+class PlbarWarning(UserWarning):
+    """Base class of the warnings plbar issues."""
+
+
+class CoarseGridWarning(PlbarWarning):
+    """The scan grid (or a branch found on it) is too coarse to resolve the paths well."""

@@ -12,11 +12,25 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._check import finite
+from ._check import finite, integer, pairs, show
 from .bar import Assembled, Bar
 from .errors import InputError
 
 __all__ = ["Load", "point", "node"]
+
+#: smallest allowed load position, relative to the bar length (closer is "at the clamp")
+MIN_POSITION = 1e-9
+#: allowed range of non-zero load amplitudes (the response is linear in the amplitude;
+#: outside this range its squares under- or overflow)
+MIN_AMPLITUDE, MAX_AMPLITUDE = 1e-24, 1e24
+
+
+def _amplitude(a) -> float:
+    must = f"0 or a finite number of magnitude in [{MIN_AMPLITUDE:g}, {MAX_AMPLITUDE:g}]"
+    a = finite("load amplitude", a, must)
+    if a != 0.0 and not MIN_AMPLITUDE <= abs(a) <= MAX_AMPLITUDE:
+        raise InputError(f"load amplitude = {show(a)} is not allowed; it must be {must}")
+    return a
 
 
 @dataclass(frozen=True)
@@ -36,22 +50,31 @@ class Load:
     nodes: tuple[tuple[int, float], ...] = ()
 
     def __post_init__(self):
-        pts = tuple((finite("load position", s), finite("load amplitude", a)) for s, a in self.points)
+        pts = []
+        for s, a in pairs("load points", self.points, "(s, amplitude)"):
+            s = finite("load position s", s, "a position in (0, L]")
+            if s <= 0.0:
+                raise InputError(f"load position s = {show(s)} is outside the bar; it must lie in (0, L] "
+                                 "(x = 0 is the clamped end, where a force does no work)")
+            pts.append((s, _amplitude(a)))
         nds = []
-        for k, a in self.nodes:
-            if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
-                raise InputError(f"load node = {k!r} must be an integer DOF number >= 1")
-            nds.append((int(k), finite("load amplitude", a)))
+        for k, a in pairs("load nodes", self.nodes, "(k, amplitude)"):
+            nds.append((integer("load node", k, 1), _amplitude(a)))
         if not pts and not nds:
             raise InputError("the load is empty; give at least one point force or nodal force")
-        object.__setattr__(self, "points", pts)
+        if all(a == 0.0 for _, a in pts + nds):
+            raise InputError("every load amplitude is 0.0; give a non-zero amplitude")
+        object.__setattr__(self, "points", tuple(pts))
         object.__setattr__(self, "nodes", tuple(nds))
 
     def __add__(self, other: "Load") -> "Load":
+        if not isinstance(other, Load):
+            return NotImplemented
         return Load(self.points + other.points, self.nodes + other.nodes)
 
     def scaled(self, factor: float) -> "Load":
         """The same load times ``factor``."""
+        factor = finite("load factor", factor)
         return Load(tuple((s, a * factor) for s, a in self.points),
                     tuple((k, a * factor) for k, a in self.nodes))
 
@@ -61,14 +84,22 @@ class Load:
         L = bar.length
         for s, a in self.points:
             if not (0.0 < s <= L * (1 + 1e-14)):
-                raise InputError(f"load position s = {s!r} is outside the bar; it must lie in (0, {L:g}]")
+                raise InputError(f"load position s = {show(s)} is outside the bar; it must lie in (0, {L:g}]")
+            if s < MIN_POSITION * L:
+                raise InputError(f"load position s = {show(s)} is at the clamped end x = 0; it must lie in "
+                                 f"[{MIN_POSITION:g} L, L] = [{MIN_POSITION * L:g}, {L:g}]")
             q += a * asm.load_vector(min(s, L))
         for k, a in self.nodes:
             if not 1 <= k <= asm.n:
                 raise InputError(f"load node = {k} is out of range; free DOFs are numbered 1..{asm.n}")
             q[k - 1] += a
-        if not np.any(q != 0.0) or not np.all(np.isfinite(q)):
-            raise InputError("the load vector is all zero; give a non-zero amplitude")
+        scale = sum(abs(a) for _, a in self.points + self.nodes)
+        if not np.all(np.isfinite(q)):
+            raise InputError(f"the load vector is not finite ({self.describe()}); amplitudes must be "
+                             f"at most {MAX_AMPLITUDE:g} in magnitude")
+        if not np.max(np.abs(q)) > 1e-12 * scale:
+            raise InputError(f"the load vector is zero: the forces {self.describe()} cancel; "
+                             "give a load with a non-zero resultant on the free DOFs")
         return q
 
     def describe(self) -> str:

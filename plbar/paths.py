@@ -55,19 +55,10 @@ class Domain:
     T2: tuple[float, float]
 
     def __post_init__(self):
+        from ._check import interval
+
         for nm in ("T1", "T2"):
-            v = getattr(self, nm)
-            try:
-                lo, hi = (float(a) for a in v)
-            except (TypeError, ValueError):
-                raise InputError(f"search domain {nm} = {v!r} must be a pair (low, high)") from None
-            if not (np.isfinite(lo) and np.isfinite(hi)):
-                raise InputError(f"search domain {nm} = ({lo}, {hi}) must be finite")
-            if lo < 0 or hi <= 0:
-                raise InputError(f"search domain {nm} = ({lo:g}, {hi:g}) must lie in T > 0")
-            if hi <= lo:
-                raise InputError(f"search domain {nm} = ({lo:g}, {hi:g}) is reversed or empty; need low < high")
-            object.__setattr__(self, nm, (lo, hi))
+            object.__setattr__(self, nm, interval(f"search domain {nm}", getattr(self, nm)))
 
 
 def default_domain(prob: Problem) -> Domain:
@@ -174,13 +165,21 @@ class Paths:
                       cat([x.v_s for x in o]))
 
 
-def _chunked(prob: Problem, T1, T2) -> Coefficients:
-    """:func:`coefficients` in batches sized to keep memory bounded."""
-    n = 2 * prob.system.w1.size
-    step = max(1, int(2e7 // (n * n + 1)))
-    if T1.size <= step:
-        return coefficients(prob, T1, T2)
-    parts = [coefficients(prob, T1[i:i + step], T2[i:i + step]) for i in range(0, T1.size, step)]
+CHUNK_BYTES = 32e6  #: temporaries per batch of :func:`_chunked` (bytes)
+
+
+def _chunked(prob: Problem, T1, T2, what: str = "coefficients"):
+    """:func:`coefficients` (or, with ``what="G"``, only ``G``) in batches of about ``CHUNK_BYTES``."""
+    from .periodic import G, _consts, single_thread_blas
+
+    step = max(1, int(CHUNK_BYTES // _consts(prob).bytes_per_point))
+    fun = G if what == "G" else coefficients
+    with single_thread_blas:
+        if T1.size <= step:
+            return fun(prob, T1, T2)
+        parts = [fun(prob, T1[i:i + step], T2[i:i + step]) for i in range(0, T1.size, step)]
+    if what == "G":
+        return np.concatenate(parts)
     return Coefficients(*[np.concatenate([getattr(p, f) for p in parts])
                           for f in Coefficients.__dataclass_fields__])
 
@@ -193,7 +192,7 @@ def scan_field(prob: Problem, domain: Domain, grid: tuple[int, int]):
     t2 = np.linspace(domain.T2[0], domain.T2[1], n2 + 1)[1:] if domain.T2[0] == 0 else \
         np.linspace(domain.T2[0], domain.T2[1], n2)
     G1, G2 = np.meshgrid(t1, t2, indexing="ij")
-    F = _chunked(prob, G1.ravel(), G2.ravel()).G.reshape(n1, n2)
+    F = _chunked(prob, G1.ravel(), G2.ravel(), "G").reshape(n1, n2)
     return t1, t2, F
 
 
@@ -214,7 +213,7 @@ def _illinois(prob, Pa, Pb, Fa, Fb, maxit=100):
         s = (sa[idx] * fb - sb[idx] * fa) / (fb - fa)
         s = np.where((s > sa[idx]) & (s < sb[idx]), s, 0.5 * (sa[idx] + sb[idx]))
         P = Pa[idx] + s[:, None] * (Pb[idx] - Pa[idx])
-        F = _chunked(prob, P[:, 0], P[:, 1]).G
+        F = _chunked(prob, P[:, 0], P[:, 1], "G")
         left = np.sign(F) == np.sign(fa)
         # keep the bracket; scale the stale end's value (Anderson-Bjorck, Illinois fallback)
         prev = np.where(left, fa, fb)

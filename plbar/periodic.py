@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .flow import forced_coeffs
+from .flow import kernels
 from .system import Problem
 
 __all__ = ["Coefficients", "coefficients", "phase", "states"]
@@ -74,13 +74,142 @@ def _flow_mats(w, T):
     return co, si / w, -w * si
 
 
+class _SingleThreadBLAS:
+    """Context manager: OpenBLAS (numpy's and scipy's) on one thread while the core runs.
+
+    The core works on many small matrices; OpenBLAS threading gains nothing
+    there and, on a loaded machine, makes every small product wait for the
+    scheduler (10x-100x slower).  Nested and concurrent (threaded) uses are
+    reference counted: the first entry saves and sets, the last exit restores.
+    A no-op where the libraries are not found.
+    """
+
+    def __init__(self):
+        import threading
+
+        self._lock = threading.Lock()
+        self._depth = 0
+        self._libs = None
+        self._saved = []
+
+    def _find(self):
+        import ctypes
+
+        libs = []
+        try:
+            with open("/proc/self/maps") as fh:
+                paths = sorted({ln.split()[-1] for ln in fh if "openblas" in ln.lower() and ".so" in ln})
+        except OSError:
+            paths = []
+        for p in paths:
+            try:
+                lib = ctypes.CDLL(p)
+            except OSError:
+                continue
+            for pre in ("scipy_openblas", "openblas"):
+                for suf in ("64_", "", "_64"):
+                    get = getattr(lib, f"{pre}_get_num_threads{suf}", None)
+                    put = getattr(lib, f"{pre}_set_num_threads{suf}", None)
+                    if get is not None and put is not None:
+                        libs.append((get, put))
+                        break
+                else:
+                    continue
+                break
+        return libs
+
+    def __enter__(self):
+        with self._lock:
+            if self._depth == 0:
+                if self._libs is None:
+                    self._libs = self._find()
+                self._saved = [get() for get, _ in self._libs]
+                for _, put in self._libs:
+                    put(1)
+            self._depth += 1
+        return self
+
+    def __exit__(self, *exc):
+        with self._lock:
+            self._depth -= 1
+            if self._depth == 0:
+                for (_, put), n in zip(self._libs, self._saved):
+                    put(n)
+        return False
+
+
+single_thread_blas = _SingleThreadBLAS()
+
+
+LAPACK_LOOP_DIM = 24   #: from this size of ``Id - A`` on, one LAPACK LU per point (getrf + getrs)
+
+
+class _Consts:
+    """Per-problem constants of :func:`coefficients` (computed once, cached on the Problem)."""
+
+    def __init__(self, prob: Problem):
+        s = prob.system
+        self.m1, self.m2 = s.w1.size, s.w2.size
+        self.w = np.concatenate([s.w1, s.w2])
+        self.f1 = np.asarray(prob.f1, float)
+        self.f2 = np.asarray(prob.f2, float)
+        self.P12T = np.ascontiguousarray(s.P12.T)       # (m1, m2)
+        self.P21T = np.ascontiguousarray(s.P21.T)       # (m2, m1)
+        self.Q21T = np.ascontiguousarray(s.Q21.T)
+        self.UT = self.P12T
+        self.r_eta = np.asarray(s.r_eta, float)
+        self.gap_row = np.asarray(s.gap_row, float)
+        self.r_q = float(prob.r_q)
+        self.nr = float(np.linalg.norm(s.r_eta))
+        self.ng = float(np.abs(s.gap_row).max())
+        self.eye = np.eye(2 * self.m1)
+        # bytes of the largest temporaries per point (used to size batches)
+        self.bytes_per_point = 8 * (6 * (2 * self.m1) * self.m2 + 3 * (2 * self.m1) ** 2 + 16 * (self.m1 + self.m2))
+
+
+def _consts(prob: Problem) -> _Consts:
+    k = prob.__dict__.get("_periodic_consts")
+    if k is None or k[0] is not prob.system or k[1] is not prob.f1:
+        k = (prob.system, prob.f1, _Consts(prob))
+        object.__setattr__(prob, "_periodic_consts", k)   # frozen dataclass: a private cache only
+    return k[2]
+
+
+def _solve_lapack(IA: np.ndarray, c: np.ndarray):
+    """One LU per point (LAPACK getrf + getrs); ``sign(det)`` from the LU."""
+    from scipy.linalg.lapack import dgetrf, dgetrs
+
+    B, n = IA.shape[:2]
+    Z = np.empty(c.shape)
+    sign = np.empty(B)
+    ar = np.arange(1, n + 1)
+    bad = []
+    for i in range(B):
+        lu, piv, info = dgetrf(IA[i])
+        d = np.diagonal(lu)
+        if info != 0 or not np.all(np.isfinite(d)):
+            bad.append(i)
+            continue
+        neg = np.count_nonzero(d < 0) + np.count_nonzero(piv + 1 != ar)
+        sign[i] = -1.0 if neg % 2 else 1.0
+        Z[i] = dgetrs(lu, piv, c[i])[0]
+    for i in bad:
+        Z[i] = np.linalg.lstsq(IA[i], c[i], rcond=None)[0]
+        sign[i] = 0.0
+    return Z, sign
+
+
 def _solve(IA: np.ndarray, c: np.ndarray):
     """Batched solve of the periodicity system and ``sign(det)``.
 
     An exactly singular ``Id - A`` (a free periodic motion of the two-state
     system with period ``T``) gets the least-squares solution and sign 0,
-    so that it can never pass as a zero of ``D`` silently.
+    so that it can never pass as a zero of ``D`` silently.  Small systems use
+    numpy's batched ``slogdet`` and ``solve``; from ``LAPACK_LOOP_DIM`` on, one
+    LAPACK LU per point serves both.
     """
+    if IA.shape[-1] >= LAPACK_LOOP_DIM:
+        return _solve_lapack(IA, c)
     sign, logdet = np.linalg.slogdet(IA)
     ok = (sign != 0) & np.isfinite(logdet)
     Z = np.empty(c.shape)
@@ -93,6 +222,90 @@ def _solve(IA: np.ndarray, c: np.ndarray):
     return Z, np.where(ok, sign, 0.0)
 
 
+def _core(prob: Problem, T1: np.ndarray, T2: np.ndarray, full: bool = True):
+    """The residual coefficients (and, if ``full``, the periodic states and the residual scales).
+
+    Arrays are laid out with the phase component (``cos phi``, ``sin phi``)
+    before the mode axis, so that every projection is one matrix product.
+    """
+    k = _consts(prob)
+    m1, m2 = k.m1, k.m2
+    B = T1.size
+    W = 2 * np.pi / (T1 + T2)
+    tau = np.empty((B, m1 + m2))
+    tau[:, :m1] = T1[:, None]
+    tau[:, m1:] = T2[:, None]
+    wt = k.w * tau
+    co, si = np.cos(wt), np.sin(wt)
+    sw = si / k.w
+    ws = -k.w * si
+    co1, sw1, ws1 = co[:, :m1], sw[:, :m1], ws[:, :m1]
+    co2, sw2, ws2 = co[:, m1:], sw[:, m1:], ws[:, m1:]
+    Wc = W[:, None]
+    C, S, Cp = kernels(k.w, Wc, tau)
+    WC = Wc * C
+    # forced part of state I (from t = 0: cos(W ts) = 1, sin(W ts) = 0), (B, 2, m1): rows cos(phi), sin(phi)
+    f1, f2 = k.f1, k.f2
+    ge1 = np.empty((B, 2, m1))
+    gv1 = np.empty((B, 2, m1))
+    ge1[:, 0] = f1 * C[:, :m1]
+    ge1[:, 1] = f1 * S[:, :m1]
+    gv1[:, 0] = f1 * Cp[:, :m1]
+    gv1[:, 1] = f1 * WC[:, :m1]
+    # forced part of state II (from t = T1)
+    c0, s0 = np.cos(W * T1)[:, None], np.sin(W * T1)[:, None]
+    C2, S2, Cp2, WC2 = C[:, m1:], S[:, m1:], Cp[:, m1:], WC[:, m1:]
+    g2e = np.empty((B, 2, m2))
+    g2v = np.empty((B, 2, m2))
+    g2e[:, 0] = f2 * (c0 * C2 - s0 * S2)
+    g2e[:, 1] = f2 * (s0 * C2 + c0 * S2)
+    g2v[:, 0] = f2 * (c0 * Cp2 - s0 * WC2)
+    g2v[:, 1] = f2 * (s0 * Cp2 + c0 * WC2)
+    # one-period map, transposed: AT[b] = A[b]^T, blocks over (eta, v) of state I
+    UT = k.UT                                             # (m1, m2) = P12^T
+    n = 2 * m1
+    XeT = np.empty((B, n, m2))
+    XvT = np.empty((B, n, m2))
+    XeT[:, :m1] = co1[:, :, None] * UT
+    XeT[:, m1:] = sw1[:, :, None] * UT
+    XvT[:, :m1] = ws1[:, :, None] * UT
+    XvT[:, m1:] = XeT[:, :m1]
+    c2, s2, w2 = co2[:, None, :], sw2[:, None, :], ws2[:, None, :]
+    YeT = c2 * XeT
+    YeT += s2 * XvT
+    YvT = w2 * XeT
+    YvT += c2 * XvT
+    IAT = np.empty((B, n, n))
+    IAT[:, :, :m1] = -(YeT.reshape(B * n, m2) @ k.P21T).reshape(B, n, m1)
+    IAT[:, :, m1:] = -(YvT.reshape(B * n, m2) @ k.Q21T).reshape(B, n, m1)
+    IAT += k.eye
+    # forced part of the map, (B, 2, n)
+    he = ge1 @ UT
+    hv = gv1 @ UT
+    ge2 = co2[:, None, :] * he + sw2[:, None, :] * hv + g2e
+    gv2 = ws2[:, None, :] * he + co2[:, None, :] * hv + g2v
+    cT = np.empty((B, 2, n))
+    cT[:, :, :m1] = ge2 @ k.P21T
+    cT[:, :, m1:] = gv2 @ k.Q21T
+    Z, sign = _solve(IAT.transpose(0, 2, 1), cT.transpose(0, 2, 1))
+    # state at the end of state I, and at the end of state II, (B, 2, m)
+    ZT = Z.transpose(0, 2, 1)
+    e0, v0 = ZT[:, :, :m1], ZT[:, :, m1:]
+    eI = co1[:, None, :] * e0 + sw1[:, None, :] * v0 + ge1
+    vI = ws1[:, None, :] * e0 + co1[:, None, :] * v0 + gv1
+    e1 = eI @ k.r_eta
+    e1[:, 0] += k.r_q * c0[:, 0]
+    e1[:, 1] += k.r_q * s0[:, 0]
+    e1 = -e1
+    eII = co2[:, None, :] * (eI @ UT) + sw2[:, None, :] * (vI @ UT) + g2e
+    e2 = eII @ k.gap_row
+    if not full:
+        return e1, e2, sign
+    sc1 = k.nr * np.sqrt(np.einsum("bkj,bkj->bk", eI, eI)).max(axis=1) + abs(k.r_q)
+    sc2 = k.ng * np.sqrt(np.einsum("bkj,bkj->bk", eII, eII)).max(axis=1)
+    return e1, e2, sign, Z, sc1, sc2
+
+
 def coefficients(prob: Problem, T1, T2) -> Coefficients:
     """Residual coefficients ``a1, b1, a2, b2`` at each ``(T1, T2)``.
 
@@ -102,45 +315,23 @@ def coefficients(prob: Problem, T1, T2) -> Coefficients:
     T1, T2 : array_like, shape (B,)
         Times spent in state I and state II.
     """
-    s = prob.system
     T1 = np.atleast_1d(np.asarray(T1, float))
     T2 = np.atleast_1d(np.asarray(T2, float))
-    T = T1 + T2
-    W = 2 * np.pi / T
-    n1 = s.w1.size
-    co1, sw1, ws1 = _flow_mats(s.w1, T1)
-    co2, sw2, ws2 = _flow_mats(s.w2, T2)
-    g1 = forced_coeffs(s.w1[None], prob.f1[None], W[:, None], 0.0, T1[:, None])
-    g2 = forced_coeffs(s.w2[None], prob.f2[None], W[:, None], T1[:, None], T2[:, None])
-    P12, P21, Q21 = s.P12, s.P21, s.Q21
-    # S12 Phi1, as blocks over (eta, v) of state I -> rows eta2 and v2
-    Xe = np.concatenate([P12[None] * co1[:, None, :], P12[None] * sw1[:, None, :]], axis=2)
-    Xv = np.concatenate([P12[None] * ws1[:, None, :], P12[None] * co1[:, None, :]], axis=2)
-    Ye = co2[:, :, None] * Xe + sw2[:, :, None] * Xv
-    Yv = ws2[:, :, None] * Xe + co2[:, :, None] * Xv
-    A = np.concatenate([P21 @ Ye, Q21 @ Yv], axis=1)
-    # forced part, for cos(phi) and sin(phi)
-    ge1 = np.stack([g1[0], g1[1]], axis=-1)            # (B, n1, 2)
-    gv1 = np.stack([g1[2], g1[3]], axis=-1)
-    he = np.einsum("ij,bjk->bik", P12, ge1)
-    hv = np.einsum("ij,bjk->bik", P12, gv1)
-    ge2 = co2[..., None] * he + sw2[..., None] * hv + np.stack([g2[0], g2[1]], axis=-1)
-    gv2 = ws2[..., None] * he + co2[..., None] * hv + np.stack([g2[2], g2[3]], axis=-1)
-    c = np.concatenate([np.einsum("ij,bjk->bik", P21, ge2), np.einsum("ij,bjk->bik", Q21, gv2)], axis=1)
-    IA = np.eye(2 * n1)[None] - A
-    Z, sign = _solve(IA, c)
-    # state at the end of state I, and at the end of state II
-    e0, v0 = Z[:, :n1], Z[:, n1:]
-    eI = co1[..., None] * e0 + sw1[..., None] * v0 + ge1
-    vI = ws1[..., None] * e0 + co1[..., None] * v0 + gv1
-    fc = np.stack([np.cos(W * T1), np.sin(W * T1)], axis=-1)       # cos(W T1 - phi) coefficients
-    e1 = -(np.einsum("j,bjk->bk", s.r_eta, eI) + prob.r_q * fc)
-    eII = (co2[..., None] * np.einsum("ij,bjk->bik", P12, eI) + sw2[..., None] * np.einsum("ij,bjk->bik", P12, vI)
-           + np.stack([g2[0], g2[1]], axis=-1))
-    e2 = np.einsum("j,bjk->bk", s.gap_row, eII)
-    sc1 = np.linalg.norm(s.r_eta) * np.linalg.norm(eI, axis=1).max(axis=1) + abs(prob.r_q)
-    sc2 = np.abs(s.gap_row).max() * np.linalg.norm(eII, axis=1).max(axis=1)
+    with single_thread_blas:
+        e1, e2, sign, Z, sc1, sc2 = _core(prob, T1, T2)
     return Coefficients(T1, T2, e1[:, 0], e1[:, 1], e2[:, 0], e2[:, 1], sign, Z, sc1, sc2)
+
+
+def G(prob: Problem, T1, T2) -> np.ndarray:
+    """:attr:`Coefficients.G` at ``(T1, T2)`` (1D arrays) without the periodic states and scales."""
+    T1 = np.atleast_1d(np.asarray(T1, float))
+    T2 = np.atleast_1d(np.asarray(T2, float))
+    with single_thread_blas:
+        e1, e2, sign = _core(prob, T1, T2, full=False)
+    a1, b1, a2, b2 = e1[:, 0], e1[:, 1], e2[:, 0], e2[:, 1]
+    F = (a1 * b2 - a2 * b1) * sign
+    r = a1 ** 2 + b1 ** 2 + a2 ** 2 + b2 ** 2
+    return np.divide(F, r, out=np.zeros_like(r), where=r > 0)
 
 
 def phase(co: Coefficients) -> np.ndarray:

@@ -2,20 +2,25 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ._check import MIN_BRANCH_POINTS, show
+from ._check import grid as check_grid
 from .case import Case
-from .errors import OutputExistsError
-from .io import write_csv, write_json
+from .errors import CoarseGridWarning, InputError, OutputExistsError
+from .io import check_finite, write_csv, write_json
 from .paths import Paths, find_paths
 
-__all__ = ["Result", "solve", "write_results", "CSV_HEADER"]
+__all__ = ["Result", "solve", "write_results", "check_output", "CSV_HEADER", "CSV_FORMATS"]
 
+CSV_FORMATS = ["%d", "%.17g", "%.17g", "%.17g", "%.17g", "%.17g", "%.17g", "%d", "%d", "%.17g"]
 CSV_HEADER = ["branch", "T1", "T2", "phi", "T", "dPL", "xi", "grazing", "stable", "max_abs_multiplier"]
 
 
@@ -67,11 +72,26 @@ class Result:
 
 
 def solve(case: Case | None = None, progress: bool = False) -> Result:
-    """Solve ``case`` (default: the paper's chain N = 5, unit force on DOF 1)."""
-    case = case or Case()
+    """Solve ``case`` (default: the paper's chain N = 5, unit force on DOF 1).
+
+    Warns (:class:`plbar.errors.CoarseGridWarning`) when the scan grid has
+    fewer than 20 points along an axis, or a branch has fewer than 3 points.
+    """
+    if case is None:
+        case = Case()
+    if not isinstance(case, Case):
+        raise InputError(f"case = {show(case)} is not a plbar.Case ({type(case).__name__}); "
+                         "build one with plbar.Case(...) or read a file with plbar.casefile.load_case")
+    check_grid(case.grid, stacklevel=3)
     t0 = time.perf_counter()
     prob = case.problem()
     paths = find_paths(prob, case.domain(prob), case.grid, method=case.method, progress=progress)
+    short = [b.id for b in paths.branches if len(b) < MIN_BRANCH_POINTS]
+    if short:
+        ids = ", ".join(str(i) for i in short[:8]) + (f" and {len(short) - 8} more" if len(short) > 8 else "")
+        warnings.warn(f"{len(short)} branch(es) ({ids}) have fewer than {MIN_BRANCH_POINTS} points on grid = "
+                      f"{case.grid}; refine the grid (or narrow T1/T2) to resolve them", CoarseGridWarning,
+                      stacklevel=2)
     return Result(case, paths, time.perf_counter() - t0)
 
 
@@ -91,25 +111,62 @@ def _rows(res: Result):
     return [np.concatenate(cols[k]) if cols[k] else np.zeros(0) for k in CSV_HEADER]
 
 
+def check_output(case: Case, out, overwrite: bool = False) -> None:
+    """Raise unless results of ``case`` may be written into ``out`` (see :func:`write_results`).
+
+    Cheap: call it before a long solve so that a bad ``--out`` fails at once.
+    """
+    out = Path(out)
+    for p in (out, *out.parents):
+        if p.exists():
+            if not p.is_dir():
+                raise InputError(f"output folder {str(out)!r} cannot be used: {str(p)!r} is a file; "
+                                 "choose another --out")
+            break
+    old = out / "summary.json"
+    if old.is_dir():
+        raise InputError(f"output folder {str(out)!r} holds a folder named summary.json; choose another --out")
+    if old.exists() and not overwrite:
+        try:
+            prev = json.loads(old.read_text())
+            prev = prev.get("case") if isinstance(prev, dict) else None
+        except (OSError, ValueError):
+            prev = None
+        if prev is None:
+            raise OutputExistsError(f"output folder {str(out)!r} holds a summary.json that is not a plbar "
+                                    "summary; choose another --out or pass --overwrite")
+        if prev != json.loads(json.dumps(case.to_dict(), default=str)):
+            raise OutputExistsError(f"output folder {str(out)!r} holds results of another case; "
+                                    "choose another --out or pass --overwrite")
+
+
 def write_results(res: Result, out, overwrite: bool = False) -> dict[str, Path]:
     """Write ``paths.csv`` and ``summary.json`` into ``out`` (atomically).
 
-    An existing ``summary.json`` of a *different* case is kept and an
-    :class:`OutputExistsError` raised unless ``overwrite``.
+    Rerunning the same case into ``out`` replaces its results.  An existing
+    ``summary.json`` of a *different* case (or one that is not a plbar
+    summary) is kept and an :class:`OutputExistsError` raised unless
+    ``overwrite``.  Both tables are checked before either is written: a nan or
+    inf raises :class:`plbar.errors.NonFiniteError` and writes nothing.  Each
+    file appears under its name only when complete; ``summary.json`` is
+    written last, so a run killed in between leaves a ``paths.csv`` without
+    a summary, which the next run of the same case replaces.
     """
+    if not isinstance(res, Result):
+        raise InputError(f"res = {show(res)} is not a plbar.Result; get one from plbar.solve(case)")
     out = Path(out)
-    old = out / "summary.json"
-    if old.exists() and not overwrite:
-        try:
-            prev = json.loads(old.read_text()).get("case")
-        except (OSError, ValueError):
-            prev = None
-        if prev != json.loads(json.dumps(res.case.to_dict())):
-            raise OutputExistsError(f"output folder {str(out)!r} holds results of another case; "
-                                    "choose another --out or pass --overwrite")
+    check_output(res.case, out, overwrite)
+    rows = _rows(res)
+    summary = res.summary()
+    check_finite("paths.csv", dict(zip(CSV_HEADER, rows)))
+    check_finite("summary.json", summary)
+    for name in ("paths.csv", "summary.json"):           # temporaries of a killed run of this case
+        stem, suffix = name.split(".")
+        for tmp in out.glob(f".{stem}.*.part.{suffix}"):
+            with contextlib.suppress(OSError):
+                tmp.unlink()
     files = {
-        "paths": write_csv(out / "paths.csv", CSV_HEADER, _rows(res),
-                           ["%d", "%.17g", "%.17g", "%.17g", "%.17g", "%.17g", "%.17g", "%d", "%d", "%.17g"]),
+        "paths": write_csv(out / "paths.csv", CSV_HEADER, rows, CSV_FORMATS, allow_nan=False),
     }
-    files["summary"] = write_json(out / "summary.json", res.summary())
+    files["summary"] = write_json(out / "summary.json", summary)
     return files

@@ -18,12 +18,15 @@ from .bar import Assembled, Bar, assemble
 from .errors import InputError
 from .load import Load
 
-__all__ = ["TwoStateSystem", "Problem", "two_state", "problem"]
+__all__ = ["TwoStateSystem", "Problem", "two_state", "problem", "truncation_check"]
 
 
-def _modes(K: np.ndarray, M: np.ndarray, what: str) -> tuple[np.ndarray, np.ndarray]:
-    """Natural circular frequencies and mass-normalised modes, sign-fixed."""
-    lam, V = sla.eigh(K, M)
+def _modes(K: np.ndarray, M: np.ndarray, what: str, m: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Natural circular frequencies and mass-normalised modes, sign-fixed (the lowest ``m``, or all)."""
+    if m is None or m >= K.shape[0]:
+        lam, V = sla.eigh(K, M)
+    else:
+        lam, V = sla.eigh(K, M, subset_by_index=[0, m - 1])
     if lam[0] <= 0:
         raise InputError(f"the {what} stiffness matrix is not positive definite (smallest eigenvalue {lam[0]:.3g})")
     k = np.argmax(np.abs(V), axis=0)
@@ -41,20 +44,21 @@ class TwoStateSystem:
         Free-DOF matrices (contact DOF last).
     x : ndarray, shape (n,)
         DOF positions.
-    w1, V1 : ndarray, shapes (n-1,), (n-1, n-1)
-        State I circular frequencies and modes.
-    w2, V2 : ndarray, shapes (n,), (n, n)
-        State II circular frequencies and modes.
-    P12 : ndarray, shape (n, n-1)
+    w1, V1 : ndarray, shapes (m1,), (n-1, m1)
+        State I circular frequencies and modes (``m1 = n - 1`` unless the
+        modes are truncated, see :func:`two_state`).
+    w2, V2 : ndarray, shapes (m2,), (n, m2)
+        State II circular frequencies and modes (``m2 = n`` unless truncated).
+    P12 : ndarray, shape (m2, m1)
         I -> II modal switch (gap opens), positions and velocities alike.
-    P21, Q21 : ndarray, shape (n-1, n)
+    P21, Q21 : ndarray, shape (m1, m2)
         II -> I modal switch of positions and velocities (plastic impact).
-    r_eta : ndarray, shape (n-1,)
+    r_eta : ndarray, shape (m1,)
         Contact reaction in state I per modal coordinate (without the load
         term), ``R = r_eta . eta + r_q cos(w t - phi)``.
-    MV1_c : ndarray, shape (n-1,)
+    MV1_c : ndarray, shape (m1,)
         ``M_cr V1``, used for the load term of the reaction.
-    gap_row : ndarray, shape (n,)
+    gap_row : ndarray, shape (m2,)
         ``x_c = gap_row . eta^II`` (row ``c`` of ``V2``).
     """
 
@@ -78,6 +82,11 @@ class TwoStateSystem:
         return self.x.size
 
     @property
+    def truncated(self) -> bool:
+        """True if only the lowest modes of a state are kept (rectangular ``V1`` or ``V2``)."""
+        return self.w1.size < self.n - 1 or self.w2.size < self.n
+
+    @property
     def T0(self) -> tuple[float, float]:
         """Fundamental periods ``(T0^I, T0^II)``."""
         return 2 * np.pi / self.w1[0], 2 * np.pi / self.w2[0]
@@ -89,7 +98,21 @@ class TwoStateSystem:
         return out
 
 
-def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray) -> TwoStateSystem:
+def _n_modes(modes, n: int) -> tuple[int | None, int | None]:
+    """``modes`` (None, an int for both states or a pair ``(m1, m2)``) as kept mode counts."""
+    if modes is None:
+        return None, None
+    try:
+        m1, m2 = (modes, modes) if np.ndim(modes) == 0 else tuple(modes)
+        m1, m2 = int(m1), int(m2)
+    except (TypeError, ValueError):
+        raise InputError(f"modes = {modes!r} must be a positive integer or a pair (state I, state II)") from None
+    if m1 < 1 or m2 < 1:
+        raise InputError(f"modes = {modes!r} must be positive")
+    return (None if m1 >= n - 1 else m1), (None if m2 >= n else m2)
+
+
+def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray, modes=None) -> TwoStateSystem:
     """Build the two-state modal system from free-DOF matrices (contact last).
 
     Parameters
@@ -98,15 +121,22 @@ def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray) -> TwoStateSystem:
         Mass and stiffness over the free DOFs, the contact DOF last.
     x : ndarray, shape (n,)
         DOF positions (for output only).
+    modes : int or (int, int), optional
+        Modal truncation: keep only the lowest ``modes`` modes of each state
+        (or ``(m1, m2)`` for states I and II).  ``V1`` is then ``(n-1, m1)``
+        and ``V2`` ``(n, m2)``; the switch maps are the Galerkin projections
+        of the same formulas (Eqs. (8)-(10)).  Default: all modes (exact).
+        Check convergence with :func:`truncation_check`.
     """
     M = np.asarray(M, float)
     K = np.asarray(K, float)
     n = M.shape[0]
     if n < 2:
         raise InputError(f"the system needs at least 2 free DOFs, got {n}")
+    m1, m2 = _n_modes(modes, n)
     Mrr, Krr = M[:-1, :-1], K[:-1, :-1]
-    w1, V1 = _modes(Krr, Mrr, "state I")
-    w2, V2 = _modes(K, M, "state II")
+    w1, V1 = _modes(Krr, Mrr, "state I", m1)
+    w2, V2 = _modes(K, M, "state II", m2)
     # I -> II: x^II = E x^I, eta^II = V2^T M E V1 eta^I (Eq. (8) with I, II exchanged)
     P12 = V2.T @ M[:, :-1] @ V1
     # II -> I positions: x_r = R x^II, eta^I = V1^T M_rr R V2 eta^II (Eq. (9))
@@ -159,7 +189,7 @@ def _with_q(sys: TwoStateSystem, q: np.ndarray, bar=None, load=None, asm=None) -
     return Problem(sys, q, f1, f2, r_q, bar, load, asm)
 
 
-def problem(bar: Bar, load: Load | None = None, q: np.ndarray | None = None) -> Problem:
+def problem(bar: Bar, load: Load | None = None, q: np.ndarray | None = None, modes=None) -> Problem:
     """Assemble ``bar``, build both states and attach the load.
 
     Parameters
@@ -167,9 +197,11 @@ def problem(bar: Bar, load: Load | None = None, q: np.ndarray | None = None) -> 
     bar : Bar
     load : Load, optional
         The harmonic load; or give the amplitude vector ``q`` directly.
+    modes : int or (int, int), optional
+        Modal truncation (see :func:`two_state`); default all modes.
     """
     a = assemble(bar)
-    sys = two_state(a.M, a.K, a.x)
+    sys = two_state(a.M, a.K, a.x, modes)
     if load is not None:
         qv = load.vector(bar, a)
     elif q is not None:
@@ -179,3 +211,77 @@ def problem(bar: Bar, load: Load | None = None, q: np.ndarray | None = None) -> 
     else:
         raise InputError("give a load (plbar.point / plbar.node) or a load vector q")
     return _with_q(sys, qv, bar, load, a)
+
+
+def truncation_check(bar: Bar, load: Load, modes, grid: tuple[int, int] = (200, 200), domain=None,
+                     method: str = "continuation", ref_modes="double") -> dict:
+    """Convergence of the modal truncation: the paths with ``modes`` modes against a finer model.
+
+    Solves the paths with ``modes`` modes and with ``ref_modes`` (default
+    ``2 * modes``; ``None`` for the full model) on the same domain and grid
+    (the domain of the finer model by default), and compares the branches
+    by their ``T`` ranges: each branch of the reference is matched with the
+    branch of the truncated model that overlaps it most in ``T``; for the
+    matched pairs, ``xi`` is interpolated at common ``T`` values (only
+    monotone stretches in ``T``).
+
+    Returns
+    -------
+    dict
+        ``modes``, ``ref_modes``, the branch counts, ``max_rel_T`` (largest
+        relative difference of the ``T`` range ends), ``max_rel_xi`` (largest
+        difference of ``xi`` relative to the branch's largest ``xi``), the
+        times of both solves, and per matched branch ``rows``.
+    """
+    import time
+
+    from .paths import default_domain, find_paths
+
+    if ref_modes == "double":
+        m = (modes, modes) if np.ndim(modes) == 0 else tuple(modes)
+        ref_modes = (2 * int(m[0]), 2 * int(m[1]))
+    out = {"modes": modes, "ref_modes": ref_modes}
+    a = assemble(bar)
+    q = load.vector(bar, a)
+    res = {}
+    for key, mm in (("ref", ref_modes), ("trunc", modes)):
+        t0 = time.perf_counter()
+        sysm = two_state(a.M, a.K, a.x, mm)
+        prob = _with_q(sysm, q, bar, load, a)
+        if domain is None:
+            domain = default_domain(prob)
+        res[key] = find_paths(prob, domain, grid, method=method)
+        out[f"time_{key}"] = time.perf_counter() - t0
+    rows = []
+    bt = list(res["trunc"].branches)
+    for br in res["ref"].branches:
+        lo, hi = float(br.T.min()), float(br.T.max())
+        best, ov = None, -1.0
+        for b in bt:
+            o = min(hi, float(b.T.max())) - max(lo, float(b.T.min()))
+            if o > ov or (best is None and o == ov):
+                best, ov = b, o
+        if best is None or ov < 0:
+            rows.append({"ref_branch": br.id, "T": [lo, hi], "match": None})
+            continue
+        dT = max(abs(float(best.T.min()) - lo), abs(float(best.T.max()) - hi)) / hi
+        dxi = np.nan
+        xa, ta = np.asarray(br.xi), np.asarray(br.T)
+        xb, tb = np.asarray(best.xi), np.asarray(best.T)
+        if len(ta) > 1 and len(tb) > 1 and np.all(np.diff(ta) > 0) and np.all(np.diff(tb) > 0):
+            tt = ta[(ta >= tb[0]) & (ta <= tb[-1])]
+            if tt.size:
+                dxi = float(np.max(np.abs(np.interp(tt, tb, xb) - np.interp(tt, ta, xa)))
+                            / max(float(np.abs(xa).max()), 1e-300))
+        rows.append({"ref_branch": br.id, "branch": best.id, "T": [lo, hi],
+                     "T_trunc": [float(best.T.min()), float(best.T.max())],
+                     "xi_range": [float(xa.min()), float(xa.max())],
+                     "xi_range_trunc": [float(xb.min()), float(xb.max())], "rel_T": dT, "rel_xi": dxi})
+    out["branches_ref"] = len(res["ref"].branches)
+    out["branches_trunc"] = len(bt)
+    m = [r for r in rows if r.get("match", 1) is not None]
+    out["max_rel_T"] = max((r["rel_T"] for r in m), default=np.nan)
+    out["max_rel_xi"] = max((r["rel_xi"] for r in m if np.isfinite(r["rel_xi"])), default=np.nan)
+    out["rows"] = rows
+    out["paths"] = res
+    return out

@@ -295,21 +295,41 @@ sys.path.insert(0, sys.argv[2])
 import plbar
 from bench import maxrss_mb
 n = int(sys.argv[1])
+modes = int(sys.argv[3]) if len(sys.argv) > 3 and sys.argv[3] != "none" else None
 r0 = maxrss_mb()
 c0 = time.process_time()
 case = plbar.Case(model="fe", n=n, element="P1", mass="lumped")
-res = plbar.solve(case)
+if modes is None:
+    res = plbar.solve(case)
+else:
+    # modal truncation (plbar.system.problem(..., modes=m)); stability.py assumes square V1/V2, so the
+    # multipliers of truncated systems are not computed here (NaN stub)
+    import numpy as np
+    from plbar import paths, stability
+    from plbar.run import Result
+    from plbar.system import problem
+    def _stub(orb, tol=stability.TOL):
+        P = len(orb)
+        return stability.Stability(np.full((P, 1), np.nan + 0j), np.full(P, np.nan), np.zeros(P, bool),
+                                   np.zeros(P, bool), tol)
+    paths.stability.stability = _stub
+    t0 = time.perf_counter()
+    full = case.problem()
+    prob = problem(full.bar, full.load, modes=modes)
+    pt = paths.find_paths(prob, case.domain(full), case.grid, method=case.method)
+    res = Result(case, pt, time.perf_counter() - t0)
 st = {k: v for k, v in res.paths.stats.items()}
-print(json.dumps(dict(n=n, solver_time=res.solver_time, stats=st, branches=len(res.branches),
+print(json.dumps(dict(n=n, modes=modes, solver_time=res.solver_time, stats=st, branches=len(res.branches),
                       points=int(sum(len(b) for b in res.branches)),
                       cpu_time=time.process_time() - c0, maxrss_mb=maxrss_mb(), rss_after_import_mb=r0)))
 """
 
 
-def run_fe(n: int, timeout: float) -> dict:
+def run_fe(n: int, timeout: float, modes: int | None = None) -> dict:
     t0 = time.perf_counter()
     try:
-        p = subprocess.run([PY, "-c", FE_CODE, str(n), str(HERE)], capture_output=True, text=True, timeout=timeout)
+        p = subprocess.run([PY, "-c", FE_CODE, str(n), str(HERE), "none" if modes is None else str(modes)],
+                           capture_output=True, text=True, timeout=timeout)
     except subprocess.TimeoutExpired:
         return dict(n=n, status="timeout", timeout=timeout, wall=time.perf_counter() - t0)
     if p.returncode != 0:
@@ -397,6 +417,8 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help="fewer repeats, FE N <= 20, no per-triplet scan")
     ap.add_argument("--fe-timeout", type=float, default=900.0, help="timeout per FE run in s (default 900)")
     ap.add_argument("--fe-n", type=int, nargs="*", default=None, help="FE sizes (default 5 10 20 50 100 200 400)")
+    ap.add_argument("--modes", type=int, default=None,
+                    help="FE runs with modal truncation to this many modes per state (stability not computed)")
     ap.add_argument("--no-profile", action="store_true")
     ap.add_argument("--out", default=str(HERE / "results.json"))
     a = ap.parse_args(argv)
@@ -415,7 +437,7 @@ def main(argv=None):
         if timed_out is not None:
             fe.append(dict(n=n, status=f"skipped (N={timed_out} timed out)"))
             continue
-        d = run_fe(n, a.fe_timeout)
+        d = run_fe(n, a.fe_timeout, a.modes)
         print(f"      N = {n}: {d['status']} {fmt_t(d.get('solver_time', d.get('wall')))}", flush=True)
         fe.append(d)
         if d["status"] == "timeout":
@@ -424,7 +446,7 @@ def main(argv=None):
     expo = None
     if len(ok) >= 2:
         expo = float(np.polyfit(np.log([d["n"] for d in ok]), np.log([d["solver_time"] for d in ok]), 1)[0])
-    R["fe"] = dict(runs=fe, fitted_exponent=expo, fit_over=[d["n"] for d in ok], timeout=a.fe_timeout)
+    R["fe"] = dict(runs=fe, fitted_exponent=expo, fit_over=[d["n"] for d in ok], timeout=a.fe_timeout, modes=a.modes)
     R["fe"]["scan_cost"] = [fe_scan_cost(n, p) for n, p in ((20, 2000), (50, 600), (100, 150), (200, 40), (400, 12))
                             if not a.quick or n <= 100]
     print("[4/5] peak memory (child processes) ...", flush=True)
@@ -507,7 +529,8 @@ def print_table(R):
              f"typically round-off)")
     L.append("-" * 104)
     L.append("3. FE P1 LUMPED, plbar.solve (grid 200x200), each N in a subprocess "
-             f"(timeout {fe['timeout']:.0f} s)")
+             f"(timeout {fe['timeout']:.0f} s)" + (f", modal truncation to {fe['modes']} modes (no stability)"
+                                                   if fe.get("modes") else ""))
     L.append(f"   {'N':>5s} {'status':>10s} {'solver time':>12s} {'scan':>10s} {'crossings':>10s} {'branches':>9s} "
              f"{'points':>7s} {'maxrss':>9s}")
     for r in fe["runs"]:
