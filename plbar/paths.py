@@ -342,6 +342,15 @@ def _evaluate(prob, P):
     r2 = np.abs(co.a2 * c + co.b2 * sn) / co.e2_scale
     zero = (r1 < ZERO_TOL) & (r2 < ZERO_TOL)
     orb, adm, ok = _choose_phase(prob, P, co)
+    # the residuals again, from the flow and relative to the orbit's own signal amplitudes: near a pole
+    # the cos/sin parts of e1, e2 are huge and cancel, so the coefficient scales above can hide a miss
+    u = np.linspace(0.0, 1.0, 65)
+    f1, f2 = orb.residuals()
+    s1 = np.abs(orb.reaction_margin(orb.T1[:, None] * u)).max(axis=1)
+    s2 = np.abs(orb.gap(orb.T2[:, None] * u)).max(axis=1)
+    r1 = np.maximum(r1, np.abs(f1) / np.where(s1 > 0, s1, 1.0))
+    r2 = np.maximum(r2, np.abs(f2) / np.where(s2 > 0, s2, 1.0))
+    zero = (r1 < ZERO_TOL) & (r2 < ZERO_TOL)
     per = periodicity_error(orb)
     periodic = per < PERIODIC_TOL
     why = np.where(~zero, "not a zero of D", np.where(~periodic, "not periodic (Id - A singular)",
