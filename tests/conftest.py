@@ -27,3 +27,20 @@ def fe_p2_result():
     import plbar
 
     return plbar.solve(plbar.Case(model="fe", n=8, element="P2", mass="consistent", load_points=((0.37, 1.0),)))
+
+
+@pytest.fixture(scope="session")
+def small():
+    """The default case on a coarse grid (export and render tests)."""
+    import plbar
+
+    return plbar.solve(plbar.Case(grid=(60, 60)))
+
+
+@pytest.fixture(scope="session")
+def p2_small():
+    """A small P2 consistent-mass FE case (export and render tests)."""
+    import plbar
+
+    return plbar.solve(plbar.Case(model="fe", n=4, element="P2", mass="consistent", load_points=((0.37, 1.0),),
+                                  grid=(50, 50)))

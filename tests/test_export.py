@@ -14,17 +14,6 @@ meshio = pytest.importorskip("meshio")
 pytest.importorskip("h5py")
 
 
-@pytest.fixture(scope="module")
-def small():
-    return plbar.solve(plbar.Case(grid=(60, 60)))
-
-
-@pytest.fixture(scope="module")
-def p2_small():
-    return plbar.solve(plbar.Case(model="fe", n=4, element="P2", mass="consistent", load_points=((0.37, 1.0),),
-                                  grid=(50, 50)))
-
-
 def _expected(orb, times_local):
     x, v, state = orb.response(np.asarray(times_local)[None, :])
     return x[0], v[0], state[0]

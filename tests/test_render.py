@@ -17,17 +17,6 @@ def _stats(path):
     return a.std(), colours, a.shape
 
 
-@pytest.fixture(scope="module")
-def small():
-    return plbar.solve(plbar.Case(grid=(60, 60)))
-
-
-@pytest.fixture(scope="module")
-def p2_small():
-    return plbar.solve(plbar.Case(model="fe", n=4, element="P2", mass="consistent", load_points=((0.37, 1.0),),
-                                  grid=(50, 50)))
-
-
 def test_render_from_pvd_folder(small, tmp_path):
     export.write_response(small, tmp_path / "vtk", steps=12)
     f = render_(tmp_path / "vtk", tmp_path / "png", snapshots=3)
