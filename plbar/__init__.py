@@ -15,6 +15,7 @@ from .errors import CaseFileError, InputError, OutputExistsError, PlbarError
 from .load import Load, node, point
 from .orbit import Orbits, orbits
 from .paths import Branch, Domain, Paths, default_domain, find_paths
+from .response import Response, find_response
 from .run import Result, solve, write_results
 from .system import Problem, TwoStateSystem, problem, two_state
 
@@ -24,5 +25,5 @@ __all__ = [
     "Bar", "assemble", "chain", "graded_nodes", "uniform_bar", "uniform_nodes", "Case", "damping",
     "impact_loss", "CaseFileError", "InputError", "OutputExistsError", "PlbarError", "Load", "node", "point",
     "Orbits", "orbits", "Branch", "Domain", "Paths", "default_domain", "find_paths", "Result", "solve",
-    "write_results", "Problem", "TwoStateSystem", "problem", "two_state", "__version__",
+    "write_results", "Response", "find_response", "Problem", "TwoStateSystem", "problem", "two_state", "__version__",
 ]

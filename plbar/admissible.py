@@ -56,9 +56,10 @@ class Admissibility:
     reason: np.ndarray
 
 
-def _n_samples(orb: Orbits, T) -> int:
-    s = orb.prob.system
-    fmax = max(float(s.w2.max()), float(orb.W.max()))
+def n_samples(prob, T) -> int:
+    """Samples per segment that resolve every response with periods ``T`` (array): 8 per half period."""
+    T = np.asarray(T, float)
+    fmax = max(float(prob.system.w2.max()), float((2 * np.pi / T).max()))
     return int(np.clip(np.ceil(8 * fmax * float(np.max(T)) / np.pi) + 33, 65, 6000))
 
 
@@ -108,13 +109,30 @@ def check(orb: Orbits, tol: float = TOL, graze: float = GRAZE) -> Admissibility:
     return check_both(orb, tol, graze, both=False)[0]
 
 
-def check_both(orb: Orbits, tol: float = TOL, graze: float = GRAZE, both: bool = True):
+COARSE = np.linspace(0.0, 1.0, 65)   #: the coarse sampling of each segment (fractions of T^I, T^II)
+
+
+def coarse(orb: Orbits):
+    """Margins on the coarse sampling :data:`COARSE`: ``-R`` on state I, ``-x_c`` and ``v_c`` on state II.
+
+    Each of shape ``(P, 65)``; the last column is at the switch (``T^I``, ``T^-``).
+    """
+    return _margins(orb, COARSE)[2:]
+
+
+def check_both(orb: Orbits, tol: float = TOL, graze: float = GRAZE, both: bool = True, samples: int | None = None,
+               coarse_margins=None):
     """Admissibility of every orbit and (if ``both``) of its negation (``phi + pi``).
 
     The response at ``phi + pi`` is the negated response, so its margins are
     the negated margins: one evaluation serves both.  A coarse sampling first
     rejects the orbits that violate a bound grossly; the dense sampling and
     the refinement run only on the rest.
+
+    ``samples`` (per segment, default :func:`n_samples` of the batch) is
+    given by callers that split one batch into chunks, so that the result
+    does not depend on the chunking; ``coarse_margins`` (:func:`coarse`) by
+    callers that use them too.
 
     Returns
     -------
@@ -123,8 +141,7 @@ def check_both(orb: Orbits, tol: float = TOL, graze: float = GRAZE, both: bool =
     """
     P = len(orb)
     signs = (1.0, -1.0) if both else (1.0,)
-    u0 = np.linspace(0.0, 1.0, 65)
-    _, _, mI0, gII0, vc0 = _margins(orb, u0)
+    mI0, gII0, vc0 = coarse(orb) if coarse_margins is None else coarse_margins
     s0I = np.maximum(np.abs(mI0).max(axis=1), 1e-300)[:, None]
     s0II = np.maximum(np.abs(gII0).max(axis=1), 1e-300)[:, None]
     results = []
@@ -146,7 +163,7 @@ def check_both(orb: Orbits, tol: float = TOL, graze: float = GRAZE, both: bool =
     if cand.size == 0:
         return [Admissibility(**{f: np.asarray(d[f]) for f in d}) for d in out]
     sub = orb.take(cand)
-    u = np.linspace(0.0, 1.0, _n_samples(sub, sub.T))
+    u = np.linspace(0.0, 1.0, samples or n_samples(sub.prob, sub.T))
     tI, tII, mI, gII, vc = _margins(sub, u)
     sI = np.maximum(np.abs(mI).max(axis=1), 1e-300)
     sII = np.maximum(np.abs(gII).max(axis=1), 1e-300)

@@ -54,6 +54,10 @@ class Case:
         Search domain; default ``(0, T0^alpha / 2]``.
     method : {"continuation", "grid"}
         How branches are built from the scan (:func:`plbar.find_paths`).
+    modes : int, optional
+        Keep only the lowest ``modes`` modes of each state (modal truncation,
+        for fine meshes; check it with :func:`plbar.system.truncation_check`).
+        Default: all.
     """
 
     model: str = "chain"
@@ -74,6 +78,7 @@ class Case:
     T1: tuple[float, float] | None = None
     T2: tuple[float, float] | None = None
     method: str = "continuation"
+    modes: int | None = None
     label: str = field(default="", compare=False)
 
     def __post_init__(self):
@@ -83,6 +88,8 @@ class Case:
         choice("method", self.method, ("continuation", "grid"))
         if self.model == "chain" and (self.element, self.mass) != ("P1", "lumped"):
             raise InputError("model = 'chain' is always P1 lumped; use model = 'fe' for element/mass choices")
+        if self.modes is not None:
+            object.__setattr__(self, "modes", integer("modes", self.modes, 1))
         if self.n is not None:
             object.__setattr__(self, "n", integer("n" if self.model == "fe" else "chain size N", self.n, 2))
         for nm in ("length", "EA", "rhoA", "m", "k", "grading"):
@@ -134,7 +141,7 @@ class Case:
         return Load(points=self.load_points, nodes=self.load_nodes)
 
     def problem(self) -> Problem:
-        return problem(self.bar(), self.load())
+        return problem(self.bar(), self.load(), modes=self.modes)
 
     def domain(self, prob: Problem) -> Domain:
         d = default_domain(prob)

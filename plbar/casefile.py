@@ -20,7 +20,8 @@ A case file::
     vtk = true
 
 ``[bar]`` keys: ``model, n, element, mass, length, EA, rhoA, m, k, grading,
-mesh_file`` (relative to the TOML file), ``point_masses = [[x, m], ...]``.
+mesh_file`` (relative to the TOML file), ``point_masses = [[x, m], ...]``,
+``modes`` (modal truncation: the lowest modes of each state).
 Every mistake raises :class:`plbar.errors.CaseFileError` with one line naming
 the file, the section and the key.
 """
@@ -51,7 +52,7 @@ SCHEMA = {
     "": {"title": "str", "bar": "table", "load": "tables", "search": "table", "output": "table"},
     "bar": {"model": ("choice", ("chain", "fe")), "n": "int", "element": ("choice", ("P1", "P2")),
             "mass": ("choice", ("lumped", "consistent")), "length": "float", "EA": "float", "rhoA": "float",
-            "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs"},
+            "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs", "modes": "int"},
     "load": {"node": "int", "at": "float", "amplitude": "float"},
     "search": {"grid": "grid", "T1": "pair", "T2": "pair"},
     "output": {"dir": "str", "vtk": "bool", "format": ("choice", FORMATS), "render": "bool", "field": "str",
@@ -270,6 +271,8 @@ def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
             raise ctx.err("bar", f"{key} = {_fmt(bar[key])} is not allowed; it must be > 0")
     if "n" in bar and bar["n"] < 2:
         raise ctx.err("bar", f"n = {bar['n']} is not allowed; it must be >= 2")
+    if "modes" in bar and bar["modes"] < 1:
+        raise ctx.err("bar", f"modes = {bar['modes']} is not allowed; it must be >= 1")
     for key in ("steps", "snapshots", "branch", "index"):
         lo = {"steps": 4, "snapshots": 1}.get(key, 0)
         if key in out and out[key] < lo:
@@ -329,6 +332,8 @@ def dump_case(case, output: OutputSettings | None = None) -> str:
         lines.append(f"mesh_file = {_fmt(str(case.mesh_file))}")
     if case.model == "fe" and case.point_masses:
         lines.append(f"point_masses = {_fmt([list(p) for p in case.point_masses])}")
+    if case.modes is not None:
+        lines.append(f"modes = {int(case.modes)}")
     for k, a in case.load_nodes:
         lines += ["", "[[load]]", f"node = {int(k)}", f"amplitude = {_fmt(float(a))}"]
     for s, a in case.load_points:

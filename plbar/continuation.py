@@ -27,7 +27,7 @@ import numpy as np
 from . import periodic
 from .system import Problem
 
-__all__ = ["G", "Trace", "trace"]
+__all__ = ["G", "Trace", "trace", "trace_many"]
 
 EPS = np.finfo(float).eps
 
@@ -62,20 +62,22 @@ class _Tracer:
     def T(self, u):
         return self.lo + np.asarray(u) * self.span
 
+    # The methods below are generators: each ``yield`` hands points ``(T1, T2)`` (k, 2) to the driver
+    # and receives G there (k,), so that a driver can evaluate many walkers in one batched call.
+
     def g(self, U):
         U = np.atleast_2d(U)
         self.nevals += len(U)
-        T = self.T(U)
-        return G(self.prob, T[:, 0], T[:, 1])
+        return (yield self.T(U))
 
     def grad(self, u, d=1e-7):
         U = u + d * np.array([[1, 0], [-1, 0], [0, 1], [0, -1]])
-        v = self.g(U)
+        v = yield from self.g(U)
         return np.array([v[0] - v[1], v[2] - v[3]]) / (2 * d)
 
     def correct(self, p, n, slope, h):
         """Zero of g on the line ``p + s n`` near ``s = 0`` (secant), or None."""
-        s0, g0 = 0.0, self.g(p)[0]
+        s0, g0 = 0.0, (yield from self.g(p))[0]
         if g0 == 0:
             return p
         if slope == 0 or not np.isfinite(slope):
@@ -84,7 +86,7 @@ class _Tracer:
         for _ in range(30):
             if abs(s1) > 2 * h:
                 return None
-            g1 = self.g(p + s1 * n)[0]
+            g1 = (yield from self.g(p + s1 * n))[0]
             if g1 == 0 or abs(s1 - s0) <= 4 * EPS * (1 + abs(s1)):
                 return p + s1 * n
             if g1 == g0:
@@ -104,13 +106,13 @@ class _Tracer:
             u[1 - axis] = x
             return u
 
-        fa, fb = self.g(np.array([pt(a), pt(b)]))
+        fa, fb = yield from self.g(np.array([pt(a), pt(b)]))
         if np.sign(fa) == np.sign(fb) or fa == 0 or fb == 0:
             return pt(a) if fa == 0 else (pt(b) if fb == 0 else None)
         x = min(max(guess, a), b)
         side = 0
         for _ in range(100):
-            fx = self.g(pt(x))[0]
+            fx = (yield from self.g(pt(x)))[0]
             if fx == 0:
                 break
             if np.sign(fx) == np.sign(fa):
@@ -160,7 +162,7 @@ class _Tracer:
                             found = (eid, (self.crossings[eid] - self.lo) / self.span)
                             break
                     else:
-                        pt = self.root_on_line(axis, g[k], og[j], og[j + 1], other)
+                        pt = yield from self.root_on_line(axis, g[k], og[j], og[j + 1], other)
                         if pt is not None:
                             found = (eid, pt)
                             break
@@ -179,11 +181,11 @@ class _Tracer:
         seen = set() if seen is None else seen
         u, t, h = u0.copy(), t0.copy(), self.hmax
         small = 0
-        gr = self.grad(u)
+        gr = yield from self.grad(u)
         for _ in range(max_steps):
             n = np.array([-t[1], t[0]])
             slope = gr @ n
-            q = self.correct(u + h * t, n, slope, h)
+            q = yield from self.correct(u + h * t, n, slope, h)
             if q is None:
                 h *= 0.5
                 if h < 1e-9:
@@ -192,7 +194,7 @@ class _Tracer:
             small = small + 1 if h < 1e-4 * self.hmax else 0
             if small > 50:
                 return pts, edges, "step failure"
-            gq = self.grad(q)
+            gq = yield from self.grad(q)
             tq = np.array([gq[1], -gq[0]])
             nq = np.linalg.norm(tq)
             if nq == 0:
@@ -205,7 +207,7 @@ class _Tracer:
                 h *= 0.5
                 continue
             closed = False
-            for frac, eid, pt in self.edge_crossings(u, q):
+            for frac, eid, pt in (yield from self.edge_crossings(u, q)):
                 if eid in seen:
                     closed = True
                     break
@@ -247,22 +249,70 @@ def trace(prob: Problem, t1: np.ndarray, t2: np.ndarray, seed: np.ndarray, hmax:
         scan found no admissible response there: the branch ends within
         that grid cell).
     """
+    return trace_many(prob, t1, t2, [seed], hmax, max_steps, crossings, [seed_edge], stop)[0]
+
+
+def trace_many(prob: Problem, t1: np.ndarray, t2: np.ndarray, seeds, hmax: float | None = None,
+               max_steps: int = 20000, crossings: dict | None = None, seed_edges=None,
+               stop: set | None = None, drop_crossed: bool = False) -> list[Trace | None]:
+    """:func:`trace` from several seeds, the walkers in lockstep.
+
+    Each round evaluates the pending points of every walker in one batched
+    :func:`G` call; every walker does exactly what :func:`trace` does, so the
+    traces are the same (to round-off: a batched evaluation may differ from a
+    single one in the last bit).  With ``drop_crossed``, a walker whose seed
+    edge an earlier walker (in the order of ``seeds``) has crossed is dropped
+    (its entry is None): it would trace the same curve.
+    """
+    seed_edges = [None] * len(seeds) if seed_edges is None else [None if e is None else int(e) for e in seed_edges]
+    tracers = [_Tracer(prob, t1, t2, hmax, crossings, stop) for _ in seeds]
+    seen = [set() for _ in seeds]
+    gens = [_trace(tr, sd, max_steps, crossings, e, sn) for tr, sd, e, sn in zip(tracers, seeds, seed_edges, seen)]
+    out: list = [None] * len(gens)
+    pending = {}
+
+    def step(i, value):
+        try:
+            pending[i] = gens[i].send(value)
+        except StopIteration as stop_:
+            out[i] = stop_.value
+            pending.pop(i, None)
+
     with periodic.single_thread_blas:
-        return _trace(prob, t1, t2, seed, hmax, max_steps, crossings, seed_edge, stop)
+        for i in range(len(gens)):
+            step(i, None)
+        while pending:
+            if drop_crossed and len(pending) > 1:
+                for j in list(pending):
+                    e = seed_edges[j]
+                    if e is not None and any(e in seen[i] for i in range(j) if out[i] is not None or i in pending):
+                        gens[j].close()
+                        del pending[j]
+            idx = list(pending)
+            if not idx:
+                break
+            pts = [pending[i] for i in idx]
+            allT = np.concatenate(pts) if len(pts) > 1 else pts[0]
+            v = G(prob, allT[:, 0], allT[:, 1])
+            off = 0
+            for i, p in zip(idx, pts):
+                step(i, v[off:off + len(p)])
+                off += len(p)
+    return out
 
 
-def _trace(prob, t1, t2, seed, hmax, max_steps, crossings, seed_edge, stop) -> Trace:
-    tr = _Tracer(prob, t1, t2, hmax, crossings, stop)
+def _trace(tr: _Tracer, seed, max_steps, crossings, seed_edge, seen: set) -> Trace:
     u0 = (np.asarray(seed, float) - tr.lo) / tr.span
-    gr = tr.grad(u0)
+    gr = yield from tr.grad(u0)
     t0 = np.array([gr[1], -gr[0]])
     t0 /= np.linalg.norm(t0) or 1.0
-    seen = set() if seed_edge is None else {int(seed_edge)}
-    fwd, efwd, endf = tr.march(u0, t0, u0, max_steps, seen)
+    if seed_edge is not None:
+        seen.add(int(seed_edge))
+    fwd, efwd, endf = yield from tr.march(u0, t0, u0, max_steps, seen)
     if endf == "closed loop":
         bwd, ebwd, endb = [], [], "closed loop"
     else:
-        bwd, ebwd, endb = tr.march(u0, -t0, u0, max_steps, seen)
+        bwd, ebwd, endb = yield from tr.march(u0, -t0, u0, max_steps, seen)
     P = np.array(bwd[::-1] + [u0] + fwd)
     nb = len(bwd)
     edges = {eid: nb - 1 - i for i, eid in ebwd}

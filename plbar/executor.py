@@ -45,10 +45,15 @@ class SerialExecutor(cf.Executor):
         return fut
 
 
+def _one_thread():
+    """Worker initializer: the processes share the cores, so no thread pool inside each (plbar._threads)."""
+    os.environ["PLBAR_THREADS"] = "1"
+
+
 def _local(workers: int) -> cf.ProcessPoolExecutor:
     """A process pool; ``fork`` where available so scripts need no ``__main__`` guard."""
     ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
-    return cf.ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
+    return cf.ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_one_thread)
 
 
 class _DaskExecutor(cf.Executor):

@@ -26,11 +26,13 @@ __all__ = ["kernels", "forced_coeffs", "segment", "psi", "psi_closed_form", "psi
 
 
 def sinc(x):
-    """``sin(x) / x`` with the value 1 at 0."""
+    """``sin(x) / x`` with the value 1 at 0.
+
+    ``sin`` is correctly rounded near 0 (``sin(x) = x`` in floating point for
+    ``|x| < 1e-8``), so the quotient is accurate to round-off for every ``x != 0``.
+    """
     x = np.asarray(x, float)
-    small = np.abs(x) < 1e-4
-    xs = np.where(small, 1.0, x)
-    return np.where(small, 1.0 - x * x / 6.0, np.sin(xs) / xs)
+    return np.divide(np.sin(x), x, out=np.ones_like(x), where=x != 0)
 
 
 def kernels(w, W, tau):
@@ -50,12 +52,14 @@ def kernels(w, W, tau):
     C, S, Cp : ndarray
         Broadcast shapes of the inputs.
     """
-    sig = 0.5 * (w + W) * tau
-    snc = tau * sinc(0.5 * (w - W) * tau)
-    cs = np.cos(sig)
-    C = np.sin(sig) / (w + W) * snc
-    S = (np.sin(w * tau) / w - cs * snc) / (w + W)
-    Cp = (w * cs * snc + np.sin(W * tau)) / (w + W)
+    wp = w + W
+    ht = 0.5 * tau
+    snc = tau * sinc((w - W) * ht)
+    sig = wp * ht
+    csn = np.cos(sig) * snc
+    C = np.sin(sig) * snc / wp
+    S = (np.sin(w * tau) / w - csn) / wp
+    Cp = (w * csn + np.sin(W * tau)) / wp
     return C, S, Cp
 
 
@@ -87,24 +91,6 @@ def segment(w, f, W, ts, tau, eta0, v0, cphi, sphi):
     return eta, v
 
 
-def _icc(a, b, t):
-    return 0.5 * t * (sinc((a - b) * t) + sinc((a + b) * t))
-
-
-def _iss(a, b, t):
-    return 0.5 * t * (sinc((a - b) * t) - sinc((a + b) * t))
-
-
-def _omc(x, t):
-    """``(1 - cos(x t)) / x``, exact at ``x = 0``."""
-    return 0.5 * x * t * t * sinc(0.5 * x * t) ** 2
-
-
-def _ics(a, b, t):
-    """``int_0^t cos(a u) sin(b u) du``."""
-    return 0.5 * (_omc(a + b, t) - _omc(a - b, t))
-
-
 def psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi):
     """Closed-form ``Psi = int_0^tau etadot^2`` (Eq. (20), Appendix 2).
 
@@ -119,21 +105,42 @@ def psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi):
         Cancellation factor ``(|A|+|B|+|Cc|+|Cs|)^2 tau / psi``; large near
         resonance, where :func:`psi` switches to quadrature.
     """
-    th_c = np.cos(W * ts) * cphi + np.sin(W * ts) * sphi     # cos(W ts - phi)
-    th_s = np.sin(W * ts) * cphi - np.cos(W * ts) * sphi     # sin(W ts - phi)
-    d = w * w - W * W
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        g = np.where(d != 0, f / np.where(d != 0, d, 1.0), np.inf)
-        A = v0 + g * W * th_s
-        B = -w * eta0 + g * w * th_c
+    cw, sw = np.cos(W * ts), np.sin(W * ts)
+    th_c = cw * cphi + sw * sphi     # cos(W ts - phi)
+    th_s = sw * cphi - cw * sphi     # sin(W ts - phi)
+    wp, wm = w + W, w - W
+    d = wp * wm
+    # exact resonance (d = 0): g = inf, psi = nan or inf and the quadrature takes over (see psi)
+    with np.errstate(invalid="ignore", over="ignore"):
+        g = np.divide(f, d, out=np.full(np.broadcast(f, d).shape, np.inf), where=d != 0)
         Cc = -g * W * th_s
         Cs = -g * W * th_c
-        psi = (A * A * _icc(w, w, tau) + B * B * _iss(w, w, tau) + Cc * Cc * _icc(W, W, tau)
-               + Cs * Cs * _iss(W, W, tau) + 2 * A * B * _ics(w, w, tau) + 2 * A * Cc * _icc(w, W, tau)
-               + 2 * A * Cs * _ics(w, W, tau) + 2 * B * Cc * _ics(W, w, tau) + 2 * B * Cs * _iss(w, W, tau)
-               + 2 * Cc * Cs * _ics(W, W, tau))
+        A = v0 - Cc
+        B = g * w * th_c - w * eta0
+        # every sinc the ten product integrals need, in one call (Eqs. (28)-(33)):
+        # sinc(2wt), sinc(2Wt), sinc((w-W)t), sinc((w+W)t), sinc(wt), sinc(Wt), sinc((w+W)t/2), sinc((w-W)t/2)
+        ht = 0.5 * tau
+        wt, Wt, pt, mt = w * tau, W * tau, wp * ht, wm * ht
+        args = [2 * wt, 2 * Wt, 2 * mt, 2 * pt, wt, Wt, pt, mt]
+        if len({np.shape(a) for a in args}) > 1:
+            args = np.broadcast_arrays(*args)
+        s2w, s2W, sm, sp, s1w, s1W, sph, smh = sinc(np.array(args))
+        # int_0^t of the ten products, grouped by kernel:
+        # A^2 cos^2 wu + B^2 sin^2 wu + Cc^2 cos^2 Wu + Cs^2 sin^2 Wu + 2 A Cc cos wu cos Wu + 2 B Cs sin wu sin Wu
+        #   -> ht [(A^2 + B^2 + Cc^2 + Cs^2) + (A^2 - B^2) sinc(2wt) + (Cc^2 - Cs^2) sinc(2Wt)
+        #          + 2 (A Cc + B Cs) sinc((w-W)t) + 2 (A Cc - B Cs) sinc((w+W)t)]
+        # 2 A B cos wu sin wu + 2 Cc Cs cos Wu sin Wu + 2 A Cs cos wu sin Wu + 2 B Cc sin wu cos Wu
+        #   -> t^2 [A B w sinc(wt)^2 + Cc Cs W sinc(Wt)^2] + (A Cs + B Cc) (1 - cos (w+W)t) / (w+W)
+        #      + (B Cc - A Cs) (1 - cos (w-W)t) / (w-W),  (1 - cos x t) / x = x t^2 sinc(x t / 2)^2 / 2
+        AA, BB, CC, SS = A * A, B * B, Cc * Cc, Cs * Cs
+        ACc, BCs, ACs, BCc = A * Cc, B * Cs, A * Cs, B * Cc
+        tt = tau * tau
+        psi = (ht * ((AA + BB + CC + SS) + (AA - BB) * s2w + (CC - SS) * s2W + 2 * (ACc + BCs) * sm
+                     + 2 * (ACc - BCs) * sp)
+               + tt * (A * B * w * s1w * s1w + Cc * Cs * W * s1W * s1W + 0.5 * ((ACs + BCc) * wp * sph * sph
+                                                                                + (BCc - ACs) * wm * smh * smh)))
         scale = (np.abs(A) + np.abs(B) + np.abs(Cc) + np.abs(Cs)) ** 2 * tau
-        cancel = np.where(psi > 0, scale / psi, np.inf)
+        cancel = np.divide(scale, psi, out=np.full(psi.shape, np.inf), where=psi > 0)
     return psi, cancel
 
 

@@ -23,6 +23,7 @@ import numpy as np
 
 from . import admissible, stability
 from .energy import Damping, damping
+from ._threads import map_chunks
 from .errors import InputError
 from .orbit import Orbits, orbits
 from .periodic import Coefficients, coefficients, phase
@@ -175,9 +176,9 @@ def _chunked(prob: Problem, T1, T2, what: str = "coefficients"):
     step = max(1, int(CHUNK_BYTES // _consts(prob).bytes_per_point))
     fun = G if what == "G" else coefficients
     with single_thread_blas:
-        if T1.size <= step:
-            return fun(prob, T1, T2)
-        parts = [fun(prob, T1[i:i + step], T2[i:i + step]) for i in range(0, T1.size, step)]
+        parts = map_chunks(lambda a, b: fun(prob, T1[a:b], T2[a:b]), T1.size, PAR_CHUNK, step)
+    if len(parts) == 1:
+        return parts[0]
     if what == "G":
         return np.concatenate(parts)
     return Coefficients(*[np.concatenate([getattr(p, f) for p in parts])
@@ -293,11 +294,18 @@ def _link(F: np.ndarray, hmask: np.ndarray, vmask: np.ndarray):
     return chains
 
 
-def _choose_phase(prob, P, co):
-    """Admissible responses at refined zeros: try ``phi`` and ``phi + pi``."""
+def _choose_phase(prob, P, co, samples=None, amplitudes: list | None = None):
+    """Admissible responses at refined zeros: try ``phi`` and ``phi + pi``.
+
+    ``amplitudes``, if a list, receives ``(max |R|, max |x_c|, R(T^I-), x_c(T^-))`` of each orbit
+    on the coarse sampling (the same for both phases).
+    """
     phi0 = phase(co)
     orb = orbits(prob, P[:, 0], P[:, 1], phi0, co=co)
-    a0, a1 = admissible.check_both(orb)
+    cm = admissible.coarse(orb)
+    if amplitudes is not None:
+        amplitudes += [np.abs(cm[0]).max(axis=1), np.abs(cm[1]).max(axis=1), -cm[0][:, -1], -cm[1][:, -1]]
+    a0, a1 = admissible.check_both(orb, samples=samples, coarse_margins=cm)
     flip = a1.ok & ~a0.ok
     if flip.any():
         orb = Orbits(prob, orb.T1, orb.T2, np.where(flip, phi0 + np.pi, phi0), np.where(flip[:, None], -orb.eta0,
@@ -334,20 +342,35 @@ def _scan(prob, domain, n1, n2):
 
 
 def _evaluate(prob, P):
-    """Everything about the points ``P`` (N, 2) on zero curves: orbits, admissibility, validity."""
+    """Everything about the points ``P`` (N, 2) on zero curves: orbits, admissibility, validity.
+
+    In chunks over threads (:func:`plbar._threads.map_chunks`); the sampling of the admissibility
+    check is fixed for the whole batch, so the result does not depend on the chunks.
+    """
+    ns = admissible.n_samples(prob, P.sum(axis=1))
+    parts = map_chunks(lambda a, b: _evaluate_chunk(prob, P[a:b], ns), len(P), PAR_CHUNK // 4)
+    if len(parts) == 1:
+        return parts[0]
+    orb = Orbits(prob, *[np.concatenate([getattr(p[0], f) for p in parts]) for f in
+                         ("T1", "T2", "phi", "eta0", "v0", "eta_s", "v_s")])
+    adm = admissible.Admissibility(*[np.concatenate([getattr(p[1], f) for p in parts])
+                                     for f in admissible.Admissibility.__dataclass_fields__])
+    return (orb, adm) + tuple(np.concatenate([p[k] for p in parts]) for k in range(2, 6))
+
+
+def _evaluate_chunk(prob, P, samples):
     co = _chunked(prob, P[:, 0], P[:, 1])
     phi0 = phase(co)
     c, sn = np.cos(phi0), np.sin(phi0)
     r1 = np.abs(co.a1 * c + co.b1 * sn) / co.e1_scale
     r2 = np.abs(co.a2 * c + co.b2 * sn) / co.e2_scale
     zero = (r1 < ZERO_TOL) & (r2 < ZERO_TOL)
-    orb, adm, ok = _choose_phase(prob, P, co)
+    amp: list = []
+    orb, adm, ok = _choose_phase(prob, P, co, samples, amp)
     # the residuals again, from the flow and relative to the orbit's own signal amplitudes: near a pole
     # the cos/sin parts of e1, e2 are huge and cancel, so the coefficient scales above can hide a miss
-    u = np.linspace(0.0, 1.0, 65)
-    f1, f2 = orb.residuals()
-    s1 = np.abs(orb.reaction_margin(orb.T1[:, None] * u)).max(axis=1)
-    s2 = np.abs(orb.gap(orb.T2[:, None] * u)).max(axis=1)
+    # (from the coarse sampling of the admissibility check, whose last samples are at T^I and T^-)
+    s1, s2, f1, f2 = amp
     r1 = np.maximum(r1, np.abs(f1) / np.where(s1 > 0, s1, 1.0))
     r2 = np.maximum(r2, np.abs(f2) / np.where(s2 > 0, s2, 1.0))
     zero = (r1 < ZERO_TOL) & (r2 < ZERO_TOL)
@@ -395,6 +418,10 @@ def _curves_grid(F, hmask, vmask, ids, P):
     return out
 
 
+PAR_CHUNK = 2000   #: smallest batch of points worth a thread of its own
+SPECULATE = 64   #: traces run in lockstep (at most one speculative seed per marching-squares chain)
+
+
 def _curves_continuation(prob, t1, t2, F, hmask, vmask, ids, P, zero0, good0, progress):
     """Continuation traces seeded by the admissible scan crossings.
 
@@ -402,23 +429,50 @@ def _curves_continuation(prob, t1, t2, F, hmask, vmask, ids, P, zero0, good0, pr
     so only the admissible stretches of the zero curves are traced.
     Returns a list of (points (M, 2), ends).
     """
-    from .continuation import trace
+    from .continuation import trace_many
 
     crossings = {int(e): P[k] for k, e in enumerate(ids) if zero0[k]}
     stop = {int(e) for k, e in enumerate(ids) if zero0[k] and not good0[k]}
     seeds = {int(e) for k, e in enumerate(ids) if good0[k]}
-    visited: set[int] = set()
-    curves = []
-    order = sorted(_link(F, hmask, vmask), key=len, reverse=True)
-    bar = _progress(len(seeds), progress, "tracing")
-    for chain in order:
+    # chains are walks along the zero curves; a run of admissible crossings between two others is a
+    # "stretch", which one trace usually covers
+    seq, stretch = [], {}
+    for ci, chain in enumerate(sorted(_link(F, hmask, vmask), key=len, reverse=True)):
+        k, prev = 0, False
         for e in chain:
-            if e in visited or e not in seeds:
-                continue
-            tr = trace(prob, t1, t2, crossings[e], crossings=crossings, seed_edge=e, stop=stop)
-            bar.update(len((set(tr.edges) - visited) & seeds))
-            visited |= set(tr.edges)
-            curves.append((tr.P, tr.ends))
+            good = e in seeds
+            if good:
+                k += not prev
+                seq.append(e)
+                stretch[e] = (ci, k)
+            prev = good
+    # The traces are those of the sequential rule "seed a trace at every admissible crossing, in chain
+    # order, that no earlier trace passed through".  To batch the walkers, traces are computed in
+    # lockstep from the first unvisited seed of each of the next stretches; a walker whose seed an
+    # earlier walker crosses is dropped, and a trace is used only when the sequential rule reaches its
+    # seed unvisited (else it is discarded).
+    visited: set[int] = set()
+    cache: dict[int, object] = {}
+    curves = []
+    bar = _progress(len(seeds), progress, "tracing")
+    for pos, e in enumerate(seq):
+        if e in visited:
+            continue
+        if cache.get(e) is None:
+            batch, used = [e], {stretch[e]}
+            for e2 in seq[pos + 1:]:
+                if len(batch) >= SPECULATE:
+                    break
+                if stretch[e2] not in used and e2 not in visited and cache.get(e2) is None:
+                    used.add(stretch[e2])
+                    batch.append(e2)
+            trs = trace_many(prob, t1, t2, [crossings[b] for b in batch], crossings=crossings, seed_edges=batch,
+                             stop=stop, drop_crossed=True)
+            cache.update(zip(batch, trs))
+        tr = cache.pop(e)
+        bar.update(len((set(tr.edges) - visited) & seeds))
+        visited |= set(tr.edges)
+        curves.append((tr.P, tr.ends))
     bar.close()
     return curves
 

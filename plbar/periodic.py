@@ -163,6 +163,11 @@ class _Consts:
         self.nr = float(np.linalg.norm(s.r_eta))
         self.ng = float(np.abs(s.gap_row).max())
         self.eye = np.eye(2 * self.m1)
+        self.f = np.concatenate([self.f1, self.f2])
+        self.is1 = np.arange(self.m1 + self.m2) < self.m1
+        self.PP = np.ascontiguousarray(np.hstack([s.P12, s.P12]))          # (m2, 2 m1)
+        self.J = np.stack([s.P21, s.Q21])[None]                            # (1, 2, m1, m2)
+        self.JT = np.stack([self.P21T, self.Q21T])[None]                   # (1, 2, m2, m1)
         # bytes of the largest temporaries per point (used to size batches)
         self.bytes_per_point = 8 * (6 * (2 * self.m1) * self.m2 + 3 * (2 * self.m1) ** 2 + 16 * (self.m1 + self.m2))
 
@@ -222,85 +227,60 @@ def _solve(IA: np.ndarray, c: np.ndarray):
     return Z, np.where(ok, sign, 0.0)
 
 
-def _core(prob: Problem, T1: np.ndarray, T2: np.ndarray, full: bool = True):
-    """The residual coefficients (and, if ``full``, the periodic states and the residual scales).
+def _core(prob: Problem, T1: np.ndarray, T2: np.ndarray, full: bool = True, scales: bool = True):
+    """The residual coefficients (and, if ``full``, the periodic states and, if ``scales``, the residual scales).
 
-    Arrays are laid out with the phase component (``cos phi``, ``sin phi``)
-    before the mode axis, so that every projection is one matrix product.
+    The one-period map is built from stacked blocks, so that the number of
+    numpy calls does not depend on the system size (small batches are
+    dominated by call overhead): with ``p, q`` over (displacement, velocity)
+    and ``c`` over the phase parts (``cos phi``, ``sin phi``),
+
+    * ``X[b, q] = P12 * R1[b, q]`` (state I flow then the I -> II switch),
+    * ``Y[b, p] = sum_q R2[b, p, q] X[b, q]`` (state II flow),
+    * ``A[b, p] = J_p Y[b, p]`` with ``J = (P21, Q21)`` (plastic impact).
     """
     k = _consts(prob)
     m1, m2 = k.m1, k.m2
+    n = 2 * m1
     B = T1.size
     W = 2 * np.pi / (T1 + T2)
-    tau = np.empty((B, m1 + m2))
-    tau[:, :m1] = T1[:, None]
-    tau[:, m1:] = T2[:, None]
+    Wc = W[:, None]
+    tau = np.where(k.is1, T1[:, None], T2[:, None])              # (B, m)
     wt = k.w * tau
     co, si = np.cos(wt), np.sin(wt)
-    sw = si / k.w
-    ws = -k.w * si
-    co1, sw1, ws1 = co[:, :m1], sw[:, :m1], ws[:, :m1]
-    co2, sw2, ws2 = co[:, m1:], sw[:, m1:], ws[:, m1:]
-    Wc = W[:, None]
     C, S, Cp = kernels(k.w, Wc, tau)
-    WC = Wc * C
-    # forced part of state I (from t = 0: cos(W ts) = 1, sin(W ts) = 0), (B, 2, m1): rows cos(phi), sin(phi)
-    f1, f2 = k.f1, k.f2
-    ge1 = np.empty((B, 2, m1))
-    gv1 = np.empty((B, 2, m1))
-    ge1[:, 0] = f1 * C[:, :m1]
-    ge1[:, 1] = f1 * S[:, :m1]
-    gv1[:, 0] = f1 * Cp[:, :m1]
-    gv1[:, 1] = f1 * WC[:, :m1]
-    # forced part of state II (from t = T1)
-    c0, s0 = np.cos(W * T1)[:, None], np.sin(W * T1)[:, None]
-    C2, S2, Cp2, WC2 = C[:, m1:], S[:, m1:], Cp[:, m1:], WC[:, m1:]
-    g2e = np.empty((B, 2, m2))
-    g2v = np.empty((B, 2, m2))
-    g2e[:, 0] = f2 * (c0 * C2 - s0 * S2)
-    g2e[:, 1] = f2 * (s0 * C2 + c0 * S2)
-    g2v[:, 0] = f2 * (c0 * Cp2 - s0 * WC2)
-    g2v[:, 1] = f2 * (s0 * Cp2 + c0 * WC2)
-    # one-period map, transposed: AT[b] = A[b]^T, blocks over (eta, v) of state I
-    UT = k.UT                                             # (m1, m2) = P12^T
-    n = 2 * m1
-    XeT = np.empty((B, n, m2))
-    XvT = np.empty((B, n, m2))
-    XeT[:, :m1] = co1[:, :, None] * UT
-    XeT[:, m1:] = sw1[:, :, None] * UT
-    XvT[:, :m1] = ws1[:, :, None] * UT
-    XvT[:, m1:] = XeT[:, :m1]
-    c2, s2, w2 = co2[:, None, :], sw2[:, None, :], ws2[:, None, :]
-    YeT = c2 * XeT
-    YeT += s2 * XvT
-    YvT = w2 * XeT
-    YvT += c2 * XvT
-    IAT = np.empty((B, n, n))
-    IAT[:, :, :m1] = -(YeT.reshape(B * n, m2) @ k.P21T).reshape(B, n, m1)
-    IAT[:, :, m1:] = -(YvT.reshape(B * n, m2) @ k.Q21T).reshape(B, n, m1)
-    IAT += k.eye
-    # forced part of the map, (B, 2, n)
-    he = ge1 @ UT
-    hv = gv1 @ UT
-    ge2 = co2[:, None, :] * he + sw2[:, None, :] * hv + g2e
-    gv2 = ws2[:, None, :] * he + co2[:, None, :] * hv + g2v
-    cT = np.empty((B, 2, n))
-    cT[:, :, :m1] = ge2 @ k.P21T
-    cT[:, :, m1:] = gv2 @ k.Q21T
-    Z, sign = _solve(IAT.transpose(0, 2, 1), cT.transpose(0, 2, 1))
-    # state at the end of state I, and at the end of state II, (B, 2, m)
-    ZT = Z.transpose(0, 2, 1)
-    e0, v0 = ZT[:, :, :m1], ZT[:, :, m1:]
-    eI = co1[:, None, :] * e0 + sw1[:, None, :] * v0 + ge1
-    vI = ws1[:, None, :] * e0 + co1[:, None, :] * v0 + gv1
-    e1 = eI @ k.r_eta
-    e1[:, 0] += k.r_q * c0[:, 0]
-    e1[:, 1] += k.r_q * s0[:, 0]
-    e1 = -e1
-    eII = co2[:, None, :] * (eI @ UT) + sw2[:, None, :] * (vI @ UT) + g2e
+    # flows as stacked rows: R[b, p, q, j] = [[cos, sin/w], [-w sin, cos]]
+    R = np.array([co, si / k.w, -k.w * si, co]).reshape(2, 2, B, m1 + m2).transpose(2, 0, 1, 3)
+    R1, R2 = R[..., :m1], R[..., m1:]
+    # homogeneous map: X (B, 2, m2, n), Y (B, 2, m2, n), A (B, n, n)
+    X = k.PP * R1.reshape(B, 2, 1, n)
+    Y = R2[:, :, 0, :, None] * X[:, None, 0] + R2[:, :, 1, :, None] * X[:, None, 1]
+    IA = k.eye - np.matmul(k.J, Y).reshape(B, n, n)
+    # forced parts F[b, p, c, j]: p = displacement/velocity, c = cos(phi)/sin(phi) part
+    F = (k.f * np.array([C, S, Cp, Wc * C])).reshape(2, 2, B, m1 + m2).transpose(2, 0, 1, 3)
+    g1 = F[..., :m1]                                                # state I from t = 0
+    c0, s0 = np.cos(W * T1), np.sin(W * T1)
+    rot = np.array([c0, -s0, s0, c0]).T.reshape(B, 1, 2, 2)
+    g2 = np.matmul(rot, F[..., m1:])                                # state II from t = T1 (phase shifted)
+    h = np.matmul(g1, k.UT)                                         # (B, 2, 2, m2)
+    ge = R2[:, :, :1] * h[:, None, 0] + R2[:, :, 1:] * h[:, None, 1] + g2   # forced state at T-, (B, 2, 2, m2)
+    cT = np.matmul(ge, k.JT)                                        # (B, 2, 2, m1): rows p, columns c
+    c = cT.transpose(0, 1, 3, 2).reshape(B, n, 2)
+    Z, sign = _solve(IA, c)
+    # state I at T1 (B, 2, 2, m1): [p, c]; state II displacement at T-
+    Zr = Z.reshape(B, 2, m1, 2).transpose(0, 1, 3, 2)              # (B, q, c, m1)
+    zI = R1[:, :, :1] * Zr[:, None, 0] + R1[:, :, 1:] * Zr[:, None, 1] + g1
+    eI = zI[:, 0]
+    e1 = -(eI @ k.r_eta)
+    e1[:, 0] -= k.r_q * c0
+    e1[:, 1] -= k.r_q * s0
+    hI = np.matmul(zI, k.UT)
+    eII = R2[:, 0, :1] * hI[:, 0] + R2[:, 0, 1:] * hI[:, 1] + g2[:, 0]
     e2 = eII @ k.gap_row
     if not full:
         return e1, e2, sign
+    if not scales:
+        return e1, e2, sign, Z
     sc1 = k.nr * np.sqrt(np.einsum("bkj,bkj->bk", eI, eI)).max(axis=1) + abs(k.r_q)
     sc2 = k.ng * np.sqrt(np.einsum("bkj,bkj->bk", eII, eII)).max(axis=1)
     return e1, e2, sign, Z, sc1, sc2

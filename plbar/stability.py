@@ -42,7 +42,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["Stability", "monodromy", "multipliers", "stability", "periodic_state", "TOL"]
+__all__ = ["Stability", "monodromy", "monodromy_modal", "multipliers", "stability", "periodic_state", "TOL"]
 
 TOL = 1e-9  #: default stability margin: stable iff max |mu| < 1 - tol
 
@@ -160,15 +160,87 @@ def monodromy(orbits) -> np.ndarray:
     return S_imp @ F2 @ S_open @ F1
 
 
+def _modal_flow(w, tau):
+    """Modal free flow over ``tau`` (P,): ``(P, 2m, 2m)`` with 2 x 2 blocks per mode on ``(eta, etadot)``."""
+    wt = w[None, :] * np.asarray(tau, float)[:, None]
+    c, s = np.cos(wt), np.sin(wt)
+    P, m = wt.shape
+    A = np.zeros((P, 2 * m, 2 * m))
+    i = np.arange(m)
+    A[:, i, i] = c
+    A[:, i, m + i] = s / w
+    A[:, m + i, i] = -w * s
+    A[:, m + i, m + i] = c
+    return A
+
+
+def monodromy_modal(orbits) -> np.ndarray:
+    """The Jacobian of the one-period map in the modal coordinates of state I, ``(eta^I, etadot^I)``.
+
+    Similar to :func:`monodromy` (same multipliers) for the full model,
+    ``2 m1`` square for a modally truncated one (``plbar.problem(..., modes=m)``),
+    where it is the linearisation of the truncated (Galerkin) dynamics.
+    The saltation matrices are those of the module docstring written with
+    the modal switch maps: ``E = diag(P12, P12)`` at the opening (event
+    ``h = -R = -(r_eta . eta - ... )``), ``Dg = diag(P21, Q21)`` at the
+    impact (event ``h = x_c = gap_row . eta^II``).
+
+    Returns
+    -------
+    ndarray, shape (P, 2 m1, 2 m1)
+    """
+    prob = orbits.prob
+    s = prob.system
+    w1, w2 = s.w1, s.w2
+    m1, m2 = w1.size, w2.size
+    P = len(orbits)
+    if P == 0:
+        return np.zeros((0, 2 * m1, 2 * m1))
+    f1, f2 = np.asarray(prob.f1, float), np.asarray(prob.f2, float)
+    T1, T2, phi = orbits.T1, orbits.T2, orbits.phi
+    T = T1 + T2
+    W = 2 * np.pi / T
+    F1 = _modal_flow(w1, T1)
+    F2 = _modal_flow(w2, T2)
+    # opening at T1: S_open = E + jump dh^T / hdot
+    eI, vI = orbits.state_I(T1[:, None])
+    e1, v1 = eI[:, 0], vI[:, 0]
+    arg = W * T1 - phi
+    cf = np.cos(arg)
+    E = np.zeros((2 * m2, 2 * m1))
+    E[:m2, :m1] = s.P12
+    E[m2:, m1:] = s.P12
+    aI = -w1 ** 2 * e1 + f1 * cf[:, None]
+    jump = np.zeros((P, 2 * m2))
+    jump[:, m2:] = -w2 ** 2 * (e1 @ s.P12.T) + f2 * cf[:, None] - aI @ s.P12.T
+    dh = np.concatenate([-np.asarray(s.r_eta, float), np.zeros(m1)])
+    hdot = -(v1 @ s.r_eta) + prob.r_q * W * np.sin(arg)
+    S_open = E[None] + jump[:, :, None] * dh[None, None, :] / hdot[:, None, None]
+    # impact at T: S_imp = Dg + (f_I(g(y)) - Dg f_II(y)) e_xc^T / v_c
+    e2, v2 = orbits.end()
+    cfT = np.cos(W * T - phi)
+    Dg = np.zeros((2 * m1, 2 * m2))
+    Dg[:m1, :m2] = s.P21
+    Dg[m1:, m2:] = s.Q21
+    eP, vP = e2 @ s.P21.T, v2 @ s.Q21.T
+    fI = np.concatenate([vP, -w1 ** 2 * eP + f1 * cfT[:, None]], axis=1)
+    fII = np.concatenate([v2, -w2 ** 2 * e2 + f2 * cfT[:, None]], axis=1)
+    vc = v2 @ s.gap_row
+    S_imp = np.repeat(Dg[None], P, axis=0)
+    S_imp[:, :, :m2] += ((fI - fII @ Dg.T) / vc[:, None])[:, :, None] * np.asarray(s.gap_row, float)[None, None, :]
+    return S_imp @ F2 @ S_open @ F1
+
+
 def multipliers(orbits) -> np.ndarray:
     """Floquet multipliers of each orbit, sorted by decreasing modulus.
 
     Returns
     -------
-    ndarray of complex, shape (P, 2(n-1))
-        Eigenvalues of :func:`monodromy`.
+    ndarray of complex, shape (P, 2 m1)
+        Eigenvalues of :func:`monodromy_modal` (those of :func:`monodromy`
+        for the full model; ``m1 = n - 1`` unless the modes are truncated).
     """
-    mu = np.linalg.eigvals(monodromy(orbits)).astype(complex)
+    mu = np.linalg.eigvals(monodromy_modal(orbits)).astype(complex)
     order = np.argsort(-np.abs(mu), axis=1, kind="stable")
     return np.take_along_axis(mu, order, axis=1)
 

@@ -146,3 +146,45 @@ def test_stable_orbit_attracts_unstable_repels(default_result, extremes):
             assert dist.max() > 1e-2
             first = int(np.argmax(dist > 1e-4))
             assert 0 < first < 4 * np.log(1e2) / np.log(rho) + 10
+
+
+def _similar(prob, Mp, Mm):
+    """Physical (x_r, v_r) = (V1 eta, V1 etadot): Mm = C^-1 Mp C with C = diag(V1, V1)."""
+    V1 = prob.system.V1
+    n, m = V1.shape
+    C = np.zeros((2 * n, 2 * m))
+    C[:n, :m] = V1
+    C[n:, m:] = V1
+    return np.linalg.solve(C, Mp @ C)
+
+
+@pytest.mark.parametrize("which", ["chain", "fe"])
+def test_modal_monodromy_is_the_physical_one_in_modal_coordinates(default_result, fe_p2_result, which):
+    """monodromy_modal (used for the multipliers; works for truncated models) vs the physical monodromy."""
+    from plbar.stability import monodromy_modal
+
+    res = default_result if which == "chain" else fe_p2_result
+    orb = res.paths.points()
+    idx = np.linspace(0, len(orb) - 1, 60).astype(int)
+    sub = orb.take(idx)
+    Mp, Mm = monodromy(sub), monodromy_modal(sub)
+    X = _similar(sub.prob, Mp, Mm)
+    assert np.abs(X - Mm).max() <= 1e-8 * np.abs(Mm).max()
+
+
+def test_truncated_model_multipliers_converge_to_the_full_ones():
+    """With every mode kept the truncated path is the full one; with most modes the multipliers agree closely."""
+    full = plbar.Case(model="fe", n=12, grid=(80, 80))
+    res = plbar.solve(full)
+    b = max(res.branches, key=len)
+    k = len(b) // 2
+    mu_full = b.stab.multipliers[k]
+    prob_t = plbar.Case(model="fe", n=12, modes=11).problem()          # all modes of state I, 11 of 12 of state II
+    o = plbar.orbits(prob_t, b.T1[k:k + 1], b.T2[k:k + 1], b.phi[k:k + 1])
+    st = stability(o)
+    assert st.multipliers.shape == (1, 2 * prob_t.system.w1.size)
+    assert np.isfinite(st.max_abs).all()
+    prob_all = plbar.Case(model="fe", n=12, modes=12).problem()        # = the full model
+    o2 = plbar.orbits(prob_all, b.T1[k:k + 1], b.T2[k:k + 1], b.phi[k:k + 1])
+    assert stability(o2).max_abs[0] == pytest.approx(b.stab.max_abs[k], rel=1e-9)
+    assert eig_distance(stability(o2).multipliers[0], mu_full) < 1e-8 * np.abs(mu_full).max()

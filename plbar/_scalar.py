@@ -1,0 +1,149 @@
+"""One periodic orbit in plain Python floats (small systems; the fast path of :mod:`plbar.response`).
+
+For a handful of modes, numpy's per-call overhead dominates the arithmetic:
+the same closed forms as :mod:`plbar.flow` (Duhamel kernels in sinc form,
+Eqs. (15)-(17); ``Psi`` of Eq. (20) in the grouped form of
+:func:`plbar.flow.psi_closed_form`) evaluated mode by mode with :mod:`math`
+are several times faster for one orbit.  The batched numpy functions
+(:mod:`plbar.orbit`, :mod:`plbar.energy`) are the reference they are tested
+against.
+"""
+
+from __future__ import annotations
+
+from math import atan2, cos, fmod, pi, sin
+
+__all__ = ["Small", "orbit"]
+
+CANCEL_LIMIT = 1e4      #: as plbar.flow.CANCEL_LIMIT: above it the caller uses the quadrature path
+
+
+def _sinc(x: float) -> float:
+    return sin(x) / x if x != 0.0 else 1.0
+
+
+def _kern(w: float, W: float, t: float):
+    """Duhamel kernels ``C, S, C'`` (as :func:`plbar.flow.kernels`) and ``cos w t, sin w t``."""
+    wp = w + W
+    ht = 0.5 * t
+    snc = t * _sinc((w - W) * ht)
+    sig = wp * ht
+    csn = cos(sig) * snc
+    co, si = cos(w * t), sin(w * t)
+    return sin(sig) * snc / wp, (si / w - csn) / wp, (w * csn + sin(W * t)) / wp, co, si
+
+
+def _psi(w: float, f: float, W: float, thc: float, ths: float, t: float, eta0: float, v0: float):
+    """``int_0^t etadot^2`` of one mode (``thc, ths = cos, sin(W ts - phi)``) and its cancellation factor."""
+    wp, wm = w + W, w - W
+    d = wp * wm
+    if d == 0.0:
+        return 0.0, float("inf")
+    g = f / d
+    Cc = -g * W * ths
+    Cs = -g * W * thc
+    A = v0 - Cc
+    B = g * w * thc - w * eta0
+    ht = 0.5 * t
+    pt, mt = wp * ht, wm * ht
+    s1w, s1W, sph, smh = _sinc(w * t), _sinc(W * t), _sinc(pt), _sinc(mt)
+    AA, BB, CC, SS = A * A, B * B, Cc * Cc, Cs * Cs
+    ACc, BCs, ACs, BCc = A * Cc, B * Cs, A * Cs, B * Cc
+    p = (ht * ((AA + BB + CC + SS) + (AA - BB) * _sinc(2 * w * t) + (CC - SS) * _sinc(2 * W * t)
+               + 2 * (ACc + BCs) * _sinc(2 * mt) + 2 * (ACc - BCs) * _sinc(2 * pt))
+         + t * t * (A * B * w * s1w * s1w + Cc * Cs * W * s1W * s1W
+                    + 0.5 * ((ACs + BCc) * wp * sph * sph + (BCc - ACs) * wm * smh * smh)))
+    scale = (abs(A) + abs(B) + abs(Cc) + abs(Cs)) ** 2 * t
+    return p, (scale / p if p > 0 else float("inf"))
+
+
+def _mv(M, x):
+    return [sum(a * b for a, b in zip(row, x)) for row in M]
+
+
+class Small:
+    """A problem's modal data as Python lists."""
+
+    def __init__(self, prob):
+        s = prob.system
+        self.m1 = s.w1.size
+        self.w1, self.w2 = s.w1.tolist(), s.w2.tolist()
+        self.f1, self.f2 = [float(v) for v in prob.f1], [float(v) for v in prob.f2]
+        self.P12, self.P21, self.Q21 = s.P12.tolist(), s.P21.tolist(), s.Q21.tolist()
+        self.r_eta, self.gap_row, self.r_q = s.r_eta.tolist(), s.gap_row.tolist(), float(prob.r_q)
+        self.nr = sum(v * v for v in self.r_eta) ** 0.5
+        self.ng = max(abs(v) for v in self.gap_row)
+
+
+def orbit(k: Small, T: float, T1: float, a, Z):
+    """The orbit at a zero of ``D``: phase, states, residuals, periodicity, ``Delta_PL`` and ``Psi`` sums.
+
+    Parameters
+    ----------
+    k : Small
+    T, T1 : float
+    a : (a1, b1, a2, b2)
+        Residual coefficients at ``T1`` (FORMULATION §4).
+    Z : list of [cos part, sin part]
+        Periodic initial state of state I (``2 m1`` rows).
+
+    Returns
+    -------
+    dict
+        ``phi, eta0, v0, eta_s, v_s, r1, r2, sc1, sc2, per, v_imp, dPL, den, cancel``
+        (``den = sum_j Psi_j w_j`` over both states, ``cancel`` the largest
+        cancellation factor of the closed form).
+    """
+    a1, b1, a2, b2 = a
+    phi = atan2(-a1, b1) if a1 * a1 + b1 * b1 >= a2 * a2 + b2 * b2 else atan2(-a2, b2)
+    T2 = T - T1
+    W = 2 * pi / T
+    m1 = k.m1
+    c, sn = cos(phi), sin(phi)
+    z = [zc * c + zs * sn for zc, zs in Z]
+    eta0, v0 = z[:m1], z[m1:]
+    # state I over T1 from t = 0
+    e, v = [], []
+    for j in range(m1):
+        w, f = k.w1[j], k.f1[j]
+        C, S, Cp, co, si = _kern(w, W, T1)
+        e.append(co * eta0[j] + si / w * v0[j] + f * (C * c + S * sn))
+        v.append(-w * si * eta0[j] + co * v0[j] + f * (Cp * c + W * C * sn))
+    es, vs = _mv(k.P12, e), _mv(k.P12, v)
+    # state II over T2 from t = T1
+    c0, s0 = cos(W * T1), sin(W * T1)
+    eT, vT = [], []
+    for j in range(len(k.w2)):
+        w, f = k.w2[j], k.f2[j]
+        C, S, Cp, co, si = _kern(w, W, T2)
+        ec, es_ = c0 * C - s0 * S, s0 * C + c0 * S
+        vc, vs_ = c0 * Cp - s0 * W * C, s0 * Cp + c0 * W * C
+        eT.append(co * es[j] + si / w * vs[j] + f * (ec * c + es_ * sn))
+        vT.append(-w * si * es[j] + co * vs[j] + f * (vc * c + vs_ * sn))
+    v_imp = sum(g * x for g, x in zip(k.gap_row, vT))
+    if v_imp <= 0:                      # the other root phi + pi: the negated response
+        phi += pi
+        c, sn, v_imp = -c, -sn, -v_imp
+        z, eta0, v0, e, v = [-x for x in z], [-x for x in eta0], [-x for x in v0], [-x for x in e], [-x for x in v]
+        es, vs, eT, vT = [-x for x in es], [-x for x in vs], [-x for x in eT], [-x for x in vT]
+    phi = fmod(phi, 2 * pi)
+    if phi < 0:
+        phi += 2 * pi
+    r1 = -(sum(r * x for r, x in zip(k.r_eta, e)) + k.r_q * cos(W * T1 - phi))
+    r2 = sum(g * x for g, x in zip(k.gap_row, eT))
+    sc1 = k.nr * max(max(map(abs, e)), max(map(abs, eta0))) + abs(k.r_q)
+    sc2 = k.ng * max(max(map(abs, eT)), max(map(abs, es)))
+    ep, vp = _mv(k.P21, eT), _mv(k.Q21, vT)
+    zmax = max(map(abs, z))
+    per = max(abs(x - y) for x, y in zip(ep + vp, z)) / (zmax if zmax > 0 else 1e-300)
+    dPL = 0.5 * sum(x * x for x in vT) - 0.5 * sum(x * x for x in vp)
+    # Psi (Eq. (20)) of both segments: thc, ths = cos, sin(W ts - phi)
+    den, cancel = 0.0, 0.0
+    for ws, fs, eta, vel, ts, t in ((k.w1, k.f1, eta0, v0, 0.0, T1), (k.w2, k.f2, es, vs, T1, T2)):
+        thc, ths = cos(W * ts - phi), sin(W * ts - phi)
+        for j in range(len(ws)):
+            p, cf = _psi(ws[j], fs[j], W, thc, ths, t, eta[j], vel[j])
+            den += p * ws[j]
+            cancel = max(cancel, cf)
+    return dict(phi=phi, eta0=eta0, v0=v0, eta_s=es, v_s=vs, r1=r1, r2=r2, sc1=sc1, sc2=sc2, per=per,
+                v_imp=v_imp, dPL=dPL, den=den, cancel=cancel)

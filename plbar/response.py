@@ -1,0 +1,355 @@
+"""One periodic response at a given forcing period, from a nearby guess (fast path).
+
+At a fixed period ``T`` the periodic responses are the zeros of
+``G(T^I) = D(T^I, T - T^I) sign(det(Id - A)) / (a1^2 + b1^2 + a2^2 + b2^2)``
+(FORMULATION §4; the phase is exact once ``D = 0``).  :func:`find_response`
+evaluates the periodicity system at ``K`` Chebyshev points around the guess in
+one batched call, takes the root of the Chebyshev interpolant of ``G`` inside
+the sign-change bracket nearest the guess, and interpolates the periodic
+states and the residual coefficients there (barycentric formula).  The result
+is then *checked*, not trusted: the switch residuals are recomputed from the
+closed-form flow of the interpolated state (Eqs. (4)-(5)) and the state is
+mapped over one period (Eq. (10)); if either check is not at round-off, one
+direct evaluation at the root and secant steps on ``G`` take over.
+
+This is what a user who needs one response (not the whole path) calls; it is
+the plbar side of the "one response" benchmark against shooting.
+"""
+
+from __future__ import annotations
+
+from contextlib import nullcontext
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from . import _check, _scalar
+from .errors import InputError, PlbarError
+from .flow import kernels, psi
+from .orbit import Orbits
+from .periodic import _core, single_thread_blas
+from .system import Problem
+
+__all__ = ["Response", "find_response", "NoResponseError"]
+
+SMALL = 32           #: up to this many modes (both states) the final orbit is evaluated in plain Python floats
+ACCEPT = 1e-12        #: accepted relative switch residual / periodicity defect of the result
+
+
+class NoResponseError(PlbarError):
+    """No periodic response near the guess (no sign change of ``G`` in the search window)."""
+
+
+@dataclass(frozen=True)
+class Response:
+    """One periodic response at forcing period ``T`` (floats unless noted).
+
+    Attributes
+    ----------
+    T, T1, T2, phi : float
+        Period, times in state I and II, forcing phase (``v_c(T^-) > 0``).
+    eta0, v0 : ndarray
+        Modal state I at ``t = 0`` (periodic initial condition).
+    e1, e2 : float
+        Switch residuals ``-R(T^I-)`` and ``x_c(T^-)`` recomputed from the
+        flow of the returned state, relative to the response amplitude
+        (Eqs. (4)-(5)).
+    periodicity : float
+        ``max |z(T^+) - z(0)| / max |z(0)|`` after the plastic impact (Eq. (10)).
+    v_impact : float
+        Contact velocity just before the impact (> 0 for a physical response).
+    dPL, xi : float
+        Impact loss (Eq. (14)) and ``xi_eq`` (Eq. (22)).
+    evaluations : int
+        ``(T^I, T^II)`` points at which the periodicity system was solved.
+    prob : Problem
+    eta_s, v_s : ndarray
+        Modal state II just after the gap opens (``t = T^I``).
+
+    ``x0, xdot0`` (physical state at ``t = 0``) and ``orbit`` (a one-orbit
+    :class:`~plbar.orbit.Orbits` for time histories, energies and
+    ``plbar.admissible.check``) are computed on first access.
+    """
+
+    T: float
+    T1: float
+    T2: float
+    phi: float
+    eta0: np.ndarray
+    v0: np.ndarray
+    e1: float
+    e2: float
+    periodicity: float
+    v_impact: float
+    dPL: float
+    xi: float
+    evaluations: int
+    prob: Problem
+    eta_s: np.ndarray
+    v_s: np.ndarray
+
+    @cached_property
+    def orbit(self) -> Orbits:
+        return Orbits(self.prob, np.array([self.T1]), np.array([self.T2]), np.array([self.phi]),
+                      self.eta0[None], self.v0[None], self.eta_s[None], self.v_s[None])
+
+    @cached_property
+    def x0(self) -> np.ndarray:
+        """Physical displacements at ``t = 0`` (free DOFs, contact DOF last, where it is 0)."""
+        s = self.prob.system
+        return s.embed(s.V1 @ self.eta0)
+
+    @cached_property
+    def xdot0(self) -> np.ndarray:
+        """Physical velocities at ``t = 0``."""
+        s = self.prob.system
+        return s.embed(s.V1 @ self.v0)
+
+
+def _cheb(K: int):
+    th = np.pi * (np.arange(K) + 0.5) / K
+    x = np.cos(th)                                   # descending in [-1, 1]
+    C = np.cos(np.outer(np.arange(K), th)) * (2.0 / K)
+    C[0] *= 0.5
+    bw = (-1.0) ** np.arange(K) * np.sin(th)         # barycentric weights (first-kind points)
+    return x, C, bw
+
+
+_CHEB: dict[int, tuple] = {}
+
+
+def _clenshaw(c, t):
+    """Chebyshev series ``sum c_j T_j(t)`` and its derivative at a float ``t`` (pure Python, short series)."""
+    b1 = b2 = 0.0
+    d1 = d2 = 0.0
+    for cj in reversed(c[1:]):
+        d1, d2 = 2.0 * b1 + 2.0 * t * d1 - d2, d1
+        b1, b2 = 2.0 * t * b1 - b2 + cj, b1
+    return t * b1 - b2 + c[0], b1 + t * d1 - d2
+
+
+def _poly_root(c, lo, hi, flo, fhi):
+    """Root of the Chebyshev series in ``[lo, hi]`` (values of opposite signs there): safeguarded Newton."""
+    t = lo - flo * (hi - lo) / (fhi - flo)
+    for _ in range(60):
+        p, dp = _clenshaw(c, t)
+        if p == 0.0:
+            return t
+        if (p < 0) == (flo < 0):
+            lo = t
+        else:
+            hi = t
+        tn = t - p / dp if dp != 0 else 0.5 * (lo + hi)
+        if not lo <= tn <= hi:
+            tn = 0.5 * (lo + hi)
+        if abs(tn - t) <= 2e-16:
+            return tn
+        t = tn
+    return t
+
+
+def _G(e1, e2, sign):
+    a1, b1, a2, b2 = e1[:, 0], e1[:, 1], e2[:, 0], e2[:, 1]
+    r = a1 * a1 + b1 * b1 + a2 * a2 + b2 * b2
+    return (a1 * b2 - a2 * b1) * sign / np.where(r > 0, r, 1.0)
+
+
+class _Lean:
+    """Per-problem constants of :func:`_assemble`: both states' modes side by side (cached on the Problem)."""
+
+    def __init__(self, prob: Problem):
+        s = prob.system
+        self.m1 = s.w1.size
+        self.w = np.concatenate([s.w1, s.w2])
+        self.f = np.concatenate([prob.f1, prob.f2])
+        self.is1 = np.arange(self.w.size) < self.m1
+        self.P12T, self.P21T, self.Q21T = s.P12.T.copy(), s.P21.T.copy(), s.Q21.T.copy()
+        self.r_eta, self.gap_row, self.r_q = s.r_eta, s.gap_row, float(prob.r_q)
+        self.nr = float(np.linalg.norm(s.r_eta))
+        self.ng = float(np.abs(s.gap_row).max())
+        self.small = _scalar.Small(prob) if self.w.size <= SMALL else None
+
+
+def _lean(prob: Problem) -> _Lean:
+    k = prob.__dict__.get("_response_consts")
+    if k is None or k[0] is not prob.system or k[1] is not prob.f1:
+        k = (prob.system, prob.f1, _Lean(prob))
+        object.__setattr__(prob, "_response_consts", k)   # frozen dataclass: a private cache only
+    return k[2]
+
+
+def _assemble(prob: Problem, T: float, T1: float, a, Z, evaluations: int) -> Response:
+    """The response at ``T1`` from its coefficients ``a = (a1, b1, a2, b2)`` and states ``Z`` (2 n1, 2).
+
+    Both segments' flows (Eqs. (15)-(17)) and ``Psi`` (Eq. (20)) are evaluated
+    on the modes of both states side by side (one call each).
+    """
+    k = _lean(prob)
+    if k.small is not None:
+        o = _scalar.orbit(k.small, T, T1, [float(v) for v in a], Z.tolist())
+        if o["cancel"] < _scalar.CANCEL_LIMIT:
+            den = o["den"]
+            return Response(T=T, T1=T1, T2=T - T1, phi=o["phi"], eta0=np.array(o["eta0"]), v0=np.array(o["v0"]),
+                            e1=abs(o["r1"]) / o["sc1"], e2=abs(o["r2"]) / o["sc2"], periodicity=o["per"],
+                            v_impact=o["v_imp"], dPL=o["dPL"], xi=o["dPL"] / (2 * den) if den > 0 else 0.0,
+                            evaluations=evaluations, prob=prob, eta_s=np.array(o["eta_s"]), v_s=np.array(o["v_s"]))
+    m1 = k.m1
+    a1, b1, a2, b2 = a
+    # the exact phase (null vector of [[a1, b1], [a2, b2]] from its larger row), then v_c(T-) > 0
+    if a1 * a1 + b1 * b1 >= a2 * a2 + b2 * b2:
+        phi = float(np.arctan2(-a1, b1))
+    else:
+        phi = float(np.arctan2(-a2, b2))
+    T2 = T - T1
+    W = 2 * np.pi / T
+    w, f = k.w, k.f
+    tau = np.where(k.is1, T1, T2)
+    ts = np.where(k.is1, 0.0, T1)
+    co, si = np.cos(w * tau), np.sin(w * tau)
+    sw, ws = si / w, -w * si
+    C, S, Cp = kernels(w, W, tau)
+    c0, s0 = np.cos(W * ts), np.sin(W * ts)
+    ec, es_, vc, vs_ = f * (c0 * C - s0 * S), f * (s0 * C + c0 * S), f * (c0 * Cp - s0 * W * C), f * (s0 * Cp + c0 * W * C)
+    c, sn = np.cos(phi), np.sin(phi)
+    z = Z[:, 0] * c + Z[:, 1] * sn
+    eF, vF = ec * c + es_ * sn, vc * c + vs_ * sn
+    e = co[:m1] * z[:m1] + sw[:m1] * z[m1:] + eF[:m1]
+    v = ws[:m1] * z[:m1] + co[:m1] * z[m1:] + vF[:m1]
+    es, vs = e @ k.P12T, v @ k.P12T
+    eT = co[m1:] * es + sw[m1:] * vs + eF[m1:]
+    vT = ws[m1:] * es + co[m1:] * vs + vF[m1:]
+    vimp = float(vT @ k.gap_row)
+    if vimp <= 0:                       # the other root, phi + pi: the negated response
+        phi += np.pi
+        c, sn, z, e, v, es, vs, eT, vT, vimp = -c, -sn, -z, -e, -v, -es, -vs, -eT, -vT, -vimp
+    phi = float(np.mod(phi, 2 * np.pi))
+    eta0, v0 = z[:m1], z[m1:]
+    # residuals from the flow, relative to the amplitude of each signal
+    r1 = -(float(e @ k.r_eta) + k.r_q * np.cos(W * T1 - phi))
+    r2 = float(eT @ k.gap_row)
+    sc1 = k.nr * max(np.abs(e).max(), np.abs(eta0).max()) + abs(k.r_q)
+    sc2 = k.ng * max(np.abs(eT).max(), np.abs(es).max())
+    # one period with the plastic impact (Eq. (10)) must give back the initial state
+    z1 = np.concatenate([eT @ k.P21T, vT @ k.Q21T])
+    per = float(np.abs(z1 - z).max() / max(np.abs(z).max(), 1e-300))
+    # Delta_PL (Eq. (14)) and xi_eq (Eq. (22)); Psi of both segments in one call
+    dpl = 0.5 * float(vT @ vT) - 0.5 * float(z1[m1:] @ z1[m1:])
+    ps, _ = psi(w, f, W, ts, tau, np.concatenate([eta0, es]), np.concatenate([v0, vs]), c, sn)
+    den = float(ps @ w)
+    xi = dpl / (2 * den) if den > 0 else 0.0
+    return Response(T=float(T), T1=float(T1), T2=float(T2), phi=phi, eta0=eta0, v0=v0, e1=abs(r1) / sc1,
+                    e2=abs(r2) / sc2, periodicity=per, v_impact=vimp, dPL=dpl, xi=xi, evaluations=evaluations,
+                    prob=prob, eta_s=es, v_s=vs)
+
+
+def _ok(r: Response) -> bool:
+    return r.e1 < ACCEPT and r.e2 < ACCEPT and r.periodicity < ACCEPT
+
+
+def find_response(prob: Problem, T, T1_guess, *, width=None, nodes: int = 12) -> Response:
+    """The periodic response at period ``T`` whose ``T^I`` is nearest ``T1_guess``.
+
+    Parameters
+    ----------
+    prob : Problem
+    T : float
+        Forcing period ``2 pi / Omega``.
+    T1_guess : float
+        Guess of the time spent in state I, in ``(0, T)``.
+    width : float, optional
+        Half-width of the first search window in ``T^I`` (default
+        ``min(0.005 T, T1_guess / 2, (T - T1_guess) / 2)``); it is widened
+        four-fold up to four times if ``G`` has no sign change in it.
+    nodes : int
+        Chebyshev points per window.  The interpolant's root is checked, not
+        trusted (see Returns); where it is not at round-off, direct
+        evaluations and regula falsi steps on ``G`` take over.
+
+    Returns
+    -------
+    Response
+        Checked at round-off: the switch residuals recomputed from the flow of
+        the returned state and its periodicity defect after one period with
+        the impact are below ``ACCEPT`` (else :class:`NoResponseError`).
+
+    Notes
+    -----
+    Admissibility (no premature switch on ``(0, T)``) is not part of this
+    fast path; check it with ``plbar.admissible.check(r.orbit)``.  Where the
+    path is tangent to ``T = const`` (a fold in ``T``) the root in ``T^I`` is
+    ill-conditioned: the residuals stay at round-off, ``T^I`` is accurate to
+    about the square root of it.
+    """
+    if not isinstance(prob, Problem):
+        raise InputError(f"prob must be a plbar Problem (plbar.problem(...)), got {type(prob).__name__}")
+    T = _check.finite("period T", T)
+    g = _check.finite("T1_guess", T1_guess)
+    if not (T > 0 and 0 < g < T):
+        raise InputError(f"T = {T!r}, T1_guess = {g!r} are not allowed; they must satisfy 0 < T1_guess < T")
+    K = nodes if type(nodes) is int and nodes in _CHEB else _check.integer("nodes", nodes, 4, 64)
+    if K not in _CHEB:
+        _CHEB[K] = _cheb(K)
+    x, C, bw = _CHEB[K]
+    lim = 0.5 * min(g, T - g) * (1 - 1e-9)
+    h = min(float(width) if width is not None else 0.005 * T, lim)
+    evals = 0
+    # BLAS threads only matter for large systems (single_thread_blas: see plbar.periodic)
+    with (single_thread_blas if _lean(prob).small is None else nullcontext()):
+        for _ in range(5):
+            t1 = g + h * x
+            e1, e2, sign, Z = _core(prob, t1, T - t1, scales=False)
+            evals += K
+            Gv = _G(e1, e2, sign)
+            neg = Gv < 0
+            ch = np.flatnonzero(neg[:-1] != neg[1:])
+            if ch.size or h >= lim:
+                break
+            h = min(4.0 * h, lim)
+        if not ch.size:
+            raise NoResponseError(f"no periodic response with T1 within {h:.3g} of {g!r} at T = {T!r} "
+                                  f"(G has no sign change there); try another guess or plbar.find_paths")
+        # the sign change nearest the guess (the nodes x descend)
+        k = int(ch[np.argmin(np.abs(x[ch] + x[ch + 1]))]) if ch.size > 1 else int(ch[0])
+        glo, ghi = float(Gv[k + 1]), float(Gv[k])
+        t = _poly_root((C @ Gv).tolist(), float(x[k + 1]), float(x[k]), glo, ghi)
+        T1 = g + h * t
+        # barycentric interpolation of the coefficients and the periodic states at the root
+        dx = t - x
+        if np.all(dx != 0):
+            wts = bw / dx
+            wts /= wts.sum()
+        else:
+            wts = (dx == 0).astype(float)
+        e = wts @ np.concatenate([e1, e2, Z.reshape(K, -1)], axis=1)
+        r = _assemble(prob, T, T1, e[:4], e[4:].reshape(Z.shape[1:]), evals)
+        if _ok(r):
+            return r
+        # fall back: direct evaluations and regula falsi (Illinois) steps on G in the bracket
+        lo, hi = g + h * float(x[k + 1]), g + h * float(x[k])
+        side = 0
+        for _ in range(100):
+            e1, e2, sign, Z = _core(prob, np.array([T1]), np.array([T - T1]), scales=False)
+            evals += 1
+            Gt = float(_G(e1, e2, sign)[0])
+            r = _assemble(prob, T, T1, (e1[0, 0], e1[0, 1], e2[0, 0], e2[0, 1]), Z[0], evals)
+            if _ok(r) or Gt == 0.0 or hi - lo <= 4e-16 * T:
+                break
+            if (Gt < 0) == (glo < 0):
+                lo, glo = T1, Gt
+                if side == -1:
+                    ghi *= 0.5
+                side = -1
+            else:
+                hi, ghi = T1, Gt
+                if side == 1:
+                    glo *= 0.5
+                side = 1
+            T1 = lo - glo * (hi - lo) / (ghi - glo)
+            if not lo < T1 < hi:
+                T1 = 0.5 * (lo + hi)
+    if not _ok(r):
+        raise NoResponseError(f"the root near T1 = {T1!r} at T = {T!r} does not converge to a periodic response "
+                              f"(residuals {r.e1:.1e}, {r.e2:.1e}, periodicity defect {r.periodicity:.1e}): "
+                              f"probably a pole of D (Id - A singular)")
+    return r
