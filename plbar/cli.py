@@ -34,6 +34,9 @@ def _case_args(p: argparse.ArgumentParser) -> None:
     g.add_argument("--mesh-file", default=None, help="meshio-readable 1D line mesh for --model fe")
     g.add_argument("--grading", type=float, default=1.0,
                    help="FE mesh grading: last/first element length [1 = uniform]")
+    g.add_argument("--modes", type=int, default=None, metavar="M",
+                   help="keep the lowest M modes of each state (modal truncation for fine meshes; "
+                        "xi_eq converges slowly in M, see README) [all]")
     g = p.add_argument_group("load (unit amplitude; default: DOF 1)")
     g.add_argument("--load-node", type=int, action="append", default=None, metavar="K",
                    help="force on free DOF K (1-based from the clamp, as in the paper); repeatable")
@@ -58,7 +61,8 @@ def _case(a):
     points = tuple((s, 1.0) for s in (a.load_at or ()))
     return Case(model=a.model, n=a.elements, element=a.element, mass=a.mass, mesh_file=a.mesh_file,
                 grading=a.grading, load_nodes=nodes, load_points=points, grid=tuple(a.grid),
-                T1=tuple(a.T1) if a.T1 else None, T2=tuple(a.T2) if a.T2 else None, method=a.method)
+                T1=tuple(a.T1) if a.T1 else None, T2=tuple(a.T2) if a.T2 else None, method=a.method,
+                modes=a.modes)
 
 
 def _human(summary: dict, files: dict) -> str:

@@ -347,8 +347,10 @@ def _evaluate(prob, P):
     In chunks over threads (:func:`plbar._threads.map_chunks`); the sampling of the admissibility
     check is fixed for the whole batch, so the result does not depend on the chunks.
     """
-    ns = admissible.n_samples(prob, P.sum(axis=1))
-    parts = map_chunks(lambda a, b: _evaluate_chunk(prob, P[a:b], ns), len(P), PAR_CHUNK // 4)
+    ns = admissible.n_samples(prob, P.sum(axis=1)) if len(P) else 65
+    m = prob.system.w1.size + prob.system.w2.size
+    cap = max(16, int(SAMPLE_ELEMENTS // (ns * m)))        # memory: the dense sampling is (points, ns, modes)
+    parts = map_chunks(lambda a, b: _evaluate_chunk(prob, P[a:b], ns), len(P), min(PAR_CHUNK // 4, cap), cap)
     if len(parts) == 1:
         return parts[0]
     orb = Orbits(prob, *[np.concatenate([getattr(p[0], f) for p in parts]) for f in
@@ -419,6 +421,7 @@ def _curves_grid(F, hmask, vmask, ids, P):
 
 
 PAR_CHUNK = 2000   #: smallest batch of points worth a thread of its own
+SAMPLE_ELEMENTS = 2e7   #: largest (points x samples x modes) array of one admissibility chunk (160 MB)
 SPECULATE = 64   #: traces run in lockstep (at most one speculative seed per marching-squares chain)
 
 

@@ -173,11 +173,7 @@ class _Consts:
 
 
 def _consts(prob: Problem) -> _Consts:
-    k = prob.__dict__.get("_periodic_consts")
-    if k is None or k[0] is not prob.system or k[1] is not prob.f1:
-        k = (prob.system, prob.f1, _Consts(prob))
-        object.__setattr__(prob, "_periodic_consts", k)   # frozen dataclass: a private cache only
-    return k[2]
+    return prob.cached("periodic", _Consts)
 
 
 def _solve_lapack(IA: np.ndarray, c: np.ndarray):

@@ -172,11 +172,7 @@ class _Lean:
 
 
 def _lean(prob: Problem) -> _Lean:
-    k = prob.__dict__.get("_response_consts")
-    if k is None or k[0] is not prob.system or k[1] is not prob.f1:
-        k = (prob.system, prob.f1, _Lean(prob))
-        object.__setattr__(prob, "_response_consts", k)   # frozen dataclass: a private cache only
-    return k[2]
+    return prob.cached("response", _Lean)
 
 
 def _assemble(prob: Problem, T: float, T1: float, a, Z, evaluations: int) -> Response:

@@ -45,6 +45,7 @@ from .errors import InputError
 __all__ = ["Stability", "monodromy", "monodromy_modal", "multipliers", "stability", "periodic_state", "TOL"]
 
 TOL = 1e-9  #: default stability margin: stable iff max |mu| < 1 - tol
+CHUNK_ELEMENTS = 2e7  #: matrices of the monodromy are built for this many elements at a time
 
 
 def periodic_state(orbits):
@@ -240,7 +241,14 @@ def multipliers(orbits) -> np.ndarray:
         Eigenvalues of :func:`monodromy_modal` (those of :func:`monodromy`
         for the full model; ``m1 = n - 1`` unless the modes are truncated).
     """
-    mu = np.linalg.eigvals(monodromy_modal(orbits)).astype(complex)
+    m = orbits.prob.system.w1.size + orbits.prob.system.w2.size
+    step = max(1, int(CHUNK_ELEMENTS // (8 * m * m)))      # memory: a few (points, 2m, 2m) matrices per chunk
+    P = len(orbits)
+    if P <= step:
+        mu = np.linalg.eigvals(monodromy_modal(orbits)).astype(complex)
+    else:
+        mu = np.concatenate([np.linalg.eigvals(monodromy_modal(orbits.take(np.arange(i, min(i + step, P)))))
+                             .astype(complex) for i in range(0, P, step)])
     order = np.argsort(-np.abs(mu), axis=1, kind="stable")
     return np.take_along_axis(mu, order, axis=1)
 

@@ -180,6 +180,18 @@ class Problem:
         """Same bar, another load (reuses the modes)."""
         return _with_q(self.system, load.vector(self.bar, self.asm), self.bar, load, self.asm)
 
+    def cached(self, key: str, factory):
+        """``factory(self)``, computed once per problem (a private cache of derived constants).
+
+        The entry is keyed on the identity of ``system`` and ``f1``, so it is rebuilt if
+        either was swapped on this object.
+        """
+        k = self.__dict__.get("_cache_" + key)
+        if k is None or k[0] is not self.system or k[1] is not self.f1:
+            k = (self.system, self.f1, factory(self))
+            object.__setattr__(self, "_cache_" + key, k)   # frozen dataclass: a private cache only
+        return k[2]
+
 
 def _with_q(sys: TwoStateSystem, q: np.ndarray, bar=None, load=None, asm=None) -> Problem:
     q = np.asarray(q, float)

@@ -100,6 +100,8 @@ def _err(tmp_path, text, name="case.toml"):
     (GOOD.replace("n = 6", 'n = 6\nmesh_file = "nope.msh"'), '[bar] mesh_file = "nope.msh" does not exist'),
     (GOOD.replace("n = 6", "n = 6\nEA = -1.0"), "[bar] EA = -1.0 is not allowed; it must be > 0"),
     (GOOD.replace("n = 6", "n = 1"), "[bar] n = 1 is not allowed; it must be >= 2"),
+    (GOOD.replace("n = 6", "n = 6\nmodes = 0"), "[bar] modes = 0 is not allowed; it must be >= 1"),
+    (GOOD.replace("n = 6", "n = 6\nmodes = 2.5"), "[bar] modes = 2.5 has the wrong type (float)"),
     ("[bar\nmodel = 1", "invalid TOML:"),
 ])
 def test_malformed(tmp_path, bad, expect):
@@ -118,3 +120,14 @@ def test_output_settings_and_missing_file(tmp_path):
     assert out == OutputSettings(dir="o", vtk=True, format="both", periods=2, branch=3)
     with pytest.raises(CaseFileError, match="nope.toml: cannot read"):
         load_case(tmp_path / "nope.toml")
+
+
+def test_modes_round_trip_and_truncate(tmp_path):
+    f = tmp_path / "c.toml"
+    f.write_text(GOOD.replace("n = 6", "n = 6\nmodes = 3"))
+    case, out = load_case(f)
+    assert case.modes == 3
+    back, _ = loads_case(dump_case(case, out))
+    assert back == case
+    prob = case.problem()
+    assert prob.system.w1.size == 3 and prob.system.w2.size == 3

@@ -46,3 +46,13 @@ def test_settle_from_rest_example(tmp_path):
     out = _run("settle_from_rest.py", tmp_path)
     assert (tmp_path / "settle_from_rest.png").stat().st_size > 10_000
     assert "settle" in out.lower()
+
+
+def test_one_response_example():
+    import re
+
+    out = _run("one_response.py")
+    assert float(re.search(r"xi_eq = ([0-9.]+)", out).group(1)) == pytest.approx(0.0763, abs=5e-4)
+    assert "admissible (no premature switch on (0, T)): True" in out
+    assert float(re.search(r"back to it within ([0-9.e+-]+)", out).group(1)) < 1e-9
+    assert float(re.search(r"periodicity defect ([0-9.e+-]+)", out).group(1)) < 1e-12

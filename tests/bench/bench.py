@@ -2,19 +2,23 @@
 
 Run::
 
-    /work/venv/bin/python tests/bench/bench.py            # full (FE up to N = 400, 15 min guard each)
-    /work/venv/bin/python tests/bench/bench.py --quick    # a few minutes: fewer repeats, FE N <= 20
+    python tests/bench/bench.py            # full, about 40 min (FE full model to N = 100, truncated to N = 400)
+    python tests/bench/bench.py --quick    # about 10 min: fewer repeats, FE full to N = 20, truncated to N = 100
 
 Measures, side by side in one process (timings) and in child processes
 (peak memory, FE runs with a timeout guard):
 
 1. one periodic response (state + residuals + xi_eq) of the N = 5 chain:
-   plbar (single find from a nearby guess, single evaluation, batched
-   evaluation) vs event-driven shooting (``baselines.Shooting``);
+   ``plbar.find_response`` from a nearby guess (also with the full
+   admissibility check), a single evaluation at a known (T1, T2), a batched
+   evaluation, vs event-driven shooting (``baselines.Shooting``);
 2. the default case end to end: ``plbar.solve()`` vs the paper's 3D scan
    (``baselines.scan3d``, 200 x 200 x 50) at the same (T1, T2) resolution;
-3. FE P1 lumped bars, N = 5 ... 400: plbar solver time vs N with a fitted
-   exponent (each N in a subprocess with a timeout; "timeout" is reported);
+3. FE P1 lumped bars: the full model for N = 5 ... 100 and the model
+   truncated to ``--modes`` modes per state (default 20) for N = 50 ... 400,
+   solver time vs N with fitted exponents (each N in a subprocess with a
+   timeout; "timeout" is reported), and ``plbar.system.truncation_check``
+   at N = 20 (10 modes vs the full model) and N = 100 (20 vs 40 modes);
 4. peak memory of each target (ru_maxrss of a child process, and the
    tracemalloc peak of the task itself where cheap enough);
 
@@ -353,6 +357,41 @@ def fe_scan_cost(n: int, points: int) -> dict:
                 extrapolated_grid_scan=t / points * 200 * 200)
 
 
+TRUNC_CODE = r"""
+import json, sys, warnings
+import numpy as np
+warnings.simplefilter("ignore")
+sys.path.insert(0, sys.argv[2])
+import plbar
+from plbar.system import truncation_check
+n, m = int(sys.argv[1]), int(sys.argv[3])
+ref = None if sys.argv[4] == "full" else (int(sys.argv[4]), int(sys.argv[4]))
+case = plbar.Case(model="fe", n=n)
+out = truncation_check(case.bar(), case.load(), m, ref_modes=ref)
+out.pop("paths")
+rows = out.pop("rows")
+out["branches_unmatched"] = sum(1 for r in rows if r.get("match", 1) is None)
+out["rel_xi_quantiles"] = [float(q) for q in np.nanquantile([r["rel_xi"] for r in rows if "rel_xi" in r] or [np.nan],
+                                                            [0.5, 0.9, 1.0])]
+print(json.dumps(dict(n=n, **out), default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o)))
+"""
+
+
+def run_trunc(n: int, modes: int, ref, timeout: float) -> dict:
+    """:func:`plbar.system.truncation_check` of ``modes`` against ``ref`` modes ("full": the full model)."""
+    t0 = time.perf_counter()
+    try:
+        p = subprocess.run([PY, "-c", TRUNC_CODE, str(n), str(HERE), str(modes), str(ref)], capture_output=True,
+                           text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return dict(n=n, modes=modes, ref=ref, status="timeout", wall=time.perf_counter() - t0)
+    if p.returncode != 0:
+        return dict(n=n, modes=modes, ref=ref, status="error", stderr=p.stderr[-2000:])
+    d = json.loads(p.stdout.strip().splitlines()[-1])
+    d.update(status="ok", wall=time.perf_counter() - t0)
+    return d
+
+
 MEM_CODE = r"""
 import json, resource, sys, time, tracemalloc
 sys.path.insert(0, sys.argv[2])
@@ -392,14 +431,24 @@ def run_mem(task: str) -> dict:
 
 
 def profile_default(path: Path) -> list[str]:
+    """pyinstrument profile of the default solve, on one thread (the profiler samples the calling thread only)."""
     from pyinstrument import Profiler
 
-    plbar.solve(plbar.Case())
-    prof = Profiler(interval=0.0005)
-    prof.start()
-    plbar.solve(plbar.Case())
-    prof.stop()
-    txt = prof.output_text(unicode=False, color=False, show_all=False)
+    old = os.environ.get("PLBAR_THREADS")
+    os.environ["PLBAR_THREADS"] = "1"
+    try:
+        plbar.solve(plbar.Case())
+        prof = Profiler(interval=0.0005)
+        prof.start()
+        plbar.solve(plbar.Case())
+        prof.stop()
+    finally:
+        if old is None:
+            os.environ.pop("PLBAR_THREADS")
+        else:
+            os.environ["PLBAR_THREADS"] = old
+    txt = "(PLBAR_THREADS=1: the work of the thread pool is shown inline)\n" + \
+        prof.output_text(unicode=False, color=False, show_all=False)
     path.write_text(txt)
     return txt.splitlines()
 
@@ -413,13 +462,12 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="fewer repeats, FE N <= 20, no per-triplet scan")
     ap.add_argument("--fe-timeout", type=float, default=900.0, help="timeout per FE run in s (default 900)")
-    ap.add_argument("--fe-n", type=int, nargs="*", default=None, help="FE sizes (default 5 10 20 50 100 200 400)")
-    ap.add_argument("--modes", type=int, default=None,
-                    help="FE runs with modal truncation to this many modes per state (stability not computed)")
+    ap.add_argument("--fe-n", type=int, nargs="*", default=None, help="FE sizes of the full model (default 5 10 20 50)")
+    ap.add_argument("--modes", type=int, default=20,
+                    help="modes per state of the truncated FE runs (N = 50 ... 400; default 20)")
     ap.add_argument("--no-profile", action="store_true")
     ap.add_argument("--out", default=str(HERE / "results.json"))
     a = ap.parse_args(argv)
-    fe_ns = a.fe_n or ([5, 10, 20] if a.quick else [5, 10, 20, 50, 100, 200, 400])
     R = dict(meta=dict(python=platform.python_version(), numpy=np.__version__, machine=platform.machine(),
                        cpus=os.cpu_count(), quick=a.quick, date=time.strftime("%Y-%m-%d %H:%M:%S"),
                        loadavg_start=os.getloadavg()))
@@ -428,22 +476,32 @@ def main(argv=None):
     print("[2/5] default case vs 3D scan ...", flush=True)
     R["default_case"] = task_default_case(a.quick)
     print("[3/5] FE scaling ...", flush=True)
-    fe = []
-    timed_out = None
-    for n in fe_ns:
-        if timed_out is not None:
-            fe.append(dict(n=n, status=f"skipped (N={timed_out} timed out)"))
-            continue
-        d = run_fe(n, a.fe_timeout, a.modes)
-        print(f"      N = {n}: {d['status']} {fmt_t(d.get('solver_time', d.get('wall')))}", flush=True)
-        fe.append(d)
-        if d["status"] == "timeout":
-            timed_out = n
-    ok = [d for d in fe if d["status"] == "ok" and d["n"] >= 10]
-    expo = None
-    if len(ok) >= 2:
-        expo = float(np.polyfit(np.log([d["n"] for d in ok]), np.log([d["solver_time"] for d in ok]), 1)[0])
-    R["fe"] = dict(runs=fe, fitted_exponent=expo, fit_over=[d["n"] for d in ok], timeout=a.fe_timeout, modes=a.modes)
+
+    def series(ns, modes):
+        runs, timed_out = [], None
+        for n in ns:
+            if timed_out is not None:
+                runs.append(dict(n=n, modes=modes, status=f"skipped (N={timed_out} timed out)"))
+                continue
+            d = run_fe(n, a.fe_timeout, modes)
+            d.setdefault("modes", modes)
+            print(f"      N = {n}, modes = {modes or 'all'}: {d['status']} {fmt_t(d.get('solver_time', d.get('wall')))}",
+                  flush=True)
+            runs.append(d)
+            if d["status"] == "timeout":
+                timed_out = n
+        ok = [d for d in runs if d["status"] == "ok" and d["n"] >= 10]
+        expo = None
+        if len(ok) >= 2:
+            expo = float(np.polyfit(np.log([d["n"] for d in ok]), np.log([d["solver_time"] for d in ok]), 1)[0])
+        return dict(runs=runs, fitted_exponent=expo, fit_over=[d["n"] for d in ok], modes=modes)
+
+    full_ns = a.fe_n or ([5, 10, 20] if a.quick else [5, 10, 20, 50, 100])
+    trunc_ns = [50, 100] if a.quick else [50, 100, 200, 400]
+    R["fe"] = dict(timeout=a.fe_timeout, full=series(full_ns, None), truncated=series(trunc_ns, a.modes))
+    print("      truncation checks ...", flush=True)
+    R["fe"]["truncation_checks"] = [run_trunc(20, 10, "full", a.fe_timeout),
+                                    run_trunc(100, a.modes, 2 * a.modes, a.fe_timeout)]
     R["fe"]["scan_cost"] = [fe_scan_cost(n, p) for n, p in ((20, 2000), (50, 600), (100, 150), (200, 40), (400, 12))
                             if not a.quick or n <= 100]
     print("[4/5] peak memory (child processes) ...", flush=True)
@@ -528,31 +586,45 @@ def print_table(R):
              f"{c['median_rel_residual_scan'][0]:.1e}, {c['median_rel_residual_scan'][1]:.1e} (plbar: <= 1e-7, "
              f"typically round-off)")
     L.append("-" * 104)
-    L.append("3. FE P1 LUMPED, plbar.solve (grid 200x200), each N in a subprocess "
-             f"(timeout {fe['timeout']:.0f} s)" + (f", modal truncation to {fe['modes']} modes (no stability)"
-                                                   if fe.get("modes") else ""))
-    L.append(f"   {'N':>5s} {'status':>10s} {'solver time':>12s} {'scan':>10s} {'crossings':>10s} {'branches':>9s} "
-             f"{'points':>7s} {'maxrss':>9s}")
-    for r in fe["runs"]:
+    L.append("3. FE P1 LUMPED, plbar.solve (grid 200x200, stability included), each N in a subprocess "
+             f"(timeout {fe['timeout']:.0f} s)")
+    L.append(f"   {'N':>5s} {'modes':>6s} {'status':>8s} {'solver time':>12s} {'scan':>10s} {'crossings':>10s} "
+             f"{'branches':>9s} {'points':>7s} {'max xi':>9s} {'maxrss':>9s}")
+    allruns = fe["full"]["runs"] + fe["truncated"]["runs"]
+    for r in allruns:
+        md = "all" if not r.get("modes") else str(r["modes"])
         if r["status"] == "ok":
             st = r["stats"]
-            L.append(f"   {r['n']:5d} {'ok':>10s} {fmt_t(r['solver_time']):>12s} {fmt_t(st.get('t_scan')):>10s} "
-                     f"{st.get('crossings', 0):10d} {r['branches']:9d} {r['points']:7d} {r['maxrss_mb']:7.0f}MB")
+            L.append(f"   {r['n']:5d} {md:>6s} {'ok':>8s} {fmt_t(r['solver_time']):>12s} {fmt_t(st.get('t_scan')):>10s} "
+                     f"{st.get('crossings', 0):10d} {r['branches']:9d} {r['points']:7d} {r.get('max_xi', 0):9.2e} "
+                     f"{r['maxrss_mb']:7.0f}MB")
         else:
-            L.append(f"   {r['n']:5d} {r['status']:>10s}")
+            L.append(f"   {r['n']:5d} {md:>6s} {r['status']:>8s}")
+    for key, lab in (("full", "full model"), ("truncated", f"{fe['truncated']['modes']} modes")):
+        f_ = fe[key]
+        if f_["fitted_exponent"] is not None:
+            L.append(f"   log-log fit, {lab}: time ~ N^{f_['fitted_exponent']:.2f} over N = {f_['fit_over']}")
     for n, lim in ((100, 60), (400, 600)):
-        rr = [r for r in fe["runs"] if r["n"] == n]
-        if rr:
-            r = rr[0]
-            v = r.get("solver_time")
-            L.append(f"   target N={n} < {lim} s: " + ("PASS" if v is not None and v < lim else
-                                                       f"FAIL ({r['status']}" + (f", {fmt_t(v)})" if v else ")")))
-    L.append("   per-grid-point cost of periodic.coefficients (dense (2(n-1))^2 solve + slogdet), x 40000 = scan alone:")
+        rr = [r for r in allruns if r["n"] == n and r["status"] == "ok"]
+        v = min((r["solver_time"] for r in rr), default=None)
+        L.append(f"   target N={n} < {lim} s: " + (f"PASS ({fmt_t(v)}, modes = {rr[0].get('modes') or 'all'})"
+                                                   if v is not None and v < lim else "FAIL"))
+    L.append("   truncation check (plbar.system.truncation_check: branches matched by their T range; xi compared at "
+             "common T, relative to the branch's max xi):")
+    for c in fe.get("truncation_checks", []):
+        if c.get("status") != "ok":
+            L.append(f"     N={c['n']} modes {c['modes']} vs {c['ref']}: {c.get('status')}")
+            continue
+        ref = "full" if c["ref_modes"] is None else c["ref_modes"][0]
+        L.append(f"     N={c['n']:4d}  {c['modes']} modes vs {ref}: branches {c['branches_trunc']} vs "
+                 f"{c['branches_ref']} ({c['branches_unmatched']} unmatched), max rel dT {c['max_rel_T']:.2e}, "
+                 f"rel dxi median/90%/max {c['rel_xi_quantiles'][0]:.2e}/{c['rel_xi_quantiles'][1]:.2e}/"
+                 f"{c['rel_xi_quantiles'][2]:.2e}; times {fmt_t(c['time_trunc'])} vs {fmt_t(c['time_ref'])}")
+    L.append("   per-grid-point cost of periodic.coefficients (dense (2(n-1))^2 solve + slogdet), x 40000 = full-model "
+             "scan alone:")
     for c in fe.get("scan_cost", []):
         L.append(f"     N={c['n']:4d}  dim {c['dim']:4d}  {fmt_t(c['time_per_point']):>9s}/point  -> 200x200 scan "
                  f"{fmt_t(c['extrapolated_grid_scan'])}")
-    if fe["fitted_exponent"] is not None:
-        L.append(f"   log-log fit time ~ N^{fe['fitted_exponent']:.2f} over N = {fe['fit_over']}")
     L.append("-" * 104)
     L.append("4. PEAK MEMORY (child process; ru_maxrss includes the interpreter + numpy/scipy/skfem + a default solve "
              "for the reference point; tracemalloc = the task's own peak)")
@@ -562,9 +634,9 @@ def print_table(R):
                      f"(before task {m['rss_before_mb']:.0f} MB)")
         else:
             L.append(f"   {t:22s} error")
-    for r in fe["runs"]:
+    for r in fe["full"]["runs"] + fe["truncated"]["runs"]:
         if r["status"] == "ok":
-            L.append(f"   fe N={r['n']:<16d} maxrss {r['maxrss_mb']:7.0f} MB (after import {r['rss_after_import_mb']:.0f} MB)")
+            L.append(f"   fe N={r['n']:<5d} modes {str(r.get('modes') or 'all'):>4s}  maxrss {r['maxrss_mb']:7.0f} MB (after import {r['rss_after_import_mb']:.0f} MB)")
     L.append("=" * 104)
     print("\n".join(L))
     return L
