@@ -223,8 +223,13 @@ def _solve(IA: np.ndarray, c: np.ndarray):
     return Z, np.where(ok, sign, 0.0)
 
 
-def _core(prob: Problem, T1: np.ndarray, T2: np.ndarray, full: bool = True, scales: bool = True):
+def _core(prob: Problem, T1: np.ndarray, T2: np.ndarray, full: bool = True, scales: bool = True,
+          signs: bool = True):
     """The residual coefficients (and, if ``full``, the periodic states and, if ``scales``, the residual scales).
+
+    With ``signs=False`` (and ``scales=False``) ``sign(det(Id - A))`` is not computed:
+    ``(e1, e2, Id - A, Z)`` are returned instead, so that a caller can take the
+    signs of the few points it needs.
 
     The one-period map is built from stacked blocks, so that the number of
     numpy calls does not depend on the system size (small batches are
@@ -262,7 +267,10 @@ def _core(prob: Problem, T1: np.ndarray, T2: np.ndarray, full: bool = True, scal
     ge = R2[:, :, :1] * h[:, None, 0] + R2[:, :, 1:] * h[:, None, 1] + g2   # forced state at T-, (B, 2, 2, m2)
     cT = np.matmul(ge, k.JT)                                        # (B, 2, 2, m1): rows p, columns c
     c = cT.transpose(0, 1, 3, 2).reshape(B, n, 2)
-    Z, sign = _solve(IA, c)
+    if signs:
+        Z, sign = _solve(IA, c)
+    else:
+        Z, sign = np.linalg.solve(IA, c), IA
     # state I at T1 (B, 2, 2, m1): [p, c]; state II displacement at T-
     Zr = Z.reshape(B, 2, m1, 2).transpose(0, 1, 3, 2)              # (B, q, c, m1)
     zI = R1[:, :, :1] * Zr[:, None, 0] + R1[:, :, 1:] * Zr[:, None, 1] + g1

@@ -294,19 +294,26 @@ def find_response(prob: Problem, T, T1_guess, *, width=None, nodes: int = 12) ->
     with (single_thread_blas if _lean(prob).small is None else nullcontext()):
         for _ in range(5):
             t1 = g + h * x
-            e1, e2, sign, Z = _core(prob, t1, T - t1, scales=False)
+            # D / |a, b|^2 without sign(det(Id - A)): smooth through the poles of D (where it also
+            # vanishes); a sign change is a periodic response iff sign(det) is the same at both ends
+            e1, e2, IA, Z = _core(prob, t1, T - t1, scales=False, signs=False)
             evals += K
-            Gv = _G(e1, e2, sign)
-            neg = Gv < 0
+            Dn = (e1[:, 0] * e2[:, 1] - e2[:, 0] * e1[:, 1]) / ((e1 * e1).sum(1) + (e2 * e2).sum(1))
+            neg = Dn < 0
             ch = np.flatnonzero(neg[:-1] != neg[1:])
-            if ch.size or h >= lim:
+            k = None
+            for j in ch[np.argsort(np.abs(x[ch] + x[ch + 1]), kind="stable")]:    # nearest the guess first
+                sg = np.linalg.slogdet(IA[j:j + 2])[0]       # 0 where singular
+                if sg[0] == sg[1] != 0:
+                    k = int(j)
+                    break
+            if k is not None or h >= lim:
                 break
             h = min(4.0 * h, lim)
-        if not ch.size:
+        if k is None:
             raise NoResponseError(f"no periodic response with T1 within {h:.3g} of {g!r} at T = {T!r} "
-                                  f"(G has no sign change there); try another guess or plbar.find_paths")
-        # the sign change nearest the guess (the nodes x descend)
-        k = int(ch[np.argmin(np.abs(x[ch] + x[ch + 1]))]) if ch.size > 1 else int(ch[0])
+                                  f"(D has no sign change there, only poles); try another guess or plbar.find_paths")
+        Gv = Dn * sg[0]
         glo, ghi = float(Gv[k + 1]), float(Gv[k])
         t = _poly_root((C @ Gv).tolist(), float(x[k + 1]), float(x[k]), glo, ghi)
         T1 = g + h * t

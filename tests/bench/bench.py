@@ -257,6 +257,17 @@ def task_one_response(quick: bool) -> dict:
         method=sh.method, rtol=sh.rtol, atol=sh.atol)
     out["ratio_shooting_over_plbar_find"] = t_sh / t_find
     out["ratio_shooting_over_plbar_find_checked"] = t_sh / t_chk
+    # the machine's speed drifts by tens of percent over minutes (shared VM): interleave the two, round by
+    # round (100 finds, then one shooting solve), and take the median of the per-round ratios
+    rounds = []
+    for _ in range(5 if quick else 9):
+        tf, _, _ = timeit_small(lambda: plbar_find(prob, ref["T"], T1g), inner=100, repeat=1)
+        t0 = time.perf_counter()
+        sh.solve(*guess)
+        ts_ = time.perf_counter() - t0
+        rounds.append(dict(find=tf, shooting=ts_, ratio=ts_ / tf))
+    out["interleaved"] = dict(rounds=rounds, median_ratio=statistics.median(r["ratio"] for r in rounds),
+                              min_ratio=min(r["ratio"] for r in rounds), max_ratio=max(r["ratio"] for r in rounds))
     out["ratio_cpu_shooting_over_plbar_find"] = statistics.median(cpus) / cpu_find
     out["ratio_shooting_over_plbar_eval_single"] = t_sh / t_ev1
     out["ratio_shooting_over_plbar_batched"] = t_sh / (t_evB / T1b.size)
@@ -465,6 +476,7 @@ def main(argv=None):
     ap.add_argument("--fe-n", type=int, nargs="*", default=None, help="FE sizes of the full model (default 5 10 20 50)")
     ap.add_argument("--modes", type=int, default=20,
                     help="modes per state of the truncated FE runs (N = 50 ... 400; default 20)")
+    ap.add_argument("--smoke", action="store_true", help="tiny FE sizes (checks that the script runs end to end)")
     ap.add_argument("--no-profile", action="store_true")
     ap.add_argument("--out", default=str(HERE / "results.json"))
     a = ap.parse_args(argv)
@@ -496,14 +508,15 @@ def main(argv=None):
             expo = float(np.polyfit(np.log([d["n"] for d in ok]), np.log([d["solver_time"] for d in ok]), 1)[0])
         return dict(runs=runs, fitted_exponent=expo, fit_over=[d["n"] for d in ok], modes=modes)
 
-    full_ns = a.fe_n or ([5, 10, 20] if a.quick else [5, 10, 20, 50, 100])
-    trunc_ns = [50, 100] if a.quick else [50, 100, 200, 400]
+    full_ns = a.fe_n or ([5] if a.smoke else [5, 10, 20] if a.quick else [5, 10, 20, 50, 100])
+    trunc_ns = [10, 12] if a.smoke else [50, 100] if a.quick else [50, 100, 200, 400]
     R["fe"] = dict(timeout=a.fe_timeout, full=series(full_ns, None), truncated=series(trunc_ns, a.modes))
     print("      truncation checks ...", flush=True)
-    R["fe"]["truncation_checks"] = [run_trunc(20, 10, "full", a.fe_timeout),
-                                    run_trunc(100, a.modes, 2 * a.modes, a.fe_timeout)]
+    R["fe"]["truncation_checks"] = ([run_trunc(8, 4, "full", a.fe_timeout), run_trunc(12, 4, 8, a.fe_timeout)]
+                                    if a.smoke else [run_trunc(20, 10, "full", a.fe_timeout),
+                                                     run_trunc(100, a.modes, 2 * a.modes, a.fe_timeout)])
     R["fe"]["scan_cost"] = [fe_scan_cost(n, p) for n, p in ((20, 2000), (50, 600), (100, 150), (200, 40), (400, 12))
-                            if not a.quick or n <= 100]
+                            if (not a.quick or n <= 100) and (not a.smoke or n <= 20)]
     print("[4/5] peak memory (child processes) ...", flush=True)
     R["memory"] = {t: run_mem(t) for t in ("plbar_find", "plbar_eval_batched", "shooting", "plbar_default", "scan3d")}
     if not a.no_profile:
@@ -542,10 +555,13 @@ def print_table(R):
              f"periodicity {sh['periodicity_residual']:.1e}, |x-x_plbar| {sh['state_distance_to_plbar']:.1e}, "
              f"|dphi| {sh['phi_distance']:.1e}, |dT1| {sh['T1_distance']:.1e}, xi rel diff {sh['xi_rel_diff']:.1e}, "
              f"{sh['nfev']} periods")
-    tgt = "PASS" if o["ratio_shooting_over_plbar_find"] >= 1000 else "FAIL"
+    il = o["interleaved"]
+    tgt = "PASS" if il["median_ratio"] >= 1000 else "FAIL"
     L.append(f"   CPU time (process_time, less sensitive to machine load): plbar find {fmt_t(f['cpu_time'])}, shooting "
              f"{fmt_t(sh['cpu_time'])}, ratio {o['ratio_cpu_shooting_over_plbar_find']:.0f}x")
-    L.append(f"   ratio shooting / plbar: find {o['ratio_shooting_over_plbar_find']:.0f}x [target >= 1000x: {tgt}], "
+    L.append(f"   interleaved rounds (100 finds, 1 shooting solve) x {len(il['rounds'])}: ratio median "
+             f"{il['median_ratio']:.0f}x (min {il['min_ratio']:.0f}x, max {il['max_ratio']:.0f}x) [target >= 1000x: {tgt}]")
+    L.append(f"   ratio shooting / plbar (medians of the blocks above): find {o['ratio_shooting_over_plbar_find']:.0f}x, "
              f"find + admissibility {o['ratio_shooting_over_plbar_find_checked']:.0f}x, "
              f"eval single {o['ratio_shooting_over_plbar_eval_single']:.0f}x, "
              f"batched {o['ratio_shooting_over_plbar_batched']:.0f}x")
