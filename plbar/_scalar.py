@@ -12,6 +12,7 @@ against.
 from __future__ import annotations
 
 from math import atan2, cos, fmod, pi, sin
+from operator import mul
 
 __all__ = ["Small", "orbit"]
 
@@ -45,12 +46,16 @@ def _psi(w: float, f: float, W: float, thc: float, ths: float, t: float, eta0: f
     A = v0 - Cc
     B = g * w * thc - w * eta0
     ht = 0.5 * t
-    pt, mt = wp * ht, wm * ht
-    s1w, s1W, sph, smh = _sinc(w * t), _sinc(W * t), _sinc(pt), _sinc(mt)
+    pt, mt, wt, Wt = wp * ht, wm * ht, w * t, W * t
+    # sinc(x) = sin(x) / x (1 at 0), inline: the arguments below are 0 only for mt (at resonance)
+    s1w, s1W, sph = sin(wt) / wt, sin(Wt) / Wt, sin(pt) / pt
+    smh = sin(mt) / mt if mt != 0.0 else 1.0
+    s2w, s2W, s2p = sin(2 * wt) / (2 * wt), sin(2 * Wt) / (2 * Wt), sin(2 * pt) / (2 * pt)
+    s2m = sin(2 * mt) / (2 * mt) if mt != 0.0 else 1.0
     AA, BB, CC, SS = A * A, B * B, Cc * Cc, Cs * Cs
     ACc, BCs, ACs, BCc = A * Cc, B * Cs, A * Cs, B * Cc
-    p = (ht * ((AA + BB + CC + SS) + (AA - BB) * _sinc(2 * w * t) + (CC - SS) * _sinc(2 * W * t)
-               + 2 * (ACc + BCs) * _sinc(2 * mt) + 2 * (ACc - BCs) * _sinc(2 * pt))
+    p = (ht * ((AA + BB + CC + SS) + (AA - BB) * s2w + (CC - SS) * s2W
+               + 2 * (ACc + BCs) * s2m + 2 * (ACc - BCs) * s2p)
          + t * t * (A * B * w * s1w * s1w + Cc * Cs * W * s1W * s1W
                     + 0.5 * ((ACs + BCc) * wp * sph * sph + (BCc - ACs) * wm * smh * smh)))
     scale = (abs(A) + abs(B) + abs(Cc) + abs(Cs)) ** 2 * t
@@ -58,7 +63,7 @@ def _psi(w: float, f: float, W: float, thc: float, ths: float, t: float, eta0: f
 
 
 def _mv(M, x):
-    return [sum(a * b for a, b in zip(row, x)) for row in M]
+    return [sum(map(mul, row, x)) for row in M]
 
 
 class Small:

@@ -35,7 +35,7 @@ def sinc(x):
     return np.divide(np.sin(x), x, out=np.ones_like(x), where=x != 0)
 
 
-def kernels(w, W, tau):
+def kernels(w, W, tau, swt=None):
     """Duhamel kernels ``C, S, C'`` at ``tau`` (``S' = W C``).
 
     Parameters
@@ -46,6 +46,8 @@ def kernels(w, W, tau):
         Forcing circular frequency, > 0.
     tau : array_like
         Time since the segment start.
+    swt : array_like, optional
+        ``sin(w tau)`` if the caller has it already.
 
     Returns
     -------
@@ -58,7 +60,7 @@ def kernels(w, W, tau):
     sig = wp * ht
     csn = np.cos(sig) * snc
     C = np.sin(sig) * snc / wp
-    S = (np.sin(w * tau) / w - csn) / wp
+    S = ((np.sin(w * tau) if swt is None else swt) / w - csn) / wp
     Cp = (w * csn + np.sin(W * tau)) / wp
     return C, S, Cp
 

@@ -18,6 +18,7 @@ the plbar side of the "one response" benchmark against shooting.
 
 from __future__ import annotations
 
+import math
 from contextlib import nullcontext
 from dataclasses import dataclass
 from functools import cached_property
@@ -279,8 +280,8 @@ def find_response(prob: Problem, T, T1_guess, *, width=None, nodes: int = 12) ->
     """
     if not isinstance(prob, Problem):
         raise InputError(f"prob must be a plbar Problem (plbar.problem(...)), got {type(prob).__name__}")
-    T = _check.finite("period T", T)
-    g = _check.finite("T1_guess", T1_guess)
+    T = T if type(T) is float and math.isfinite(T) else _check.finite("period T", T)
+    g = T1_guess if type(T1_guess) is float and math.isfinite(T1_guess) else _check.finite("T1_guess", T1_guess)
     if not (T > 0 and 0 < g < T):
         raise InputError(f"T = {T!r}, T1_guess = {g!r} are not allowed; they must satisfy 0 < T1_guess < T")
     K = nodes if type(nodes) is int and nodes in _CHEB else _check.integer("nodes", nodes, 4, 64)

@@ -621,10 +621,10 @@ def print_table(R):
         if f_["fitted_exponent"] is not None:
             L.append(f"   log-log fit, {lab}: time ~ N^{f_['fitted_exponent']:.2f} over N = {f_['fit_over']}")
     for n, lim in ((100, 60), (400, 600)):
-        rr = [r for r in allruns if r["n"] == n and r["status"] == "ok"]
-        v = min((r["solver_time"] for r in rr), default=None)
-        L.append(f"   target N={n} < {lim} s: " + (f"PASS ({fmt_t(v)}, modes = {rr[0].get('modes') or 'all'})"
-                                                   if v is not None and v < lim else "FAIL"))
+        for r in [r for r in allruns if r["n"] == n and r["status"] == "ok"]:
+            v = r["solver_time"]
+            L.append(f"   target N={n} < {lim} s, modes = {r.get('modes') or 'all'}: "
+                     + ("PASS" if v < lim else "FAIL") + f" ({fmt_t(v)})")
     L.append("   truncation check (plbar.system.truncation_check: branches matched by their T range; xi compared at "
              "common T, relative to the branch's max xi):")
     for c in fe.get("truncation_checks", []):
@@ -659,4 +659,7 @@ def print_table(R):
 
 
 if __name__ == "__main__":
-    main()
+    if sys.argv[1:2] == ["--table"]:          # re-print the table of a results file
+        print_table(json.load(open(sys.argv[2] if len(sys.argv) > 2 else HERE / "results.json")))
+    else:
+        main()
