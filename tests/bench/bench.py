@@ -586,7 +586,7 @@ def print_table(R):
     tgt = "PASS" if d["ratio_scan_over_plbar"] >= 30 else "FAIL"
     L.append(f"   ratio 3D scan (fastest) / plbar = {d['ratio_scan_over_plbar']:.1f}x [target >= 30x: {tgt}]")
     c = d["coverage"]
-    L.append(f"   point density along the branches in the paper's phi range (plbar points / scan points near it, "
+    L.append("   point density along the branches in the paper's phi range (plbar points / scan points near it, "
              f"coverage = share of the branch with a scan point within 1.5 cells, median distance in cells):")
     for r in c["branches"]:
         md = r["median_dist_cells"]
