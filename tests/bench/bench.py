@@ -587,7 +587,7 @@ def print_table(R):
     L.append(f"   ratio 3D scan (fastest) / plbar = {d['ratio_scan_over_plbar']:.1f}x [target >= 30x: {tgt}]")
     c = d["coverage"]
     L.append("   point density along the branches in the paper's phi range (plbar points / scan points near it, "
-             f"coverage = share of the branch with a scan point within 1.5 cells, median distance in cells):")
+             "coverage = share of the branch with a scan point within 1.5 cells, median distance in cells):")
     for r in c["branches"]:
         md = r["median_dist_cells"]
         L.append(f"     branch {r['branch']:3d}  T {r['T'][0]:8.4f}..{r['T'][1]:8.4f}  plbar {r['plbar_points']:4d}  "
