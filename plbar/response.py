@@ -27,9 +27,9 @@ import numpy as np
 
 from . import _check, _scalar
 from .errors import InputError, PlbarError
-from .flow import kernels, psi
-from .orbit import Orbits
-from .periodic import _core, single_thread_blas
+from .energy import damping
+from .orbit import Orbits, orbits
+from .periodic import Coefficients, _core, phase, single_thread_blas
 from .system import Problem
 
 __all__ = ["Response", "find_response", "NoResponseError"]
@@ -157,19 +157,13 @@ def _G(e1, e2, sign):
 
 
 class _Lean:
-    """Per-problem constants of :func:`_assemble`: both states' modes side by side (cached on the Problem)."""
+    """Per-problem constants of :func:`_assemble` (cached on the Problem)."""
 
     def __init__(self, prob: Problem):
         s = prob.system
-        self.m1 = s.w1.size
-        self.w = np.concatenate([s.w1, s.w2])
-        self.f = np.concatenate([prob.f1, prob.f2])
-        self.is1 = np.arange(self.w.size) < self.m1
-        self.P12T, self.P21T, self.Q21T = s.P12.T.copy(), s.P21.T.copy(), s.Q21.T.copy()
-        self.r_eta, self.gap_row, self.r_q = s.r_eta, s.gap_row, float(prob.r_q)
         self.nr = float(np.linalg.norm(s.r_eta))
         self.ng = float(np.abs(s.gap_row).max())
-        self.small = _scalar.Small(prob) if self.w.size <= SMALL else None
+        self.small = _scalar.Small(prob) if s.w1.size + s.w2.size <= SMALL else None
 
 
 def _lean(prob: Problem) -> _Lean:
@@ -179,8 +173,9 @@ def _lean(prob: Problem) -> _Lean:
 def _assemble(prob: Problem, T: float, T1: float, a, Z, evaluations: int) -> Response:
     """The response at ``T1`` from its coefficients ``a = (a1, b1, a2, b2)`` and states ``Z`` (2 n1, 2).
 
-    Both segments' flows (Eqs. (15)-(17)) and ``Psi`` (Eq. (20)) are evaluated
-    on the modes of both states side by side (one call each).
+    Small systems: one plain-float pass (:mod:`plbar._scalar`).  Otherwise (and
+    near resonance, where ``Psi`` needs quadrature) the batched orbit and
+    energy code on a one-orbit batch.
     """
     k = _lean(prob)
     if k.small is not None:
@@ -191,53 +186,28 @@ def _assemble(prob: Problem, T: float, T1: float, a, Z, evaluations: int) -> Res
                             e1=abs(o["r1"]) / o["sc1"], e2=abs(o["r2"]) / o["sc2"], periodicity=o["per"],
                             v_impact=o["v_imp"], dPL=o["dPL"], xi=o["dPL"] / (2 * den) if den > 0 else 0.0,
                             evaluations=evaluations, prob=prob, eta_s=np.array(o["eta_s"]), v_s=np.array(o["v_s"]))
-    m1 = k.m1
-    a1, b1, a2, b2 = a
-    # the exact phase (null vector of [[a1, b1], [a2, b2]] from its larger row), then v_c(T-) > 0
-    if a1 * a1 + b1 * b1 >= a2 * a2 + b2 * b2:
-        phi = float(np.arctan2(-a1, b1))
-    else:
-        phi = float(np.arctan2(-a2, b2))
     T2 = T - T1
-    W = 2 * np.pi / T
-    w, f = k.w, k.f
-    tau = np.where(k.is1, T1, T2)
-    ts = np.where(k.is1, 0.0, T1)
-    co, si = np.cos(w * tau), np.sin(w * tau)
-    sw, ws = si / w, -w * si
-    C, S, Cp = kernels(w, W, tau)
-    c0, s0 = np.cos(W * ts), np.sin(W * ts)
-    ec, es_, vc, vs_ = f * (c0 * C - s0 * S), f * (s0 * C + c0 * S), f * (c0 * Cp - s0 * W * C), f * (s0 * Cp + c0 * W * C)
-    c, sn = np.cos(phi), np.sin(phi)
-    z = Z[:, 0] * c + Z[:, 1] * sn
-    eF, vF = ec * c + es_ * sn, vc * c + vs_ * sn
-    e = co[:m1] * z[:m1] + sw[:m1] * z[m1:] + eF[:m1]
-    v = ws[:m1] * z[:m1] + co[:m1] * z[m1:] + vF[:m1]
-    es, vs = e @ k.P12T, v @ k.P12T
-    eT = co[m1:] * es + sw[m1:] * vs + eF[m1:]
-    vT = ws[m1:] * es + co[m1:] * vs + vF[m1:]
-    vimp = float(vT @ k.gap_row)
-    if vimp <= 0:                       # the other root, phi + pi: the negated response
-        phi += np.pi
-        c, sn, z, e, v, es, vs, eT, vT, vimp = -c, -sn, -z, -e, -v, -es, -vs, -eT, -vT, -vimp
-    phi = float(np.mod(phi, 2 * np.pi))
-    eta0, v0 = z[:m1], z[m1:]
-    # residuals from the flow, relative to the amplitude of each signal
-    r1 = -(float(e @ k.r_eta) + k.r_q * np.cos(W * T1 - phi))
-    r2 = float(eT @ k.gap_row)
-    sc1 = k.nr * max(np.abs(e).max(), np.abs(eta0).max()) + abs(k.r_q)
-    sc2 = k.ng * max(np.abs(eT).max(), np.abs(es).max())
-    # one period with the plastic impact (Eq. (10)) must give back the initial state
-    z1 = np.concatenate([eT @ k.P21T, vT @ k.Q21T])
-    per = float(np.abs(z1 - z).max() / max(np.abs(z).max(), 1e-300))
-    # Delta_PL (Eq. (14)) and xi_eq (Eq. (22)); Psi of both segments in one call
-    dpl = 0.5 * float(vT @ vT) - 0.5 * float(z1[m1:] @ z1[m1:])
-    ps, _ = psi(w, f, W, ts, tau, np.concatenate([eta0, es]), np.concatenate([v0, vs]), c, sn)
-    den = float(ps @ w)
-    xi = dpl / (2 * den) if den > 0 else 0.0
-    return Response(T=float(T), T1=float(T1), T2=float(T2), phi=phi, eta0=eta0, v0=v0, e1=abs(r1) / sc1,
-                    e2=abs(r2) / sc2, periodicity=per, v_impact=vimp, dPL=dpl, xi=xi, evaluations=evaluations,
-                    prob=prob, eta_s=es, v_s=vs)
+    one = np.ones(1)
+    co = Coefficients(np.array([T1]), np.array([T2]), *[np.array([float(v)]) for v in a], one, Z[None], one, one)
+    phi = phase(co)                                     # the exact phase; phi + pi is the negated response
+    orb = orbits(prob, co.T1, co.T2, phi, co=co)
+    v_imp = float(orb.contact_velocity(co.T2[:, None])[0, 0])
+    if v_imp <= 0:
+        orb = orbits(prob, co.T1, co.T2, phi + np.pi, co=co)
+        v_imp = -v_imp
+    e, _ = orb.state_I(co.T1[:, None])
+    eT, _ = orb.end()
+    r1, r2 = orb.residuals()
+    sc1 = k.nr * max(np.abs(e).max(), np.abs(orb.eta0).max()) + abs(prob.r_q)
+    sc2 = k.ng * max(np.abs(eT).max(), np.abs(orb.eta_s).max())
+    ep, vp = orb.after_impact()
+    z0, z1 = np.c_[orb.eta0, orb.v0], np.c_[ep, vp]
+    per = float(np.abs(z1 - z0).max() / max(np.abs(z0).max(), 1e-300))
+    d = damping(orb)
+    return Response(T=float(T), T1=float(T1), T2=float(T2), phi=float(np.mod(orb.phi[0], 2 * np.pi)),
+                    eta0=orb.eta0[0], v0=orb.v0[0], e1=abs(float(r1[0])) / sc1, e2=abs(float(r2[0])) / sc2,
+                    periodicity=per, v_impact=v_imp, dPL=float(d.dPL[0]), xi=float(d.xi[0]),
+                    evaluations=evaluations, prob=prob, eta_s=orb.eta_s[0], v_s=orb.v_s[0])
 
 
 def _ok(r: Response) -> bool:
