@@ -9,9 +9,9 @@ position and value of the maximum xi_eq.  Resumable study folder: argv[1] (defau
 import os
 import sys
 
-from plbar.executor import get_executor
-from plbar.study import run_study
-from plbar.sweep import load_sweep_study, sweep_tables, write_sweep_tables
+from plbar.studies import get_executor
+from plbar.studies import run_study
+from plbar.studies import load_sweep_study, sweep_tables, write_sweep_tables
 
 GRID = tuple(int(v) for v in os.environ.get("PLBAR_GRID", "200,200").split(","))
 

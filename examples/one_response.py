@@ -18,8 +18,8 @@ import time
 import numpy as np
 
 import plbar
-from plbar.admissible import check
-from plbar.simulate import period_map
+from plbar.response import check
+from plbar.check import period_map
 
 prob = plbar.Case().problem()                      # the paper's chain, N = 5, unit force on DOF 1
 T1g, T2g = 2.3876, 9.8894                          # the green point, read off the paper's Fig. 5

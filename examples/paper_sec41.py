@@ -10,9 +10,9 @@ import numpy as np
 from scipy.optimize import brentq
 
 import plbar
-import plbar.admissible
-from plbar.continuation import G
-from plbar.periodic import coefficients, phase
+import plbar.response
+from plbar.paths.continuation import G
+from plbar.response import coefficients, phase
 
 PAPER = {
     "T0_I": 10.166, "T0_II": 22.075,
@@ -31,7 +31,7 @@ def exact_point(T1, T2_guess):
                 xtol=1e-15, rtol=1e-15)
     phi0 = phase(coefficients(prob, [T1], [T2]))[0]
     orb = plbar.orbits(prob, [T1, T1], [T2, T2], [phi0, phi0 + np.pi])
-    ok = plbar.admissible.check(orb).ok
+    ok = plbar.response.check(orb).ok
     k = int(np.flatnonzero(ok)[0])
     d = plbar.damping(orb.take([k]))
     return dict(T1=T1, T2=T2, phi=float(np.mod(orb.phi[k], 2 * np.pi)), T=T1 + T2,

@@ -18,9 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
-from plbar.executor import get_executor
-from plbar.refine import refine_study, refine_tables, write_refine_tables
-from plbar.study import run_study
+from plbar.studies import get_executor
+from plbar.studies import refine_study, refine_tables, write_refine_tables
+from plbar.studies import run_study
 
 PAPER = {3: "0.0418", 4: ">0.5 (artefact)", 5: "0.121", 6: "0.111"}
 PAPER_T0II = {3: 14.12, 4: 18.09, 5: 22.07, 6: 26.06}

@@ -20,8 +20,8 @@ from pathlib import Path
 import numpy as np
 
 import plbar
-from plbar.simulate import simulate
-from plbar.stability import periodic_state, stability
+from plbar.check import simulate
+from plbar.response import periodic_state, stability
 
 N_PERIODS = 300
 SETTLED = 1e-6       # relative distance of the stroboscopic sample from the periodic state

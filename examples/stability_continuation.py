@@ -37,7 +37,7 @@ def report() -> str:
 if __name__ == "__main__":
     print(report())
     out = Path(sys.argv[1] if len(sys.argv) > 1 else "plbar-examples")
-    from plbar.plots import frequency_response, paths_plane
+    from plbar.visuals import frequency_response, paths_plane
 
     print("wrote", frequency_response(result, out), paths_plane(result, out))
     assert np.all([np.isfinite(b.xi).all() for b in result.branches])

@@ -6,18 +6,21 @@ Quick start::
     res = plbar.solve()                      # the paper's chain N = 5, unit force on DOF 1
     for b in res.branches:
         print(b.id, b.T.min(), b.T.max(), b.xi.max())
+
+The package is layered; each subpackage's ``__init__`` is its front door and
+imports flow one way (``python -m plbar.util.layout`` prints the graph):
+
+``util`` -> ``model`` -> ``response`` -> ``paths`` -> ``check`` -> ``io`` ->
+``visuals`` -> ``app`` -> ``studies`` -> ``cli``.
 """
 
-from .bar import Bar, assemble, chain, graded_nodes, uniform_bar, uniform_nodes
-from .case import Case
-from .energy import damping, impact_loss
+from .app import Case, Result, solve, write_results
+from .check import simulate
 from .errors import CaseFileError, InputError, OutputExistsError, PlbarError
-from .load import Load, node, point
-from .orbit import Orbits, orbits
+from .model import (Bar, Load, Problem, TwoStateSystem, assemble, chain, graded_nodes, node, point, problem,
+                    two_state, uniform_bar, uniform_nodes)
 from .paths import Branch, Domain, Paths, default_domain, find_paths
-from .response import Response, find_response
-from .run import Result, solve, write_results
-from .system import Problem, TwoStateSystem, problem, two_state
+from .response import Orbits, Response, damping, find_response, impact_loss, orbits, stability
 
 __version__ = "0.1.0"
 
@@ -25,5 +28,6 @@ __all__ = [
     "Bar", "assemble", "chain", "graded_nodes", "uniform_bar", "uniform_nodes", "Case", "damping",
     "impact_loss", "CaseFileError", "InputError", "OutputExistsError", "PlbarError", "Load", "node", "point",
     "Orbits", "orbits", "Branch", "Domain", "Paths", "default_domain", "find_paths", "Result", "solve",
-    "write_results", "Response", "find_response", "Problem", "TwoStateSystem", "problem", "two_state", "__version__",
+    "write_results", "Response", "find_response", "Problem", "TwoStateSystem", "problem", "two_state",
+    "simulate", "stability", "__version__",
 ]

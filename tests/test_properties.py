@@ -27,7 +27,7 @@ from hypothesis import HealthCheck, assume, event, given, note, settings
 from hypothesis import strategies as st
 
 import plbar
-from plbar.energy import psi_sums, work_quadrature
+from plbar.response import psi_sums, work_quadrature
 from plbar.errors import PlbarError, PlbarWarning
 
 PERIODIC_RTOL = 1e-8
@@ -266,8 +266,8 @@ def test_random_cases_write_finite_results(model, n, element, mass, grading, fra
     with tempfile.TemporaryDirectory() as tmp:
         files = plbar.write_results(res, Path(tmp) / "out")
         text = Path(files["paths"]).read_text().splitlines()
-        assert text[0] == ",".join(plbar.run.CSV_HEADER)
-        rows = np.array([[float(x) for x in r.split(",")] for r in text[1:]]).reshape(-1, len(plbar.run.CSV_HEADER))
+        assert text[0] == ",".join(plbar.app.CSV_HEADER)
+        rows = np.array([[float(x) for x in r.split(",")] for r in text[1:]]).reshape(-1, len(plbar.app.CSV_HEADER))
         assert np.all(np.isfinite(rows))
         assert len(rows) == sum(len(b) for b in res.branches)
         s = json.loads(Path(files["summary"]).read_text())

@@ -17,7 +17,7 @@ Measures, side by side in one process (timings) and in child processes
 3. FE P1 lumped bars: the full model for N = 5 ... 100 and the model
    truncated to ``--modes`` modes per state (default 20) for N = 50 ... 400,
    solver time vs N with fitted exponents (each N in a subprocess with a
-   timeout; "timeout" is reported), and ``plbar.system.truncation_check``
+   timeout; "timeout" is reported), and ``plbar.studies.truncation_check``
    at N = 20 (10 modes vs the full model) and N = 100 (20 vs 40 modes);
 4. peak memory of each target (ru_maxrss of a child process, and the
    tracemalloc peak of the task itself where cheap enough);
@@ -51,8 +51,8 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import plbar  # noqa: E402
-from plbar import admissible  # noqa: E402
-from plbar.periodic import coefficients, phase  # noqa: E402
+from plbar.response import admissible  # noqa: E402
+from plbar.response import coefficients, phase  # noqa: E402
 
 from baselines import Shooting, branch_coverage, modal, scan3d  # noqa: E402
 
@@ -374,7 +374,7 @@ import numpy as np
 warnings.simplefilter("ignore")
 sys.path.insert(0, sys.argv[2])
 import plbar
-from plbar.system import truncation_check
+from plbar.studies import truncation_check
 n, m = int(sys.argv[1]), int(sys.argv[3])
 ref = None if sys.argv[4] == "full" else (int(sys.argv[4]), int(sys.argv[4]))
 case = plbar.Case(model="fe", n=n)
@@ -389,7 +389,7 @@ print(json.dumps(dict(n=n, **out), default=lambda o: o.tolist() if hasattr(o, "t
 
 
 def run_trunc(n: int, modes: int, ref, timeout: float) -> dict:
-    """:func:`plbar.system.truncation_check` of ``modes`` against ``ref`` modes ("full": the full model)."""
+    """:func:`plbar.studies.truncation_check` of ``modes`` against ``ref`` modes ("full": the full model)."""
     t0 = time.perf_counter()
     try:
         p = subprocess.run([PY, "-c", TRUNC_CODE, str(n), str(HERE), str(modes), str(ref)], capture_output=True,
@@ -625,7 +625,7 @@ def print_table(R):
             v = r["solver_time"]
             L.append(f"   target N={n} < {lim} s, modes = {r.get('modes') or 'all'}: "
                      + ("PASS" if v < lim else "FAIL") + f" ({fmt_t(v)})")
-    L.append("   truncation check (plbar.system.truncation_check: branches matched by their T range; xi compared at "
+    L.append("   truncation check (plbar.studies.truncation_check: branches matched by their T range; xi compared at "
              "common T, relative to the branch's max xi):")
     for c in fe.get("truncation_checks", []):
         if c.get("status") != "ok":

@@ -1,0 +1,5 @@
+"""``python -m plbar``: the command line."""
+
+from .cli import entry
+
+entry()

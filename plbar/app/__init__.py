@@ -1,0 +1,17 @@
+"""The application: a :class:`Case` (the one validator of a run's inputs), TOML case files, solving and results.
+
+``Case`` -> :func:`solve` -> :class:`Result` -> :func:`write_results` (``paths.csv``,
+``summary.json``); :mod:`.export` picks one response for ParaView and pictures;
+:mod:`.job` does everything a case file's ``[output]`` asks.
+"""
+
+from .case import MODELS, Case
+from .casefile import OutputSettings, dump_case, load_case, loads_case
+from .export import from_run, render_response, response_of, select, write_response
+from .job import files_of, run_case_file
+from .run import (CSV_FORMATS, CSV_HEADER, PATHS_COLUMNS, Result, check_output, read_paths, solve,
+                  write_results)
+
+__all__ = ["MODELS", "Case", "OutputSettings", "dump_case", "load_case", "loads_case", "from_run",
+           "render_response", "response_of", "select", "write_response", "files_of", "run_case_file", "CSV_FORMATS",
+           "CSV_HEADER", "PATHS_COLUMNS", "Result", "check_output", "read_paths", "solve", "write_results"]

@@ -1,0 +1,160 @@
+"""A case: which bar, which load, where to search.  What ``plbar run`` solves.
+
+The default :class:`Case` is the paper's Sec. 4.1 example: the chain with
+``N = 5``, ``m = k = 1`` and a unit force on DOF 1.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import asdict, dataclass, field
+
+from ..errors import InputError
+from ..model import ELEMENTS, MASSES, Bar, Load, Problem, chain, graded_nodes, problem
+from ..paths import Domain, default_domain
+from ..util.check import choice, integer, interval, pairs, positive, show
+from ..util.check import grid as check_grid
+
+__all__ = ["Case", "MODELS"]
+
+MODELS = ("chain", "fe")
+
+
+@dataclass(frozen=True)
+class Case:
+    """Everything that defines a run.
+
+    Parameters
+    ----------
+    model : {"chain", "fe"}
+        The paper's mass-spring chain, or a finite-element bar.
+    n : int, optional
+        Masses of the chain / elements of the FE bar (default 5 / 8).
+    element, mass : str
+        FE element (``P1``/``P2``) and mass (``lumped``/``consistent``); the chain is P1 lumped.
+    length, EA, rhoA : float
+        FE bar length and section properties (the chain has ``L = N``).
+    m, k : float
+        Chain mass and spring stiffness.
+    grading : float
+        Ratio of last to first element length of the FE mesh (1 = uniform).
+    mesh_file : str, optional
+        A meshio-readable 1D line mesh for the FE bar (overrides ``n``, ``length``, ``grading``).
+    point_masses : tuple of (x, m)
+        Extra concentrated masses on FE vertices.
+    load_nodes : tuple of (k, amplitude)
+        Forces on free DOFs (1-based from the clamp).
+    load_points : tuple of (s, amplitude)
+        Point forces at positions ``s`` in ``(0, L]``.
+    grid : (int, int)
+        Scan grid over ``(T^I, T^II)``.
+    T1, T2 : (float, float), optional
+        Search domain; default ``(0, T0^alpha / 2]``.
+    method : {"continuation", "grid"}
+        How branches are built from the scan (:func:`plbar.find_paths`).
+    modes : int, optional
+        Keep only the lowest ``modes`` modes of each state (modal truncation,
+        for fine meshes; check it with :func:`plbar.system.truncation_check`).
+        Default: all.
+    """
+
+    model: str = "chain"
+    n: int | None = None
+    element: str = "P1"
+    mass: str = "lumped"
+    length: float = 1.0
+    EA: float = 1.0
+    rhoA: float = 1.0
+    m: float = 1.0
+    k: float = 1.0
+    grading: float = 1.0
+    mesh_file: str | None = None
+    point_masses: tuple = ()
+    load_nodes: tuple = ()
+    load_points: tuple = ()
+    grid: tuple[int, int] = (200, 200)
+    T1: tuple[float, float] | None = None
+    T2: tuple[float, float] | None = None
+    method: str = "continuation"
+    modes: int | None = None
+    label: str = field(default="", compare=False)
+
+    def __post_init__(self):
+        choice("model", self.model, MODELS)
+        choice("element", self.element, ELEMENTS)
+        choice("mass", self.mass, MASSES)
+        choice("method", self.method, ("continuation", "grid"))
+        if self.model == "chain" and (self.element, self.mass) != ("P1", "lumped"):
+            raise InputError("model = 'chain' is always P1 lumped; use model = 'fe' for element/mass choices")
+        if self.modes is not None:
+            object.__setattr__(self, "modes", integer("modes", self.modes, 1))
+        if self.n is not None:
+            object.__setattr__(self, "n", integer("n" if self.model == "fe" else "chain size N", self.n, 2))
+        for nm in ("length", "EA", "rhoA", "m", "k", "grading"):
+            object.__setattr__(self, nm, positive(nm, getattr(self, nm)))
+        if self.mesh_file is not None and not isinstance(self.mesh_file, (str, os.PathLike)):
+            raise InputError(f"mesh_file = {show(self.mesh_file)} must be a path (a string)")
+        if self.mesh_file is not None:
+            object.__setattr__(self, "mesh_file", os.fspath(self.mesh_file))
+        if not isinstance(self.label, str):
+            raise InputError(f"label = {show(self.label)} must be a string")
+        for nm, what in (("load_nodes", "(k, amplitude)"), ("load_points", "(s, amplitude)"),
+                         ("point_masses", "(x, m)")):
+            v = getattr(self, nm)
+            object.__setattr__(self, nm, () if v is None else pairs(nm, v, what))
+        if not self.load_nodes and not self.load_points:
+            object.__setattr__(self, "load_nodes", ((1, 1.0),))
+        ld = Load(points=self.load_points, nodes=self.load_nodes)      # validates types and signs
+        object.__setattr__(self, "load_nodes", ld.nodes)
+        object.__setattr__(self, "load_points", ld.points)
+        object.__setattr__(self, "_load", ld)                           # the one validated Load (not a field)
+        object.__setattr__(self, "grid", check_grid(self.grid, warn=False))
+        for nm in ("T1", "T2"):
+            if getattr(self, nm) is not None:
+                object.__setattr__(self, nm, interval(f"search domain {nm}", getattr(self, nm)))
+        bar = self._make_bar()                 # fail now on the mesh (file), point masses, section and load
+        ld.check(bar)
+        object.__setattr__(self, "_bar", bar)
+
+    @property
+    def n_eff(self) -> int:
+        return self.n if self.n is not None else (5 if self.model == "chain" else 8)
+
+    def bar(self) -> Bar:
+        """The bar of this case (built once, when the case was made)."""
+        return self.__dict__["_bar"]
+
+    def _make_bar(self) -> Bar:
+        if self.model == "chain":
+            return chain(self.n_eff, self.m, self.k)
+        if self.mesh_file:
+            from ..io.meshfile import read_nodes
+
+            nodes = read_nodes(self.mesh_file)
+            try:
+                return Bar(nodes, self.element, self.mass, self.EA, self.rhoA, self.point_masses,
+                           f"fe-{self.element}-{self.mass}-{len(nodes) - 1}")
+            except InputError as exc:
+                raise InputError(f"mesh file {self.mesh_file!r}: {exc}") from None
+        nodes = graded_nodes(self.n_eff, self.length, self.grading)
+        return Bar(nodes, self.element, self.mass, self.EA, self.rhoA, self.point_masses,
+                   f"fe-{self.element}-{self.mass}-{len(nodes) - 1}")
+
+    def load(self) -> Load:
+        """The load of this case (validated once, when the case was made)."""
+        return self.__dict__["_load"]
+
+    def problem(self) -> Problem:
+        """Assemble the bar, solve both eigenproblems and attach the load (the expensive step: call once)."""
+        return problem(self.bar(), self.load(), modes=self.modes)
+
+    def domain(self, prob: Problem) -> Domain:
+        """The search domain: ``T1``, ``T2`` if given, else the paper's ``(0, T0^alpha / 2]``."""
+        d = default_domain(prob)
+        return Domain(self.T1 or d.T1, self.T2 or d.T2)
+
+    def to_dict(self) -> dict:
+        d = asdict(self)
+        d["n"] = self.n_eff
+        d.pop("label")
+        return d

@@ -1,0 +1,189 @@
+"""Solve a case end to end and write its results (``plbar run``)."""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import time
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import CoarseGridWarning, InputError, OutputExistsError
+from ..paths import Paths, find_paths
+from ..util.check import MIN_BRANCH_POINTS, show
+from ..util.check import grid as check_grid
+from ..util.files import check_finite, write_csv, write_json
+from .case import Case
+
+__all__ = ["Result", "solve", "write_results", "read_paths", "check_output", "PATHS_COLUMNS", "CSV_HEADER",
+           "CSV_FORMATS"]
+
+#: the columns of ``paths.csv`` (name, printf format): the one definition, for writers and readers
+PATHS_COLUMNS = (("branch", "%d"), ("T1", "%.17g"), ("T2", "%.17g"), ("phi", "%.17g"), ("T", "%.17g"),
+                 ("dPL", "%.17g"), ("xi", "%.17g"), ("grazing", "%d"), ("stable", "%d"),
+                 ("max_abs_multiplier", "%.17g"))
+CSV_HEADER = [c for c, _ in PATHS_COLUMNS]
+CSV_FORMATS = [f for _, f in PATHS_COLUMNS]
+
+
+@dataclass(frozen=True)
+class Result:
+    """A solved case: the paths and the solver time (s)."""
+
+    case: Case
+    paths: Paths
+    solver_time: float
+
+    @property
+    def branches(self):
+        return self.paths.branches
+
+    def summary(self) -> dict:
+        """The content of ``summary.json``."""
+        s = self.paths.prob.system
+        T0I, T0II = s.T0
+        br = []
+        for b in self.branches:
+            br.append({
+                "branch": b.id, "points": len(b),
+                "T_range": [float(b.T.min()), float(b.T.max())],
+                "T1_range": [float(b.T1.min()), float(b.T1.max())],
+                "T2_range": [float(b.T2.min()), float(b.T2.max())],
+                "xi_range": [float(b.xi.min()), float(b.xi.max())],
+                "dPL_range": [float(b.dPL.min()), float(b.dPL.max())],
+                "grazing_points": int(b.grazing.sum()),
+                "resonant_points": int((~b.damping.closed_form).sum()),
+                "stable_points": int(b.stable.sum()),
+                "ends": list(b.ends),
+                "events": list(b.events),
+            })
+        stats = {k: (round(v, 6) if isinstance(v, float) else v) for k, v in self.paths.stats.items()}
+        return {
+            "case": self.case.to_dict(),
+            "bar": self.paths.prob.bar.describe() if self.paths.prob.bar else "",
+            "load": self.paths.prob.load.describe() if self.paths.prob.load else "",
+            "dofs": int(s.n),
+            "T0_I": float(T0I), "T0_II": float(T0II),
+            "domain": {"T1": list(self.paths.domain.T1), "T2": list(self.paths.domain.T2)},
+            "n_branches": len(self.branches),
+            "n_points": int(sum(len(b) for b in self.branches)),
+            "branches": br,
+            "scan": stats,
+            "run_time": round(self.solver_time, 6),
+        }
+
+
+def solve(case: Case | None = None, progress: bool = False) -> Result:
+    """Solve ``case`` (default: the paper's chain N = 5, unit force on DOF 1).
+
+    Warns (:class:`plbar.errors.CoarseGridWarning`) when the scan grid has
+    fewer than 20 points along an axis, or a branch has fewer than 3 points.
+    """
+    if case is None:
+        case = Case()
+    if not isinstance(case, Case):
+        raise InputError(f"case = {show(case)} is not a plbar.Case ({type(case).__name__}); "
+                         "build one with plbar.Case(...) or read a file with plbar.casefile.load_case")
+    check_grid(case.grid, stacklevel=3)
+    t0 = time.perf_counter()
+    prob = case.problem()
+    paths = find_paths(prob, case.domain(prob), case.grid, method=case.method, progress=progress)
+    short = [b.id for b in paths.branches if len(b) < MIN_BRANCH_POINTS]
+    if short:
+        ids = ", ".join(str(i) for i in short[:8]) + (f" and {len(short) - 8} more" if len(short) > 8 else "")
+        warnings.warn(f"{len(short)} branch(es) ({ids}) have fewer than {MIN_BRANCH_POINTS} points on grid = "
+                      f"{case.grid}; refine the grid (or narrow T1/T2) to resolve them", CoarseGridWarning,
+                      stacklevel=2)
+    return Result(case, paths, time.perf_counter() - t0)
+
+
+def _rows(res: Result):
+    cols = {k: [] for k in CSV_HEADER}
+    for b in res.branches:
+        cols["branch"].append(np.full(len(b), b.id))
+        cols["T1"].append(b.T1)
+        cols["T2"].append(b.T2)
+        cols["phi"].append(np.mod(b.phi, 2 * np.pi))
+        cols["T"].append(b.T)
+        cols["dPL"].append(b.dPL)
+        cols["xi"].append(b.xi)
+        cols["grazing"].append(b.grazing.astype(int))
+        cols["stable"].append(b.stable.astype(int))
+        cols["max_abs_multiplier"].append(b.max_abs_multiplier)
+    return [np.concatenate(cols[k]) if cols[k] else np.zeros(0) for k in CSV_HEADER]
+
+
+def read_paths(path) -> dict[str, np.ndarray]:
+    """The columns of a ``paths.csv`` by name (see :data:`PATHS_COLUMNS`)."""
+    path = Path(path)
+    with open(path) as fh:
+        header = fh.readline().strip().split(",")
+    missing = [c for c in CSV_HEADER if c not in header]
+    if missing:
+        raise InputError(f"{str(path)!r} is not a plbar paths.csv (no column {missing[0]!r})")
+    rows = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2).reshape(-1, len(header))
+    return {c: rows[:, k] for k, c in enumerate(header)}
+
+
+def check_output(case: Case, out, overwrite: bool = False) -> None:
+    """Raise unless results of ``case`` may be written into ``out`` (see :func:`write_results`).
+
+    Cheap: call it before a long solve so that a bad ``--out`` fails at once.
+    """
+    out = Path(out)
+    for p in (out, *out.parents):
+        if p.exists():
+            if not p.is_dir():
+                raise InputError(f"output folder {str(out)!r} cannot be used: {str(p)!r} is a file; "
+                                 "choose another --out")
+            break
+    old = out / "summary.json"
+    if old.is_dir():
+        raise InputError(f"output folder {str(out)!r} holds a folder named summary.json; choose another --out")
+    if old.exists() and not overwrite:
+        try:
+            prev = json.loads(old.read_text())
+            prev = prev.get("case") if isinstance(prev, dict) else None
+        except (OSError, ValueError):
+            prev = None
+        if prev is None:
+            raise OutputExistsError(f"output folder {str(out)!r} holds a summary.json that is not a plbar "
+                                    "summary; choose another --out or pass --overwrite")
+        if prev != json.loads(json.dumps(case.to_dict(), default=str)):
+            raise OutputExistsError(f"output folder {str(out)!r} holds results of another case; "
+                                    "choose another --out or pass --overwrite")
+
+
+def write_results(res: Result, out, overwrite: bool = False) -> dict[str, Path]:
+    """Write ``paths.csv`` and ``summary.json`` into ``out`` (atomically).
+
+    Rerunning the same case into ``out`` replaces its results.  An existing
+    ``summary.json`` of a *different* case (or one that is not a plbar
+    summary) is kept and an :class:`OutputExistsError` raised unless
+    ``overwrite``.  Both tables are checked before either is written: a nan or
+    inf raises :class:`plbar.errors.NonFiniteError` and writes nothing.  Each
+    file appears under its name only when complete; ``summary.json`` is
+    written last, so a run killed in between leaves a ``paths.csv`` without
+    a summary, which the next run of the same case replaces.
+    """
+    if not isinstance(res, Result):
+        raise InputError(f"res = {show(res)} is not a plbar.Result; get one from plbar.solve(case)")
+    out = Path(out)
+    check_output(res.case, out, overwrite)
+    rows = _rows(res)
+    summary = res.summary()
+    check_finite("paths.csv", dict(zip(CSV_HEADER, rows)))
+    check_finite("summary.json", summary)
+    for name in ("paths.csv", "summary.json"):           # temporaries of a killed run of this case
+        stem, suffix = name.split(".")
+        for tmp in out.glob(f".{stem}.*.part.{suffix}"):
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+    files = {
+        "paths": write_csv(out / "paths.csv", CSV_HEADER, rows, CSV_FORMATS, allow_nan=False),
+    }
+    files["summary"] = write_json(out / "summary.json", summary)
+    return files

@@ -1,0 +1,286 @@
+"""The simulator's segments: its own model data, closed-form modal flow, event search and switches.
+
+Written independently of :mod:`plbar.response` on purpose (see
+:mod:`plbar.check.simulate`); it imports :mod:`plbar.model` data only
+through ``prob.system`` and ``prob.q``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..errors import InputError
+
+__all__ = ["duhamel", "modal_flow", "OPEN", "IMPACT", "SAMPLES_PER_RAD"]
+
+OPEN = 1      #: event kind: the gap opens (state I -> II)
+IMPACT = 2    #: event kind: plastic impact (state II -> I)
+
+SAMPLES_PER_RAD = 2.5   #: event-search samples per radian of the fastest frequency (~16 per period)
+_WINDOW = 512           #: samples evaluated at once in the event search
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(24)
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# model
+# ---------------------------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class _Model:
+    """Everything the simulator needs, computed from ``prob.system`` and ``prob.q`` only."""
+
+    M: np.ndarray
+    K: np.ndarray
+    q: np.ndarray
+    w: tuple            # (w1, w2): modal frequencies of state I and II
+    V: tuple            # (V1, V2): modes (x = V eta)
+    B: tuple            # (V1^T M_rr, V2^T M): physical -> modal (eta = B x)
+    f: tuple            # (f1, f2): modal load amplitudes
+    rho_eta: np.ndarray  # R = rho_eta . eta^I + r_q cos(W t - phi)
+    r_q: float
+    G: np.ndarray       # M_rr^{-1} M_r:, the impact velocity map v_r^+ = G v^-
+    Minv: np.ndarray
+    Mrr_inv: np.ndarray
+
+    @property
+    def n(self) -> int:
+        return self.q.size
+
+
+def _model(prob) -> _Model:
+    s = prob.system
+    M = np.asarray(s.M, float)
+    K = np.asarray(s.K, float)
+    q = np.asarray(prob.q, float)
+    n = M.shape[0]
+    if q.shape != (n,) or not np.all(np.isfinite(q)):
+        raise InputError(f"load vector prob.q must be finite and of length {n}, got shape {q.shape}")
+    Mrr = M[:-1, :-1]
+    Mrr_inv = np.linalg.inv(Mrr)
+    V1, V2 = np.asarray(s.V1, float), np.asarray(s.V2, float)
+    w1, w2 = np.asarray(s.w1, float), np.asarray(s.w2, float)
+    B1, B2 = V1.T @ Mrr, V2.T @ M
+    # reaction with x_c = 0 and the state I acceleration a_r = M_rr^{-1} (q_r cos - K_rr x_r)
+    H = M[-1, :-1] @ Mrr_inv
+    rho = K[-1, :-1] - H @ K[:-1, :-1]
+    r_q = float(H @ q[:-1] - q[-1])
+    return _Model(M, K, q, (w1, w2), (V1, V2), (B1, B2), (V1.T @ q[:-1], V2.T @ q), rho @ V1, r_q,
+                  Mrr_inv @ M[:-1, :], np.linalg.inv(M), Mrr_inv)
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# closed-form modal flow
+# ---------------------------------------------------------------------------------------------------------------
+
+def duhamel(w, W, tau):
+    """Responses from rest of ``eta'' + w^2 eta = cos(W u)`` and ``= sin(W u)``, and their rates.
+
+    ``C = (cos W tau - cos w tau) / (w^2 - W^2)`` and
+    ``S = (w sin W tau - W sin w tau) / (w (w^2 - W^2))`` are written with
+    ``sigma = (w + W) tau / 2`` and ``s = tau sinc((w - W) tau / 2)`` as
+
+    ``C  = sin(sigma) s / (w + W)``,
+    ``C' = (W cos(sigma) s + sin(w tau)) / (w + W)``,
+    ``S  = (sin(W tau) - W cos(sigma) s) / (w (w + W))``,  ``S' = W C``,
+
+    which never divide by ``w - W`` (exact at resonance, where
+    ``C -> tau sin(w tau) / (2 w)``, FORMULATION §2).  Valid for negative
+    ``tau`` too.
+
+    Parameters
+    ----------
+    w, W : array_like
+        Natural and forcing circular frequencies, > 0.
+    tau : array_like
+        Time since the segment start.
+
+    Returns
+    -------
+    C, Cp, S, Sp : ndarray
+    """
+    sig = 0.5 * (w + W) * tau
+    s = tau * np.sinc(0.5 * (w - W) * tau / np.pi)
+    cs = np.cos(sig)
+    C = np.sin(sig) * s / (w + W)
+    Cp = (W * cs * s + np.sin(w * tau)) / (w + W)
+    S = (np.sin(W * tau) - W * cs * s) / (w * (w + W))
+    return C, Cp, S, W * C
+
+
+def modal_flow(w, f, W, theta, tau, eta, v):
+    """Exact modal state at ``tau`` after a segment start with ``eta, v``.
+
+    Each mode obeys ``eta'' + w^2 eta = f cos(W u + theta)`` (Eq. (1) in
+    modal form, ``theta = W t_s - phi``): free vibration from ``eta, v``
+    plus the Duhamel response from rest (:func:`duhamel`).
+
+    Parameters
+    ----------
+    w, f : ndarray, shape (m,)
+    W, theta : float
+    tau : float or ndarray, shape (K,)
+    eta, v : ndarray, shape (m,)
+
+    Returns
+    -------
+    eta, v : ndarray, shape (m,) or (K, m)
+    """
+    tau = np.asarray(tau, float)
+    t = tau[..., None] if tau.ndim else tau
+    co, si = np.cos(w * t), np.sin(w * t)
+    C, Cp, S, Sp = duhamel(w, W, t)
+    ct, st = np.cos(theta), np.sin(theta)
+    e = co * eta + si / w * v + f * (ct * C - st * S)
+    u = -w * si * eta + co * v + f * (ct * Cp - st * Sp)
+    return e, u
+
+
+def _modal_displacement(w, f, W, theta, tau, eta, v):
+    """The displacement part of :func:`modal_flow` alone (cheaper, for the event search)."""
+    tau = np.asarray(tau, float)
+    t = tau[..., None] if tau.ndim else tau
+    sig = 0.5 * (w + W) * t
+    s = t * np.sinc(0.5 * (w - W) * t / np.pi)
+    C = np.sin(sig) * s / (w + W)
+    S = (np.sin(W * t) - W * np.cos(sig) * s) / (w * (w + W))
+    return np.cos(w * t) * eta + np.sin(w * t) / w * v + f * (np.cos(theta) * C - np.sin(theta) * S)
+
+
+@dataclass(frozen=True)
+class _Seg:
+    """A segment: state (1 or 2), start time and modal state at the start."""
+
+    state: int
+    ts: float
+    eta: np.ndarray
+    v: np.ndarray
+
+
+def _at(mod: _Model, W, phi, seg: _Seg, tau):
+    i = seg.state - 1
+    return modal_flow(mod.w[i], mod.f[i], W, W * seg.ts - phi, tau, seg.eta, seg.v)
+
+
+def _margin(mod: _Model, W, phi, seg: _Seg, tau):
+    """Admissibility margin of the segment's state (``>= 0`` while it holds): ``-R`` or ``-x_c``."""
+    i = seg.state - 1
+    e = _modal_displacement(mod.w[i], mod.f[i], W, W * seg.ts - phi, tau, seg.eta, seg.v)
+    if seg.state == 1:
+        return -(e @ mod.rho_eta + mod.r_q * np.cos(W * (seg.ts + np.asarray(tau, float)) - phi))
+    return -(e @ mod.V[1][-1])
+
+
+def _physical(mod: _Model, state: int, eta, v):
+    """Full physical ``x, v`` (contact DOF last, zero in state I)."""
+    V = mod.V[state - 1]
+    x, u = eta @ V.T, v @ V.T
+    if state == 1:
+        x = np.concatenate([x, np.zeros(x.shape[:-1] + (1,))], axis=-1)
+        u = np.concatenate([u, np.zeros(u.shape[:-1] + (1,))], axis=-1)
+    return x, u
+
+
+def _energy(mod: _Model, state: int, eta, v):
+    """Kinetic and potential energy (Eqs. (12)-(13))."""
+    w = mod.w[state - 1]
+    return 0.5 * np.sum(v * v, axis=-1), 0.5 * np.sum((w * eta) ** 2, axis=-1)
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# events
+# ---------------------------------------------------------------------------------------------------------------
+
+def _step(mod: _Model, W, state) -> float:
+    return 1.0 / (SAMPLES_PER_RAD * max(float(mod.w[state - 1].max()), W))
+
+
+def _refine(g, a, b):
+    """Root of ``g`` on ``[a, b]`` with ``g(a) >= 0 > g(b)``, to round-off."""
+    ga = g(a)
+    if ga <= 0.0:
+        return a
+    return brentq(g, a, b, xtol=1e-15 * max(abs(b), 1e-300), rtol=4 * np.finfo(float).eps, maxiter=200)
+
+
+def _next_event(mod: _Model, W, phi, seg: _Seg, tau_max: float):
+    """Local time of the first event of ``seg`` in ``[0, tau_max]``, or None.
+
+    The margin is sampled on a grid of step :func:`_step`; the first sample
+    below zero brackets the root with its predecessor.  Right at the segment
+    start the margin is zero up to round-off (both switches start on the
+    constraint), so the first interval is resolved on a geometric grid and
+    a margin below ``-1e-12`` of its scale there is an immediate event.
+    """
+    g = lambda t: float(_margin(mod, W, phi, seg, t))  # noqa: E731
+    h = _step(mod, W, seg.state)
+    m0 = g(0.0)
+    a = 0.0
+    first = True
+    size = 32
+    while a < tau_max:
+        taus = a + h * np.arange(1, size + 1)
+        taus = taus[taus < tau_max]
+        taus = np.append(taus, tau_max) if taus.size < size else taus
+        size = min(2 * size, _WINDOW)
+        m = _margin(mod, W, phi, seg, taus)
+        if first:
+            tol = 1e-12 * max(np.abs(m).max(), abs(m0), 1e-300)
+            if m0 < -tol:
+                return 0.0
+            if m[0] < 0 and m0 <= tol:
+                # resolve the start: geometric samples towards tau = 0
+                geo = taus[0] * np.logspace(-12, 0, 49)
+                mg = _margin(mod, W, phi, seg, geo)
+                neg = np.flatnonzero(mg < -tol)
+                k = int(neg[0]) if neg.size else int(np.flatnonzero(mg < 0)[0])
+                if k == 0:
+                    return 0.0
+                return _refine(g, geo[k - 1], geo[k])
+            first = False
+        neg = np.flatnonzero(m < 0)
+        if neg.size:
+            k = int(neg[0])
+            lo = taus[k - 1] if k > 0 else a
+            return _refine(g, lo, taus[k])
+        a = float(taus[-1])
+    return None
+
+
+def _switch(mod: _Model, W, phi, seg: _Seg, tau: float):
+    """Apply the event at ``seg.ts + tau``: the new segment and the energy lost."""
+    eta, v = _at(mod, W, phi, seg, tau)
+    E0 = sum(_energy(mod, seg.state, eta, v))
+    t = seg.ts + tau
+    if seg.state == 1:  # gap opens: x^II = E x^I, v^II = E v^I (FORMULATION §3)
+        x, u = _physical(mod, 1, eta, v)
+        new = _Seg(2, t, mod.B[1] @ x, mod.B[1] @ u)
+    else:               # plastic impact: x_r kept, M_rr v_r^+ = (M v^-)_r
+        x, u = _physical(mod, 2, eta, v)
+        new = _Seg(1, t, mod.B[0] @ x[:-1], mod.B[0] @ (mod.G @ u))
+    E1 = sum(_energy(mod, new.state, new.eta, new.v))
+    return new, float(E0 - E1)
+
+
+def _work(mod: _Model, W, phi, seg: _Seg, tau: float) -> float:
+    """Work of the load over ``[ts, ts + tau]``: ``int q cos(W t - phi) . v dt``, Gauss-Legendre.
+
+    The segment is split into pieces of at most two periods of the fastest
+    frequency in the integrand, each integrated with 24 Gauss points (exact
+    to round-off for this trigonometric polynomial).  ``tau`` may be negative.
+    """
+    if tau == 0.0:
+        return 0.0
+    i = seg.state - 1
+    Om = float(mod.w[i].max()) + W
+    npc = max(1, int(np.ceil(abs(tau) * Om / (4 * np.pi))))
+    edges = np.linspace(0.0, tau, npc + 1)
+    half = 0.5 * np.diff(edges)
+    nodes = (edges[:-1, None] + half[:, None] * (_GL_X + 1)).ravel()
+    _, v = _at(mod, W, phi, seg, nodes)
+    integrand = np.cos(W * (seg.ts + nodes) - phi) * (v @ mod.f[i])
+    return float(np.sum((half[:, None] * _GL_W).ravel() * integrand))
+
+

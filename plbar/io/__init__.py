@@ -1,0 +1,12 @@
+"""File formats: mesh files (meshio), one response on the mesh, ParaView output (VTU/PVD, XDMF/HDF5).
+
+No solving here.  meshio and pyvista are imported inside the functions that
+need them, so ``import plbar`` does not load them.
+"""
+
+from .meshfile import SHIPPED, read_nodes, write_nodes, write_shipped
+from .sampling import FIELD_KEYS, ResponseData, response_data
+from .vtk import FORMATS, ResponseFiles, load_pvd, write_data, write_xi_along_mesh
+
+__all__ = ["SHIPPED", "read_nodes", "write_nodes", "write_shipped", "FIELD_KEYS", "ResponseData", "response_data",
+           "FORMATS", "ResponseFiles", "load_pvd", "write_data", "write_xi_along_mesh"]

@@ -1,0 +1,175 @@
+"""One periodic response sampled on its bar mesh: displacements, velocities, strains, energies (no files).
+
+The bar is sampled at its mesh nodes (quadratic ``line3`` cells with their
+midside nodes for P2), the clamped node ``x = 0`` included with zero
+displacement; see :mod:`plbar.io.vtk` for the fields and their definitions.
+The displacements and velocities are those of :meth:`Orbits.response`, so
+the files hold exactly the solver's response.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError, PlbarError
+
+__all__ = ["ResponseData", "response_data", "FIELD_KEYS"]
+
+FIELD_KEYS = ("time", "phase_time", "state", "contact_reaction", "gap", "kinetic_energy", "potential_energy")
+
+
+@dataclass(frozen=True)
+class ResponseData:
+    """One periodic response sampled on the bar mesh.
+
+    Attributes
+    ----------
+    points : ndarray, shape (n_points,)
+        Node coordinates sorted along ``x`` (clamp first).
+    cells : ndarray of int, shape (n_cells, 2) or (n_cells, 3)
+        ``line`` cells, or ``line3`` cells ``(end, end, midside)``.
+    cell_type : {"line", "line3"}
+    times : ndarray, shape (K,)
+        Absolute times ``k T / steps``.
+    point_data : dict of name -> ndarray (K, n_points)
+    cell_data : dict of name -> ndarray (K, n_cells)
+    field_data : dict of name -> ndarray (K,)
+    info : dict
+        The orbit: ``T1, T2, phi, T`` and, where known, ``branch, index, xi, dPL``.
+    """
+
+    points: np.ndarray
+    cells: np.ndarray
+    cell_type: str
+    times: np.ndarray
+    point_data: dict
+    cell_data: dict
+    field_data: dict
+    info: dict
+
+    @property
+    def n_steps(self) -> int:
+        return self.times.size
+
+    def points3(self) -> np.ndarray:
+        """Points as ``(n_points, 3)`` with ``y = z = 0``."""
+        return np.c_[self.points, np.zeros((self.points.size, 2))]
+
+
+def _mesh(prob):
+    """Sorted points, cells, cell type and per-cell EA, rhoA of ``prob``'s bar."""
+    bar, asm = prob.bar, prob.asm
+    if bar is None or asm is None:
+        raise InputError("export needs a Problem built from a Bar (plbar.problem or Case.problem)")
+    xd = np.asarray(asm.basis.doflocs[0], float)
+    pts = np.sort(xd)
+    if pts[0] != 0.0 or pts.size != asm.n + 1 or not np.array_equal(pts[1:], asm.x):
+        raise PlbarError("the bar's DOF positions do not match its free DOFs; cannot map the response")
+    ne = bar.n_elements
+    if bar.element == "P1":
+        cells, ctype = np.c_[np.arange(ne), np.arange(1, ne + 1)], "line"
+    else:
+        i = np.arange(ne)
+        cells, ctype = np.c_[2 * i, 2 * i + 2, 2 * i + 1], "line3"
+    EA = np.broadcast_to(np.asarray(bar.EA, float), (ne,))
+    rA = np.broadcast_to(np.asarray(bar.rhoA, float), (ne,))
+    return pts, cells, ctype, EA, rA
+
+
+def _strains(u, pts, cells, ctype):
+    """Strains at each element's start, middle and end: each (K, n_cells)."""
+    a, b = cells[:, 0], cells[:, 1]
+    h = pts[b] - pts[a]
+    if ctype == "line":
+        e = (u[:, b] - u[:, a]) / h
+        return e, e, e
+    m = cells[:, 2]
+    u0, u1, um = u[:, a], u[:, b], u[:, m]
+    return (-3 * u0 - u1 + 4 * um) / h, (u1 - u0) / h, (u0 + 3 * u1 - 4 * um) / h
+
+
+def _node_average(values_at, cells, n_points, K):
+    """Average per-element values given at element nodes onto the points."""
+    acc = np.zeros((K, n_points))
+    cnt = np.zeros(n_points)
+    for col, val in values_at:
+        np.add.at(acc.T, cells[:, col], val.T)
+        np.add.at(cnt, cells[:, col], 1.0)
+    return acc / cnt
+
+
+def _densities(u, vel, pts, cells, ctype, EA, rA):
+    """Mid-element strain, element strain energy, nodal potential and kinetic energy densities per step."""
+    K = u.shape[0]
+    e0, em, e1 = _strains(u, pts, cells, ctype)
+    h = pts[cells[:, 1]] - pts[cells[:, 0]]
+    if ctype == "line":
+        sen = 0.5 * EA * h * em ** 2
+    else:
+        sen = EA * h * (e0 ** 2 + e0 * e1 + e1 ** 2) / 6.0
+    pe_at = [(0, 0.5 * EA * e0 ** 2), (1, 0.5 * EA * e1 ** 2)]
+    rho_at = [(0, rA[None, :]), (1, rA[None, :])]
+    if ctype == "line3":
+        pe_at.append((2, 0.5 * EA * em ** 2))
+        rho_at.append((2, rA[None, :]))
+    ped = _node_average(pe_at, cells, pts.size, K)
+    rho_pt = _node_average(rho_at, cells, pts.size, 1)[0]
+    return em, sen, ped, 0.5 * rho_pt * vel ** 2
+
+
+def response_data(orbit, info: dict | None = None, periods: int = 1, steps: int = 40) -> ResponseData:
+    """Sample a single periodic response on its bar mesh (no files).
+
+    Parameters
+    ----------
+    orbit : Orbits
+        One orbit (its first is used); ``orbit.prob`` must come from a Bar.
+    info : dict, optional
+        Extra orbit information kept in :attr:`ResponseData.info`.
+    periods : {1, 2}
+        Periods to sample.
+    steps : int
+        Steps per period (>= 4); times ``k T / steps``, ``k = 0 .. periods*steps - 1``.
+    """
+    if periods not in (1, 2) or isinstance(periods, bool):
+        raise InputError(f"periods = {periods!r} is not allowed; choose 1 or 2")
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 4:
+        raise InputError(f"steps = {steps!r} must be an integer >= 4 (steps per period)")
+    orb = orbit.take([0])
+    prob = orb.prob
+    pts, cells, ctype, EA, rA = _mesh(prob)
+    T = float(orb.T[0])
+    k = np.arange(periods * steps)
+    t_abs = k * T / steps
+    t_loc = (k % steps) * T / steps
+    x, v, state = orb.response(t_loc[None, :])
+    x, v, state = x[0], v[0], state[0]
+    K = t_loc.size
+    u = np.concatenate([np.zeros((K, 1)), x], axis=1)
+    vel = np.concatenate([np.zeros((K, 1)), v], axis=1)
+    em, sen, ped, ked = _densities(u, vel, pts, cells, ctype, EA, rA)
+    tau1 = np.minimum(t_loc, orb.T1[0])[None, :]
+    margin = orb.reaction_margin(tau1)[0]
+    inI = state == 1
+    zero = np.zeros(K)
+    ek, ep = orb.energies(t_loc[None, :])
+    field = {
+        "time": t_abs, "phase_time": t_loc, "state": state.astype(np.int32),
+        "contact_reaction": np.where(inI, margin, zero), "gap": np.where(inI, zero, -u[:, -1]),
+        "kinetic_energy": ek[0], "potential_energy": ep[0],
+    }
+    zeros2 = np.zeros_like(u)
+    point = {
+        "displacement": u, "displacement_vec": np.stack([u, zeros2, zeros2], axis=-1),
+        "velocity": vel, "velocity_vec": np.stack([vel, zeros2, zeros2], axis=-1),
+        "kinetic_energy_density": ked, "potential_energy_density": ped,
+    }
+    cell = {"strain": em, "stress": EA * em, "strain_energy": sen}
+    full = {"T1": float(orb.T1[0]), "T2": float(orb.T2[0]), "phi": float(np.mod(orb.phi[0], 2 * np.pi)), "T": T}
+    full.update(info or {})
+    full.update({"periods": periods, "steps": steps, "cell_type": ctype})
+    return ResponseData(pts, cells, ctype, t_abs, point, cell, field, full)
+
+

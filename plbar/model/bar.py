@@ -1,0 +1,274 @@
+"""The elastic bar: geometry, section properties and finite-element assembly.
+
+A :class:`Bar` is clamped at ``x = 0``; its last node ``x = L`` is the contact
+node (FORMULATION §1).  :func:`assemble` builds the stiffness ``K`` and mass
+``M`` over the free DOFs with scikit-fem, ordered by position so that free DOF
+``k`` (1-based, as in the paper) is the ``k``-th DOF from the clamp and the
+contact DOF is the last one.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..util.check import choice, finite, integer, pairs, positive, show
+from ..errors import InputError
+
+__all__ = ["Bar", "Assembled", "assemble", "chain", "uniform_bar", "graded_nodes", "uniform_nodes"]
+
+ELEMENTS = ("P1", "P2")
+MASSES = ("lumped", "consistent")
+
+
+#: smallest allowed element length, relative to the bar length
+MIN_ELEMENT = 1e-5
+#: largest allowed grading ratio (last / first element length) of :func:`graded_nodes`, and smallest 1 / it
+MAX_GRADING = 1e3
+#: largest allowed ratio of the largest to the smallest EA (or rhoA) of the elements
+MAX_CONTRAST = 1e4
+
+
+def _nodes(nodes) -> np.ndarray:
+    """Vertex coordinates as a read-only float array, validated (FORMULATION §1)."""
+    if isinstance(nodes, (str, bytes, dict)) or nodes is None:
+        raise InputError(f"nodes = {show(nodes)} must be an array of vertex coordinates starting at 0")
+    try:
+        x = np.array(nodes)
+    except (TypeError, ValueError):
+        raise InputError(f"nodes = {show(nodes)} must be an array of vertex coordinates starting at 0") from None
+    if x.dtype.kind not in "iuf":
+        raise InputError(f"nodes = {show(nodes)} must be an array of numbers (got dtype {x.dtype})")
+    x = x.astype(float)
+    if x.ndim != 1 or x.size < 3:
+        raise InputError(f"a bar needs at least 2 elements (3 nodes), got nodes of shape {x.shape}")
+    if not np.all(np.isfinite(x)):
+        i = int(np.flatnonzero(~np.isfinite(x))[0])
+        raise InputError(f"node {i} at x = {show(x[i])} is not allowed; node coordinates must be finite")
+    if x[0] != 0.0:
+        raise InputError(f"the first node must be the clamp at x = 0, got x = {show(x[0])}")
+    d = np.diff(x)
+    if np.any(d <= 0):
+        i = int(np.flatnonzero(d <= 0)[0])
+        kind = "duplicate" if d[i] == 0 else "unsorted"
+        raise InputError(f"nodes must be strictly increasing; {kind} nodes at x = {show(x[i])}, "
+                         f"{show(x[i + 1])}")
+    if d.min() < MIN_ELEMENT * x[-1]:
+        i = int(np.argmin(d))
+        raise InputError(f"element {i + 1} from x = {show(x[i])} to {show(x[i + 1])} is too short; every element "
+                         f"must be at least {MIN_ELEMENT:g} L = {MIN_ELEMENT * x[-1]:g} long")
+    x.setflags(write=False)
+    return x
+
+
+def _contrast(name: str, v: np.ndarray) -> None:
+    if v.max() > MAX_CONTRAST * v.min():
+        raise InputError(f"{name} per element ranges from {show(v.min())} to {show(v.max())}; the ratio "
+                         f"{v.max() / v.min():.3g} must be at most {MAX_CONTRAST:g}")
+
+
+def uniform_nodes(n_elements: int, length: float = 1.0) -> np.ndarray:
+    """Vertex coordinates of a uniform mesh, shape ``(n_elements + 1,)``."""
+    n = _n_elements(n_elements)
+    return np.linspace(0.0, positive("length", length), n + 1)
+
+
+def graded_nodes(n_elements: int, length: float = 1.0, ratio: float = 1.0) -> np.ndarray:
+    """Vertex coordinates graded geometrically.
+
+    Parameters
+    ----------
+    n_elements : int
+        Number of elements (>= 2).
+    length : float
+        Bar length ``L``.
+    ratio : float
+        Ratio of the last element's length to the first's (``1`` is uniform,
+        ``> 1`` refines towards the clamp, ``< 1`` towards the contact).
+    """
+    n = _n_elements(n_elements)
+    length = positive("length", length)
+    ratio = positive("ratio", ratio)
+    if not 1.0 / MAX_GRADING <= ratio <= MAX_GRADING:
+        raise InputError(f"grading ratio = {show(ratio)} is not allowed; it must lie in "
+                         f"[{1 / MAX_GRADING:g}, {MAX_GRADING:g}]")
+    if n == 1 or ratio == 1.0:
+        return np.linspace(0.0, length, n + 1)
+    q = ratio ** (1.0 / (n - 1))
+    h = q ** np.arange(n)
+    x = np.concatenate([[0.0], np.cumsum(h)])
+    return x * (length / x[-1])
+
+
+def _n_elements(n) -> int:
+    return integer("number of elements", n, 2)
+
+
+@dataclass(frozen=True)
+class Bar:
+    """A 1D bar clamped at ``x = 0`` with a unilateral contact at ``x = L``.
+
+    Parameters
+    ----------
+    nodes : ndarray, shape (n_vertices,)
+        Strictly increasing vertex coordinates starting at 0.
+    element : {"P1", "P2"}
+        Lagrange element order.
+    mass : {"lumped", "consistent"}
+        Mass matrix type (lumped = row sum, equal to nodal quadrature).
+    EA, rhoA : float or ndarray, shape (n_elements,)
+        Axial stiffness and mass per length, constant or per element.
+    point_masses : tuple of (x, m)
+        Concentrated masses at vertices.
+    name : str
+        A label for reports.
+    """
+
+    nodes: np.ndarray
+    element: str = "P1"
+    mass: str = "lumped"
+    EA: float | np.ndarray = 1.0
+    rhoA: float | np.ndarray = 1.0
+    point_masses: tuple[tuple[float, float], ...] = ()
+    name: str = "bar"
+    paper_chain: bool = field(default=False, compare=False)
+
+    def __post_init__(self):
+        x = _nodes(self.nodes)
+        choice("element", self.element, ELEMENTS)
+        choice("mass", self.mass, MASSES)
+        ne = x.size - 1
+        for nm in ("EA", "rhoA"):
+            v = positive(nm, getattr(self, nm), allow_array=True)
+            if isinstance(v, np.ndarray):
+                if v.shape != (ne,):
+                    raise InputError(f"{nm} per element must have {ne} values (one per element), got shape {v.shape}")
+                _contrast(nm, v)
+            object.__setattr__(self, nm, v)
+        pm = []
+        for item in pairs("point_masses", self.point_masses, "(x, m)"):
+            xp, mp = item
+            xp = finite("point mass position x", xp, f"a free vertex of the mesh in (0, {x[-1]:g}]")
+            mp = positive("point mass", mp)
+            j = np.flatnonzero(np.isclose(x, xp, rtol=0, atol=1e-12 * x[-1]))
+            if j.size != 1 or j[0] == 0:
+                raise InputError(f"point mass position x = {show(xp)} is not allowed; it must be a free vertex "
+                                 f"of the mesh in (0, {x[-1]:g}]")
+            pm.append((float(x[j[0]]), mp))
+        object.__setattr__(self, "point_masses", tuple(pm))
+        x.setflags(write=False)
+        object.__setattr__(self, "nodes", x)
+
+    @property
+    def length(self) -> float:
+        """Bar length ``L``."""
+        return float(self.nodes[-1])
+
+    @property
+    def n_elements(self) -> int:
+        return self.nodes.size - 1
+
+    @property
+    def n_dofs(self) -> int:
+        """Free DOFs (every node but the clamp; P2 adds a midside node per element)."""
+        return self.n_elements * (1 if self.element == "P1" else 2)
+
+    def describe(self) -> str:
+        return (f"{self.name}: {self.n_elements} {self.element} elements, {self.mass} mass, L = {self.length:g}"
+                + (f", point masses {list(self.point_masses)}" if self.point_masses else ""))
+
+
+def uniform_bar(n_elements: int, *, length: float = 1.0, element: str = "P1", mass: str = "lumped",
+                EA: float = 1.0, rhoA: float = 1.0, point_masses=(), name: str | None = None) -> Bar:
+    """A bar on a uniform mesh (default: unit length, unit EA and rhoA)."""
+    return Bar(uniform_nodes(n_elements, length), element, mass, EA, rhoA, tuple(point_masses),
+               name or f"fe-{element}-{mass}-{n_elements}")
+
+
+def chain(n: int, m: float = 1.0, k: float = 1.0) -> Bar:
+    """The paper's chain of ``n`` equal masses ``m`` and ``n`` springs ``k``.
+
+    Built through the FE path (FORMULATION §1): a P1 bar of ``n`` elements of
+    unit length with ``EA = k``, ``rhoA = m`` and lumped mass, plus a point
+    mass ``m/2`` on the contact node.  Its matrices are Eqs. (23)-(24).
+    """
+    n = integer("chain size N", n, 2)
+    m = positive("m", m)
+    k = positive("k", k)
+    x = np.arange(n + 1, dtype=float)
+    return Bar(x, "P1", "lumped", k, m, ((float(n), m / 2.0),), f"chain-{n}", paper_chain=True)
+
+
+@dataclass(frozen=True)
+class Assembled:
+    """Matrices over the free DOFs, sorted by position.
+
+    Attributes
+    ----------
+    K, M : ndarray, shape (n, n)
+        Stiffness and mass; the last DOF is the contact node.
+    x : ndarray, shape (n,)
+        Position of each free DOF.
+    basis : skfem.Basis
+        The scikit-fem basis (all DOFs, including the clamped one).
+    free : ndarray, shape (n,)
+        Basis DOF index of each sorted free DOF.
+    """
+
+    K: np.ndarray
+    M: np.ndarray
+    x: np.ndarray
+    basis: object
+    free: np.ndarray
+
+    @property
+    def n(self) -> int:
+        return self.x.size
+
+    def load_vector(self, s: float) -> np.ndarray:
+        """Consistent load vector of a unit point force at ``s`` (shape functions)."""
+        full = np.asarray(self.basis.point_source(np.array([s])), dtype=float).ravel()
+        return full[self.free]
+
+
+def assemble(bar: Bar) -> Assembled:
+    """Assemble ``K`` and ``M`` of ``bar`` with scikit-fem (dense, free DOFs).
+
+    Returns
+    -------
+    Assembled
+        Sorted free-DOF matrices; for the chain they are Eqs. (23)-(24).
+    """
+    import skfem
+    from skfem import BilinearForm, asm
+
+    mesh = skfem.MeshLine(np.asarray(bar.nodes))
+    elem = skfem.ElementLineP1() if bar.element == "P1" else skfem.ElementLineP2()
+    basis = skfem.Basis(mesh, elem)
+    nq = basis.X.shape[-1]
+
+    def per_elem(v):
+        v = np.asarray(v, dtype=float)
+        return np.broadcast_to(v[:, None] if v.ndim else v, (mesh.t.shape[1], nq))
+
+    @BilinearForm
+    def stiffness(u, v, w):
+        return w["ea"] * u.grad[0] * v.grad[0]
+
+    @BilinearForm
+    def mass(u, v, w):
+        return w["ra"] * u * v
+
+    K = asm(stiffness, basis, ea=per_elem(bar.EA)).toarray()
+    M = asm(mass, basis, ra=per_elem(bar.rhoA)).toarray()
+    if bar.mass == "lumped":
+        M = np.diag(M.sum(axis=1))
+    xd = basis.doflocs[0]
+    for xp, mp in bar.point_masses:
+        j = int(np.argmin(np.abs(xd - xp)))
+        M[j, j] += mp
+    free = np.flatnonzero(xd > 0.0)
+    free = free[np.argsort(xd[free], kind="stable")]
+    xf = xd[free]
+    return Assembled(K[np.ix_(free, free)], M[np.ix_(free, free)], xf, basis, free)

@@ -1,0 +1,123 @@
+"""Harmonic loads: point forces anywhere on the bar, nodal forces, and sums.
+
+The load amplitude vector ``q0`` enters Eq. (1) as ``q0 cos(w t - phi)``.  A
+point force at ``s`` is distributed through the element shape functions
+(``Basis.point_source``); for P1 this is the paper's linear split between the
+two neighbouring DOFs (Sec. 4.2).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..util.check import finite, integer, pairs, show
+from .bar import Assembled, Bar
+from ..errors import InputError
+
+__all__ = ["Load", "point", "node"]
+
+#: smallest allowed load position, relative to the bar length (closer is "at the clamp")
+MIN_POSITION = 1e-9
+#: allowed range of non-zero load amplitudes (the response is linear in the amplitude;
+#: outside this range its squares under- or overflow)
+MIN_AMPLITUDE, MAX_AMPLITUDE = 1e-24, 1e24
+
+
+def _amplitude(a) -> float:
+    must = f"0 or a finite number of magnitude in [{MIN_AMPLITUDE:g}, {MAX_AMPLITUDE:g}]"
+    a = finite("load amplitude", a, must)
+    if a != 0.0 and not MIN_AMPLITUDE <= abs(a) <= MAX_AMPLITUDE:
+        raise InputError(f"load amplitude = {show(a)} is not allowed; it must be {must}")
+    return a
+
+
+@dataclass(frozen=True)
+class Load:
+    """A sum of point forces and nodal forces.
+
+    Attributes
+    ----------
+    points : tuple of (s, amplitude)
+        Point forces at positions ``s`` in ``(0, L]``.
+    nodes : tuple of (k, amplitude)
+        Forces on free DOF ``k`` (1-based, sorted from the clamp, as in the
+        paper; the contact DOF is the last one).
+    """
+
+    points: tuple[tuple[float, float], ...] = ()
+    nodes: tuple[tuple[int, float], ...] = ()
+
+    def __post_init__(self):
+        pts = []
+        for s, a in pairs("load points", self.points, "(s, amplitude)"):
+            s = finite("load position s", s, "a position in (0, L]")
+            if s <= 0.0:
+                raise InputError(f"load position s = {show(s)} is outside the bar; it must lie in (0, L] "
+                                 "(x = 0 is the clamped end, where a force does no work)")
+            pts.append((s, _amplitude(a)))
+        nds = []
+        for k, a in pairs("load nodes", self.nodes, "(k, amplitude)"):
+            nds.append((integer("load node", k, 1), _amplitude(a)))
+        if not pts and not nds:
+            raise InputError("the load is empty; give at least one point force or nodal force")
+        if all(a == 0.0 for _, a in pts + nds):
+            raise InputError("every load amplitude is 0.0; give a non-zero amplitude")
+        object.__setattr__(self, "points", tuple(pts))
+        object.__setattr__(self, "nodes", tuple(nds))
+
+    def __add__(self, other: "Load") -> "Load":
+        if not isinstance(other, Load):
+            return NotImplemented
+        return Load(self.points + other.points, self.nodes + other.nodes)
+
+    def scaled(self, factor: float) -> "Load":
+        """The same load times ``factor``."""
+        factor = finite("load factor", factor)
+        return Load(tuple((s, a * factor) for s, a in self.points),
+                    tuple((k, a * factor) for k, a in self.nodes))
+
+    def check(self, bar: Bar) -> None:
+        """Raise unless every force acts on ``bar``: positions in ``(0, L]`` away from the clamp, DOFs in range."""
+        L = bar.length
+        for s, _ in self.points:
+            if not (0.0 < s <= L * (1 + 1e-14)):
+                raise InputError(f"load position s = {show(s)} is outside the bar; it must lie in (0, {L:g}]")
+            if s < MIN_POSITION * L:
+                raise InputError(f"load position s = {show(s)} is at the clamped end x = 0; it must lie in "
+                                 f"[{MIN_POSITION:g} L, L] = [{MIN_POSITION * L:g}, {L:g}]")
+        for k, _ in self.nodes:
+            if not 1 <= k <= bar.n_dofs:
+                raise InputError(f"load node = {k} is out of range; free DOFs are numbered 1..{bar.n_dofs}")
+
+    def vector(self, bar: Bar, asm: Assembled) -> np.ndarray:
+        """Load amplitude vector ``q0`` over the sorted free DOFs, shape ``(n,)`` (Eq. (1))."""
+        self.check(bar)
+        q = np.zeros(asm.n)
+        for s, a in self.points:
+            q += a * asm.load_vector(min(s, bar.length))
+        for k, a in self.nodes:
+            q[k - 1] += a
+        scale = sum(abs(a) for _, a in self.points + self.nodes)
+        if not np.all(np.isfinite(q)):
+            raise InputError(f"the load vector is not finite ({self.describe()}); amplitudes must be "
+                             f"at most {MAX_AMPLITUDE:g} in magnitude")
+        if not np.max(np.abs(q)) > 1e-12 * scale:
+            raise InputError(f"the load vector is zero: the forces {self.describe()} cancel; "
+                             "give a load with a non-zero resultant on the free DOFs")
+        return q
+
+    def describe(self) -> str:
+        parts = [f"{a:g} at s={s:g}" for s, a in self.points] + [f"{a:g} on DOF {k}" for k, a in self.nodes]
+        return " + ".join(parts)
+
+
+def point(s: float, amplitude: float = 1.0) -> Load:
+    """A point force of ``amplitude`` at position ``s``."""
+    return Load(points=((s, amplitude),))
+
+
+def node(k: int, amplitude: float = 1.0) -> Load:
+    """A force of ``amplitude`` on free DOF ``k`` (1-based from the clamp)."""
+    return Load(nodes=((k, amplitude),))

@@ -1,0 +1,20 @@
+"""Periodic paths: the scan of ``G`` over ``(T^I, T^II)``, continuation, branches.
+
+* :mod:`.scan` -- grid scan and refinement of sign changes (the one root finder of :mod:`plbar.util.roots`);
+* :mod:`.contour` -- marching-squares linking of the crossings;
+* :mod:`.continuation` -- pseudo-arclength walkers along the zero curves;
+* :mod:`.evaluate` -- true zeros, periodicity, admissible phase of candidate points;
+* :mod:`.branches` -- :class:`Branch`, :class:`Paths`, events;
+* :mod:`.find` -- :func:`find_paths` (orchestration).
+"""
+
+from .branches import (EVENT_KINDS, FOLD_MU, FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING, Branch, Domain,
+                       Paths, default_domain)
+from .continuation import Trace, trace, trace_many
+from .evaluate import periodicity_error
+from .find import METHODS, find_paths
+from .scan import Scan, scan, scan_field
+
+__all__ = ["EVENT_KINDS", "FOLD_MU", "FOLD_T", "GRAZING", "NEIMARK_SACKER", "PERIOD_DOUBLING", "Branch", "Domain",
+           "Paths", "default_domain", "Trace", "trace", "trace_many", "periodicity_error", "METHODS", "find_paths",
+           "Scan", "scan", "scan_field"]

@@ -1,0 +1,182 @@
+"""Branches and paths: the results of :func:`plbar.find_paths` (ordered curves of admissible responses)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..model import Problem
+from ..response import Admissibility, Damping, Orbits, Stability, damping, stability
+from ..util.check import interval
+
+__all__ = ["Domain", "default_domain", "Branch", "Paths", "events", "build_branches", "EVENT_KINDS", "FOLD_T",
+           "GRAZING", "NEIMARK_SACKER", "PERIOD_DOUBLING", "FOLD_MU"]
+
+FOLD_T = "fold in T"                   #: event kind: the branch turns back in the forcing period
+GRAZING = "grazing"                    #: event kind: a grazing stretch begins
+NEIMARK_SACKER = "Neimark-Sacker"      #: event kind: stability change through a complex pair
+PERIOD_DOUBLING = "period doubling"    #: event kind: stability change through mu = -1
+FOLD_MU = "fold (mu = +1)"             #: event kind: stability change through mu = +1
+EVENT_KINDS = (FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING, FOLD_MU)
+
+@dataclass(frozen=True)
+class Domain:
+    """Search domain ``T1 in (T1_lo, T1_hi]``, ``T2 in (T2_lo, T2_hi]``."""
+
+    T1: tuple[float, float]
+    T2: tuple[float, float]
+
+    def __post_init__(self):
+        for nm in ("T1", "T2"):
+            object.__setattr__(self, nm, interval(f"search domain {nm}", getattr(self, nm)))
+
+
+def default_domain(prob: Problem) -> Domain:
+    """The paper's domain ``T^alpha in (0, T0^alpha / 2]`` (Sec. 4.1)."""
+    T0I, T0II = prob.system.T0
+    return Domain((0.0, T0I / 2), (0.0, T0II / 2))
+
+
+@dataclass(frozen=True)
+class Branch:
+    """One ordered curve of admissible periodic responses.
+
+    Attributes
+    ----------
+    id : int
+    orbits : Orbits
+        The responses, ordered along the curve.
+    damping : Damping
+        ``Delta_PL`` and ``xi_eq`` at each point.
+    adm : plbar.response.Admissibility
+    e1, e2 : ndarray
+        Switch residuals, relative to their scale.
+    stab : plbar.response.Stability
+        Floquet multipliers, ``max_abs`` and the ``stable`` flag per point.
+    ends : (str, str)
+        What ended the branch at its first and last point (``"domain edge"``,
+        ``"closed loop"``, ``"premature switch (reaction)"``, ``"premature
+        switch (gap)"``, ``"impact velocity <= 0"``, ``"not periodic"``, ...).
+    events : tuple of dict
+        Events detected along the branch (folds in ``T``, grazing, stability
+        changes classified by the critical multiplier), each with ``kind``,
+        ``index`` (between points ``index`` and ``index + 1``) and ``T1, T2, T``.
+    """
+
+    id: int
+    orbits: Orbits
+    damping: Damping
+    adm: Admissibility
+    e1: np.ndarray
+    e2: np.ndarray
+    stab: Stability
+    ends: tuple[str, str] = ("", "")
+    events: tuple = ()
+
+    @property
+    def stable(self):
+        return self.stab.stable
+
+    @property
+    def max_abs_multiplier(self):
+        return self.stab.max_abs
+
+    @property
+    def T1(self):
+        return self.orbits.T1
+
+    @property
+    def T2(self):
+        return self.orbits.T2
+
+    @property
+    def phi(self):
+        return self.orbits.phi
+
+    @property
+    def T(self):
+        return self.orbits.T
+
+    @property
+    def dPL(self):
+        return self.damping.dPL
+
+    @property
+    def xi(self):
+        return self.damping.xi
+
+    @property
+    def grazing(self):
+        return self.adm.grazing
+
+    def __len__(self):
+        return len(self.orbits)
+
+
+@dataclass(frozen=True)
+class Paths:
+    """All branches found in a domain, with scan statistics."""
+
+    prob: Problem
+    domain: Domain
+    grid: tuple[int, int]
+    branches: tuple[Branch, ...]
+    stats: dict = field(default_factory=dict)
+
+    def points(self) -> Orbits | None:
+        """All path points of all branches as one :class:`Orbits` (None if empty)."""
+        return Orbits.concat([b.orbits for b in self.branches]) if self.branches else None
+
+
+def _stability_kind(mu) -> str:
+    crit = mu[np.argmin(np.abs(np.abs(mu) - 1.0))]
+    if abs(crit.imag) > 1e-6 * abs(crit):
+        return NEIMARK_SACKER
+    return PERIOD_DOUBLING if crit.real < 0 else FOLD_MU
+
+
+def events(T1, T2, T, adm: Admissibility, stab: Stability) -> list[dict]:
+    """Folds in ``T``, grazing and stability changes along an ordered branch (kinds: :data:`EVENT_KINDS`)."""
+    ev = []
+    dT = np.diff(T)
+    for k in np.flatnonzero(dT[:-1] * dT[1:] < 0):
+        ev.append(dict(kind=FOLD_T, index=int(k + 1)))
+    g = adm.grazing
+    for k in np.flatnonzero(g[1:] & ~g[:-1]):
+        ev.append(dict(kind=GRAZING, index=int(k + 1)))
+    st = stab.max_abs < 1
+    for k in np.flatnonzero(st[1:] != st[:-1]):
+        j = k if not st[k] else k + 1              # the unstable side
+        ev.append(dict(kind=_stability_kind(stab.multipliers[j]), index=int(k)))
+    for e in ev:
+        i = e["index"]
+        e.update(T1=float(T1[i]), T2=float(T2[i]), T=float(T[i]))
+    return sorted(ev, key=lambda e: e["index"])
+
+
+def build_branches(ev, runs) -> list[Branch]:
+    """Branches from admissible runs of evaluated points (``ev``: :class:`~plbar.paths.evaluate.Evaluated`).
+
+    ``runs`` is a list of ``(point indices, (start reason, end reason))``.  The
+    damping and stability of all points are computed in one batch; branches
+    are numbered by their smallest period and ordered by increasing ``T`` of
+    their ends.
+    """
+    sel = np.concatenate([r for r, _ in runs]) if runs else np.zeros(0, int)
+    if not sel.size:
+        return []
+    orb = ev.orbits
+    sorb = orb.take(sel)
+    dmp, stb = damping(sorb), stability(sorb)
+    lookup = {int(k): j for j, k in enumerate(sel)}
+    out = []
+    for bid, r in enumerate(sorted(range(len(runs)), key=lambda r: min(orb.T[runs[r][0]]))):
+        run, ends = runs[r]
+        if orb.T[run[0]] > orb.T[run[-1]]:
+            run, ends = run[::-1], ends[::-1]
+        jj = [lookup[k] for k in run]
+        bo, ba, st = orb.take(run), ev.adm.take(run), stb.take(jj)
+        out.append(Branch(bid, bo, dmp.take(jj), ba, ev.r1[run], ev.r2[run], st, ends,
+                          tuple(events(bo.T1, bo.T2, bo.T, ba, st))))
+    return out

@@ -1,0 +1,214 @@
+"""Closed-form flow of forced undamped modal oscillators (pure functions).
+
+Each modal coordinate obeys ``eta'' + w^2 eta = f cos(W t - phi)`` (Eq. (1) in
+modal form).  Over a segment that starts at ``t_s`` with ``eta0, v0`` the exact
+solution is written with the Duhamel kernels
+
+``C(tau) = (cos W tau - cos w tau) / (w^2 - W^2)``,
+``S(tau) = (w sin W tau - W sin w tau) / (w (w^2 - W^2))``,
+
+evaluated in a factorised ``sinc`` form that stays exact at and near
+resonance ``W = w`` (the limit ``tau sin(w tau) / (2 w)``), so no term ever
+divides by ``w - W`` (FORMULATION §2).  This is Appendix 1 rearranged: the
+free-vibration amplitudes ``a, b`` of Eqs. (26)-(27) are ``eta0`` and ``v0/w``
+after subtracting the particular solution, here folded into ``C`` and ``S``.
+
+All functions broadcast over leading axes.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+__all__ = ["free_flow", "kernels", "forced_coeffs", "segment", "psi", "psi_closed_form", "psi_quadrature", "sinc",
+           "gauss", "CANCEL_LIMIT"]
+
+
+def sinc(x):
+    """``sin(x) / x`` with the value 1 at 0.
+
+    ``sin`` is correctly rounded near 0 (``sin(x) = x`` in floating point for
+    ``|x| < 1e-8``), so the quotient is accurate to round-off for every ``x != 0``.
+    """
+    x = np.asarray(x, float)
+    return np.divide(np.sin(x), x, out=np.ones_like(x), where=x != 0)
+
+
+def free_flow(w, tau):
+    """The free modal flow over ``tau``: ``[[cos w tau, sin w tau / w], [-w sin w tau, cos w tau]]``.
+
+    The homogeneous part of Appendix 1 (Eqs. (26)-(27) without the load),
+    used by the one-period map, the orbits and the Floquet monodromy alike.
+
+    Returns
+    -------
+    co, si_w, mwsi, si : ndarray
+        ``cos w tau``, ``sin w tau / w``, ``-w sin w tau`` (the matrix entries,
+        row by row, with ``co`` on the diagonal) and ``sin w tau`` (for the
+        Duhamel kernels of :func:`kernels`).
+    """
+    wt = w * tau
+    co, si = np.cos(wt), np.sin(wt)
+    return co, si / w, -w * si, si
+
+
+def kernels(w, W, tau, swt=None):
+    """Duhamel kernels ``C, S, C'`` at ``tau`` (``S' = W C``).
+
+    Parameters
+    ----------
+    w : array_like
+        Natural circular frequency of the mode(s), > 0.
+    W : array_like
+        Forcing circular frequency, > 0.
+    tau : array_like
+        Time since the segment start.
+    swt : array_like, optional
+        ``sin(w tau)`` if the caller has it already.
+
+    Returns
+    -------
+    C, S, Cp : ndarray
+        Broadcast shapes of the inputs.
+    """
+    wp = w + W
+    ht = 0.5 * tau
+    snc = tau * sinc((w - W) * ht)
+    sig = wp * ht
+    csn = np.cos(sig) * snc
+    C = np.sin(sig) * snc / wp
+    S = ((np.sin(w * tau) if swt is None else swt) / w - csn) / wp
+    Cp = (w * csn + np.sin(W * tau)) / wp
+    return C, S, Cp
+
+
+def forced_coeffs(w, f, W, ts, tau):
+    """Forced part of a segment, split into its ``cos(phi)`` and ``sin(phi)`` parts.
+
+    The forced response at ``ts + tau`` from rest is
+    ``eta_F = eta_c cos(phi) + eta_s sin(phi)`` and likewise for the velocity.
+
+    Returns
+    -------
+    eta_c, eta_s, v_c, v_s : ndarray
+    """
+    C, S, Cp = kernels(w, W, tau)
+    c0, s0 = np.cos(W * ts), np.sin(W * ts)
+    return (f * (c0 * C - s0 * S), f * (s0 * C + c0 * S),
+            f * (c0 * Cp - s0 * W * C), f * (s0 * Cp + c0 * W * C))
+
+
+def segment(w, f, W, ts, tau, eta0, v0, cphi, sphi):
+    """Exact modal displacement and velocity at ``ts + tau``.
+
+    ``cphi, sphi`` are ``cos(phi), sin(phi)`` of the forcing phase.
+    """
+    co, si_w, mwsi, _ = free_flow(w, tau)
+    ec, es, vc, vs = forced_coeffs(w, f, W, ts, tau)
+    eta = co * eta0 + si_w * v0 + ec * cphi + es * sphi
+    v = mwsi * eta0 + co * v0 + vc * cphi + vs * sphi
+    return eta, v
+
+
+def psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi):
+    """Closed-form ``Psi = int_0^tau etadot^2`` (Eq. (20), Appendix 2).
+
+    The velocity is written as ``A cos w u + B sin w u + Cc cos W u + Cs sin W u``
+    (Eqs. (15)-(17)) and the products are integrated exactly (Eqs. (28)-(33),
+    with the ``W/w`` factor of Appendix 1 restored, FORMULATION §2).
+
+    Returns
+    -------
+    psi : ndarray
+    cancel : ndarray
+        Cancellation factor ``(|A|+|B|+|Cc|+|Cs|)^2 tau / psi``; large near
+        resonance, where :func:`psi` switches to quadrature.
+    """
+    cw, sw = np.cos(W * ts), np.sin(W * ts)
+    th_c = cw * cphi + sw * sphi     # cos(W ts - phi)
+    th_s = sw * cphi - cw * sphi     # sin(W ts - phi)
+    wp, wm = w + W, w - W
+    d = wp * wm
+    # exact resonance (d = 0): g = inf, psi = nan or inf and the quadrature takes over (see psi)
+    with np.errstate(invalid="ignore", over="ignore"):
+        g = np.divide(f, d, out=np.full(np.broadcast(f, d).shape, np.inf), where=d != 0)
+        Cc = -g * W * th_s
+        Cs = -g * W * th_c
+        A = v0 - Cc
+        B = g * w * th_c - w * eta0
+        # every sinc the ten product integrals need, in one call (Eqs. (28)-(33)):
+        # sinc(2wt), sinc(2Wt), sinc((w-W)t), sinc((w+W)t), sinc(wt), sinc(Wt), sinc((w+W)t/2), sinc((w-W)t/2)
+        ht = 0.5 * tau
+        wt, Wt, pt, mt = w * tau, W * tau, wp * ht, wm * ht
+        args = [2 * wt, 2 * Wt, 2 * mt, 2 * pt, wt, Wt, pt, mt]
+        if len({np.shape(a) for a in args}) > 1:
+            args = np.broadcast_arrays(*args)
+        s2w, s2W, sm, sp, s1w, s1W, sph, smh = sinc(np.array(args))
+        # int_0^t of the ten products, grouped by kernel:
+        # A^2 cos^2 wu + B^2 sin^2 wu + Cc^2 cos^2 Wu + Cs^2 sin^2 Wu + 2 A Cc cos wu cos Wu + 2 B Cs sin wu sin Wu
+        #   -> ht [(A^2 + B^2 + Cc^2 + Cs^2) + (A^2 - B^2) sinc(2wt) + (Cc^2 - Cs^2) sinc(2Wt)
+        #          + 2 (A Cc + B Cs) sinc((w-W)t) + 2 (A Cc - B Cs) sinc((w+W)t)]
+        # 2 A B cos wu sin wu + 2 Cc Cs cos Wu sin Wu + 2 A Cs cos wu sin Wu + 2 B Cc sin wu cos Wu
+        #   -> t^2 [A B w sinc(wt)^2 + Cc Cs W sinc(Wt)^2] + (A Cs + B Cc) (1 - cos (w+W)t) / (w+W)
+        #      + (B Cc - A Cs) (1 - cos (w-W)t) / (w-W),  (1 - cos x t) / x = x t^2 sinc(x t / 2)^2 / 2
+        AA, BB, CC, SS = A * A, B * B, Cc * Cc, Cs * Cs
+        ACc, BCs, ACs, BCc = A * Cc, B * Cs, A * Cs, B * Cc
+        tt = tau * tau
+        psi = (ht * ((AA + BB + CC + SS) + (AA - BB) * s2w + (CC - SS) * s2W + 2 * (ACc + BCs) * sm
+                     + 2 * (ACc - BCs) * sp)
+               + tt * (A * B * w * s1w * s1w + Cc * Cs * W * s1W * s1W + 0.5 * ((ACs + BCc) * wp * sph * sph
+                                                                                + (BCc - ACs) * wm * smh * smh)))
+        scale = (np.abs(A) + np.abs(B) + np.abs(Cc) + np.abs(Cs)) ** 2 * tau
+        cancel = np.divide(scale, psi, out=np.full(psi.shape, np.inf), where=psi > 0)
+    return psi, cancel
+
+
+@lru_cache(maxsize=64)
+def gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes and weights on [-1, 1] (cached)."""
+    x, w = np.polynomial.legendre.leggauss(int(n))
+    x.setflags(write=False)
+    w.setflags(write=False)
+    return x, w
+
+
+def psi_quadrature(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None):
+    """``int_0^tau etadot^2`` by Gauss-Legendre on the exact velocity.
+
+    The integrand is a trigonometric polynomial of frequency at most
+    ``2 max(w, W)``; ``n`` nodes are chosen so the rule is exact to round-off.
+    """
+    w, f, W, ts, tau, eta0, v0, cphi, sphi = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi)
+    if n is None:
+        k = float(np.max(2 * np.maximum(w, W) * tau)) if w.size else 0.0
+        n = int(np.ceil(0.6 * k)) + 40
+        n = 20 * int(np.ceil(n / 20))
+    x, wt = gauss(n)
+    u = 0.5 * tau[..., None] * (x + 1)
+    _, v = segment(w[..., None], f[..., None], W[..., None], ts[..., None], u,
+                   eta0[..., None], v0[..., None], cphi[..., None], sphi[..., None])
+    return 0.5 * tau * np.sum(wt * v * v, axis=-1)
+
+
+CANCEL_LIMIT = 1e4   #: cancellation factor above which Psi is taken by quadrature (here and in .scalar)
+
+
+def psi(w, f, W, ts, tau, eta0, v0, cphi, sphi):
+    """``Psi`` of Eq. (20): closed form, or quadrature where it would cancel.
+
+    Returns
+    -------
+    psi : ndarray
+    closed : ndarray of bool
+        True where the closed form was used (False near resonance).
+    """
+    p, cancel = psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi)
+    bad = ~(cancel < CANCEL_LIMIT)
+    if np.any(bad):
+        b = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi)
+        q = psi_quadrature(*[a[bad] for a in b])
+        p = np.array(p, copy=True)
+        p[bad] = q
+    return p, ~bad

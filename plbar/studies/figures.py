@@ -1,0 +1,125 @@
+"""The paper's figures for our numbers (``plbar figures``): solve the cases, then draw (:mod:`plbar.visuals.paper`).
+
+Every ``fig*`` function solves what it needs (unless given results), draws one
+figure family and returns the written PNG and PDF paths; :func:`make_all`
+draws them all.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..app import Case, solve
+from ..errors import InputError
+from ..visuals import paper
+from .families import assign_families
+from .loads import default_positions
+from .tasks import solve_task
+
+__all__ = ["families_of", "fig2_paths", "fig3_time_histories", "fig4_energies", "fig5_loss_damping",
+           "fig6_damping_paths", "fig7_load_responses", "fig8_xi_per_load", "fig9_xi_position", "make_all", "FIGURES"]
+
+
+def families_of(res) -> list[str]:
+    """Family label of each branch of a :class:`plbar.Result`."""
+    T0I, T0II = res.paths.prob.system.T0
+    return assign_families([(b.T.min(), b.T.max()) for b in res.branches], [len(b) for b in res.branches],
+                           T0I, T0II)
+
+
+def _solve(grid, **case):
+    return solve(Case(grid=tuple(grid), **case))
+
+
+def _dof_cases(n_dofs, grid):
+    return [_solve(grid, load_nodes=((k, 1.0),)) for k in range(1, n_dofs)]
+
+
+def _one(draw, out, res, grid):
+    res = res or _solve(grid)
+    return draw(out, res, families_of(res))
+
+
+def fig2_paths(out, res=None, grid=(200, 200)) -> list[Path]:
+    """Fig. 2: the periodic paths in ``(T1, T2, phi)`` and in the ``T1-T2`` plane."""
+    return _one(paper.draw_fig2, out, res, grid)
+
+
+def fig3_time_histories(out, res=None, grid=(200, 200)) -> list[Path]:
+    """Fig. 3: displacement of every DOF over two periods at the red and green points."""
+    return _one(paper.draw_fig3, out, res, grid)
+
+
+def fig4_energies(out, res=None, grid=(200, 200)) -> list[Path]:
+    """Fig. 4: kinetic, potential and total energy over two periods; the drop at the impact."""
+    return _one(paper.draw_fig4, out, res, grid)
+
+
+def fig5_loss_damping(out, res=None, grid=(200, 200)) -> list[Path]:
+    """Fig. 5: ``Delta_PL`` and ``xi_eq`` against ``T`` and ``phi`` (all branches)."""
+    return _one(paper.draw_fig5, out, res, grid)
+
+
+def fig6_damping_paths(out, res=None, grid=(200, 200)) -> list[Path]:
+    """Fig. 6: ``xi_eq`` against ``T`` separately for path 1 and path 2."""
+    return _one(paper.draw_fig6, out, res, grid)
+
+
+def fig7_load_responses(out, grid=(200, 200), cases=None) -> list[Path]:
+    """Fig. 7: responses of every DOF at the red/green points for loads on DOF 1..N-1."""
+    cases = cases or _dof_cases(5, grid)
+    return paper.draw_fig7(out, cases, [families_of(r) for r in cases])
+
+
+def fig8_xi_per_load(out, grid=(200, 200), cases=None) -> list[Path]:
+    """Fig. 8: ``xi_eq`` along path 1 and path 2 for a unit force on each DOF."""
+    cases = cases or _dof_cases(5, grid)
+    return paper.draw_fig8(out, cases, [families_of(r) for r in cases])
+
+
+def fig9_xi_position(out, grid=(200, 200), ns=(3, 4, 5, 6), per_element=4, executor=None) -> list[Path]:
+    """Fig. 9: ``xi_eq`` on the family near ``T0^II/2`` against ``T`` and the load position, N = 3..6."""
+    allres, labels = [], []
+    for n in ns:
+        pos = default_positions(n, per_element)
+        tasks = [{"case": {"model": "chain", "n": n, "grid": list(grid), "load_points": [[s, 1.0]]}} for s in pos]
+        rs = list(executor.map(solve_task, tasks)) if executor else [solve_task(t) for t in tasks]
+        allres.append((n, pos, rs))
+        labels.append([assign_families([(min(np.add(b["T1"], b["T2"])), max(np.add(b["T1"], b["T2"])))
+                                        for b in r["branches"]], [len(b["T1"]) for b in r["branches"]],
+                                       r["T0_I"], r["T0_II"]) for r in rs])
+    return paper.draw_fig9(out, allres, labels)
+
+
+FIGURES = ("fig2", "fig3", "fig4", "fig56", "fig7", "fig8", "fig9")
+
+
+def make_all(out, grid=(200, 200), which=None) -> list[Path]:
+    """Draw the figure families ``which`` (default all of :data:`FIGURES`) into ``out``."""
+    which = list(which or FIGURES)
+    bad = [w for w in which if w not in FIGURES]
+    if bad:
+        raise InputError(f"unknown figure(s) {bad}; choose from {', '.join(FIGURES)}")
+    files: list[Path] = []
+    res = _solve(grid) if {"fig2", "fig3", "fig4", "fig56"} & set(which) else None
+    cases = _dof_cases(5, grid) if {"fig7", "fig8"} & set(which) else None
+    for w in which:
+        if w == "fig2":
+            files += fig2_paths(out, res)
+        elif w == "fig3":
+            files += fig3_time_histories(out, res)
+        elif w == "fig4":
+            files += fig4_energies(out, res)
+        elif w == "fig56":
+            files += fig5_loss_damping(out, res) + fig6_damping_paths(out, res)
+        elif w == "fig7":
+            files += fig7_load_responses(out, cases=cases)
+        elif w == "fig8":
+            files += fig8_xi_per_load(out, cases=cases)
+        elif w == "fig9":
+            files += fig9_xi_position(out, grid)
+    return files
+
+

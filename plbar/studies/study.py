@@ -1,0 +1,189 @@
+"""Resumable studies: many small tasks, one atomic result file per task.
+
+A study is a folder::
+
+    DIR/study.json          the task list (written first, atomically)
+    DIR/tasks/<key>.json    one finished task: {"key", "task", "result"}
+    DIR/*.csv, *.json       tables assembled from the task files
+
+A *task* is a small JSON-able dict; its key is a hash of its canonical JSON.
+:func:`run_study` submits the tasks without a result file to an executor
+(:mod:`plbar.executor`), and the *parent* writes each result as it arrives
+(temp file + rename, :mod:`plbar.io`), so a killed run leaves only complete
+files under final names and a rerun skips them.  Results are always read back
+from the task files in task order, so the tables do not depend on which
+executor ran the tasks or in which order they finished.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import hashlib
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+from ..errors import OutputExistsError, PlbarError
+from ..util.files import write_json
+from .executor import SerialExecutor
+
+__all__ = ["Study", "StudyError", "task_key", "run_study", "load_results", "call_task"]
+
+
+class StudyError(PlbarError):
+    """Some tasks of a study failed (the finished ones are kept)."""
+
+
+def _canonical(obj) -> str:
+    return json.dumps(obj, sort_keys=True, separators=(",", ":"), allow_nan=False)
+
+
+def task_key(task: dict) -> str:
+    """Stable 16-hex-digit key of a task (hash of its canonical JSON)."""
+    return hashlib.sha256(_canonical(task).encode()).hexdigest()[:16]
+
+
+@dataclass(frozen=True)
+class Study:
+    """A named list of tasks and the function that runs one.
+
+    Attributes
+    ----------
+    name : str
+        Kind of study (``"load-sweep"``, ``"refine"``); recorded in ``study.json``.
+    func : callable
+        A picklable (module-level) task function ``dict -> dict`` whose
+        result is JSON-able (floats round-trip exactly through JSON); its
+        ``module:name`` is recorded in ``study.json``.
+    tasks : tuple of dict
+        The tasks, in the order of the final tables.
+    params : dict
+        How the tasks were made (recorded, not used).
+    """
+
+    name: str
+    func: Callable[[dict], dict]
+    tasks: tuple
+    params: dict
+
+    @property
+    def func_name(self) -> str:
+        """``module:name`` of the task function (recorded in ``study.json``)."""
+        return f"{self.func.__module__}:{self.func.__qualname__}"
+
+    @property
+    def keys(self) -> list[str]:
+        return [task_key(t) for t in self.tasks]
+
+    def manifest(self) -> dict:
+        return {"study": self.name, "func": self.func_name, "params": self.params,
+                "tasks": [{"key": k, "task": t} for k, t in zip(self.keys, self.tasks)]}
+
+
+def call_task(func, task: dict) -> dict:
+    """Run ``func`` on ``task`` (in a worker)."""
+    return func(task)
+
+
+def _task_file(folder: Path, key: str) -> Path:
+    return folder / "tasks" / f"{key}.json"
+
+
+def _read_task(path: Path, key: str):
+    """The stored result of a task, or None if absent or unreadable."""
+    try:
+        d = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+    return d["result"] if isinstance(d, dict) and d.get("key") == key and "result" in d else None
+
+
+def _check_manifest(folder: Path, study: Study, overwrite: bool) -> None:
+    path = folder / "study.json"
+    new = json.loads(_canonical(study.manifest()))
+    if path.exists() and not overwrite:
+        try:
+            old = json.loads(path.read_text())
+        except (OSError, ValueError):
+            old = None
+        if old is not None and (old.get("study"), old.get("func")) != (new["study"], new["func"]):
+            raise OutputExistsError(f"study folder {str(folder)!r} holds a {old.get('study')!r} study; "
+                                    "choose another --out or pass --overwrite")
+    write_json(path, new)
+
+
+def run_study(folder, study: Study, executor: cf.Executor | None = None, progress: bool = True,
+              overwrite: bool = False) -> list[dict]:
+    """Run the unfinished tasks of ``study`` and return all results in task order.
+
+    Parameters
+    ----------
+    folder : path
+        Study folder (created).  Finished task files found there are reused.
+    study : Study
+    executor : concurrent.futures.Executor, optional
+        Default: a serial executor.  Not shut down here.
+    progress : bool
+        Show a tqdm progress bar (on stderr).
+    overwrite : bool
+        Allow a folder that holds another kind of study.
+
+    Returns
+    -------
+    list of dict
+        The task results, read back from the task files, in task order.
+
+    Raises
+    ------
+    StudyError
+        If tasks failed; the finished ones stay on disk, so a rerun resumes.
+    """
+    from tqdm.auto import tqdm
+
+    folder = Path(folder)
+    (folder / "tasks").mkdir(parents=True, exist_ok=True)
+    _check_manifest(folder, study, overwrite)
+    keys = study.keys
+    todo = [(k, t) for k, t in zip(keys, study.tasks) if _read_task(_task_file(folder, k), k) is None]
+    todo = list({k: t for k, t in todo}.items())          # duplicate tasks run once
+    ex = executor or SerialExecutor()
+    failed: list[tuple[str, str]] = []
+    bar = tqdm(total=len(set(keys)), initial=len(set(keys)) - len(todo), desc=study.name, unit="task",
+               disable=not progress, leave=False)
+    try:
+        futs = {ex.submit(call_task, study.func, t): (k, t) for k, t in todo}
+        for fut in cf.as_completed(futs):
+            k, t = futs[fut]
+            try:
+                res = fut.result()
+            except Exception as exc:  # noqa: BLE001 - reported together at the end
+                failed.append((k, f"{type(exc).__name__}: {exc}"))
+            else:
+                write_json(_task_file(folder, k), {"key": k, "task": t, "result": res})
+            bar.update(1)
+    finally:
+        bar.close()
+    if failed:
+        lines = "; ".join(f"{k}: {m}" for k, m in failed[:5])
+        raise StudyError(f"{len(failed)} of {len(todo)} task(s) failed ({lines}); "
+                         "finished tasks are kept, rerun to retry the others")
+    return load_results(folder, study)
+
+
+def load_results(folder, study: Study) -> list[dict]:
+    """Results of all tasks of ``study`` from ``folder``, in task order.
+
+    Raises
+    ------
+    StudyError
+        If a task has no result file yet.
+    """
+    folder = Path(folder)
+    out = []
+    for k in study.keys:
+        r = _read_task(_task_file(folder, k), k)
+        if r is None:
+            raise StudyError(f"task {k} of study {str(folder)!r} has no result yet; run the study first")
+        out.append(r)
+    return out

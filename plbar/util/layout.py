@@ -1,0 +1,180 @@
+"""The house rules, checked from the source: ``python -m plbar.util.layout [--modules]``.
+
+Reads every module of the package with :mod:`ast` (nothing is imported) and
+checks that
+
+* imports between subpackages flow one way, along :data:`LAYERS` (no back-edge),
+  and there is no import cycle among modules;
+* nothing outside a subpackage imports a ``_private`` name or module from it;
+* the heavy libraries (:data:`HEAVY`) are imported only where :data:`HEAVY_OK` allows;
+* no module is longer than :data:`MAX_MODULE` lines and no function longer than
+  :data:`MAX_FUNCTION` lines.
+
+Prints the subpackage graph (with ``--modules`` the module graph) and the
+violations; exits 1 if there are any.
+"""
+
+from __future__ import annotations
+
+import ast
+import sys
+from pathlib import Path
+
+__all__ = ["LAYERS", "HEAVY", "HEAVY_OK", "MAX_MODULE", "MAX_FUNCTION", "graph", "violations", "main"]
+
+#: subpackages from the bottom up; each may import only from those before it (``errors`` is the base)
+LAYERS = ("errors", "util", "model", "response", "paths", "check", "io", "visuals", "app", "studies", "cli")
+HEAVY = ("pyvista", "vtk", "vtkmodules", "meshio", "matplotlib", "dask", "distributed", "h5py", "PIL")
+HEAVY_OK = {"io", "visuals", "studies.executor"}
+MAX_MODULE = 400
+MAX_FUNCTION = 60
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _modules(root: Path = ROOT) -> dict[str, Path]:
+    out = {}
+    for p in sorted(root.rglob("*.py")):
+        rel = p.relative_to(root.parent).with_suffix("")
+        name = ".".join(rel.parts)
+        out[name[:-len(".__init__")] if name.endswith(".__init__") else name] = p
+    return out
+
+
+def _resolve(mod: str, is_pkg: bool, node: ast.ImportFrom) -> str:
+    if not node.level:
+        return node.module or ""
+    base = mod.split(".")
+    base = base[:len(base) - node.level + (1 if is_pkg else 0)]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
+def _imports(mod: str, path: Path):
+    """(target module or package, imported names, line) of every import of ``mod``."""
+    tree = ast.parse(path.read_text())
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                yield a.name, (), node.lineno
+        elif isinstance(node, ast.ImportFrom):
+            yield _resolve(mod, path.name == "__init__.py", node), tuple(a.name for a in node.names), node.lineno
+
+
+def _layer(mod: str) -> str:
+    parts = mod.split(".")
+    return parts[1] if len(parts) > 1 else "plbar"
+
+
+def graph(mods: dict[str, Path] | None = None) -> dict[str, set[str]]:
+    """Module -> the plbar modules it imports (a ``from pkg import name`` of a submodule counts as that module)."""
+    mods = mods or _modules()
+    edges: dict[str, set[str]] = {m: set() for m in mods}
+    for m, p in mods.items():
+        for tgt, names, _ in _imports(m, p):
+            for t in [tgt] + [f"{tgt}.{n}" for n in names]:
+                if t in mods and t != m and not m.startswith(t + "."):
+                    edges[m].add(t)
+    return edges
+
+
+def _cycles(edges: dict[str, set[str]]) -> list[list[str]]:
+    index, low, stack, on, out, counter = {}, {}, [], set(), [], [0]
+    sys.setrecursionlimit(max(10000, sys.getrecursionlimit()))
+
+    def visit(v):
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in edges[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in edges:
+        if v not in index:
+            visit(v)
+    return out
+
+
+def _rank(layer: str) -> int:
+    return LAYERS.index(layer) if layer in LAYERS else (-1 if layer == "errors" else len(LAYERS))
+
+
+def _import_violations(mods: dict[str, Path]) -> list[str]:
+    bad = []
+    for m, p in mods.items():
+        lay = _layer(m)
+        for tgt, names, line in _imports(m, p):
+            where = f"{p.relative_to(ROOT.parent)}:{line}"
+            top = tgt.split(".")[0]
+            sub = ".".join(m.split(".")[1:3])
+            if top in HEAVY and lay not in HEAVY_OK and sub not in HEAVY_OK:
+                bad.append(f"{where}: heavy import {tgt!r} outside {sorted(HEAVY_OK)}")
+            if not tgt.startswith("plbar") or lay == "plbar":
+                continue
+            tl = _layer(tgt) if tgt != "plbar" else "plbar"
+            if tl != lay and tl in LAYERS and lay in LAYERS and _rank(tl) > _rank(lay):
+                bad.append(f"{where}: {lay} imports {tgt} ({tl} is above {lay})")
+            if tl != lay:
+                private = [n for n in (tgt.split(".")[2:] + list(names)) if n.startswith("_") and not n.endswith("__")]
+                if private:
+                    bad.append(f"{where}: {m} imports private {private[0]!r} from {tgt}")
+    return bad
+
+
+def _size_violations(mods: dict[str, Path]) -> list[str]:
+    bad = []
+    for m, p in mods.items():
+        n = len(p.read_text().splitlines())
+        if n > MAX_MODULE:
+            bad.append(f"{p.relative_to(ROOT.parent)}: {n} lines (module limit {MAX_MODULE})")
+        for node in ast.walk(ast.parse(p.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                n = node.end_lineno - node.lineno + 1
+                if n > MAX_FUNCTION:
+                    bad.append(f"{p.relative_to(ROOT.parent)}:{node.lineno}: {node.name}() has {n} lines "
+                               f"(function limit {MAX_FUNCTION})")
+    return bad
+
+
+def violations(mods: dict[str, Path] | None = None) -> list[str]:
+    """Every breach of the house rules (empty if the package is in order)."""
+    mods = mods or _modules()
+    cyc = [f"import cycle: {' -> '.join(c)}" for c in _cycles(graph(mods))]
+    return cyc + _import_violations(mods) + _size_violations(mods)
+
+
+def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    mods = _modules()
+    edges = graph(mods)
+    if "--modules" in argv:
+        for m in sorted(edges):
+            print(f"{m} -> {', '.join(sorted(edges[m])) or '-'}")
+    else:
+        sub: dict[str, set[str]] = {}
+        for m, ts in edges.items():
+            sub.setdefault(_layer(m), set()).update(_layer(t) for t in ts if _layer(t) != _layer(m))
+        for lay in sorted(sub, key=_rank):
+            print(f"{lay:9s} -> {', '.join(sorted(sub[lay], key=_rank)) or '-'}")
+    bad = violations(mods)
+    print(f"{len(mods)} modules, layers {' < '.join(LAYERS)}: {len(bad)} violation(s)")
+    for b in bad:
+        print("  " + b)
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

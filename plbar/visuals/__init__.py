@@ -1,0 +1,11 @@
+"""Drawing only (no solving inside): plots of a solved case, the paper's figures, off-screen renderings.
+
+matplotlib and pyvista are imported inside the drawing functions.
+"""
+
+from .paper import GREEN, RED, nearest_point
+from .plots import contact_amplitude, frequency_response, paths_plane
+from .render import RenderFiles, render
+
+__all__ = ["GREEN", "RED", "nearest_point", "contact_amplitude", "frequency_response", "paths_plane",
+           "RenderFiles", "render"]

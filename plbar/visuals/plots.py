@@ -1,0 +1,114 @@
+"""Plots of a solved case: the frequency response (amplitude and ``xi_eq`` against ``T``) and the paths plane.
+
+Drawing only: every function takes results and writes files (atomically);
+matplotlib is imported lazily with the Agg backend.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..paths import FOLD_MU, FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING
+from ..util.files import atomic_path
+
+__all__ = ["frequency_response", "paths_plane", "contact_amplitude", "FAM_STYLE", "DOF_COLORS", "FAMILIES"]
+
+FAMILIES = ("T0_I", "T0_II/2")      #: the branch families drawn in their own colours
+FAM_STYLE = {"T0_I": ("tab:blue", "path 1 (near $T_0^I$)"), "T0_II/2": ("tab:orange", "path 2 (near $T_0^{II}/2$)"),
+             "other": ("0.65", "other branches")}
+DOF_COLORS = ["tab:blue", "tab:red", "tab:orange", "tab:purple", "tab:green", "tab:brown", "tab:pink", "tab:cyan"]
+EVENT_MARKS = {FOLD_T: ("s", "k"), GRAZING: ("v", "tab:purple"), NEIMARK_SACKER: ("D", "tab:green"),
+               PERIOD_DOUBLING: ("^", "tab:orange"), FOLD_MU: ("P", "tab:brown")}
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    plt.rcParams.update({"figure.dpi": 110, "savefig.dpi": 150, "axes.grid": True, "grid.alpha": 0.3,
+                         "font.size": 9, "axes.titlesize": 10, "legend.fontsize": 8})
+    return plt
+
+
+def _save(fig, out, name: str) -> list[Path]:
+    out = Path(out)
+    files = []
+    for ext in ("png", "pdf"):
+        path = out / f"{name}.{ext}"
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, format=ext, bbox_inches="tight")
+        files.append(path)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    return files
+
+
+def contact_amplitude(orb, samples: int = 400) -> np.ndarray:
+    """``max_t |x_c(t)|`` of each orbit (the contact node moves in state II only)."""
+    u = np.linspace(0.0, 1.0, samples)
+    return np.abs(orb.gap(orb.T2[:, None] * u)).max(axis=1)
+
+
+def frequency_response(res, out, name: str = "frequency_response") -> Path:
+    """Frequency-response view: ``max |x_c|`` and ``xi_eq`` against ``T``, coloured by stability.
+
+    Solid dark points are stable orbits (all Floquet multipliers inside the
+    unit circle), light crosses unstable ones; events along the branches
+    (folds, grazing, stability changes) are marked.
+    """
+    plt = _plt()
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7.5, 6.2), sharex=True)
+    for b in res.branches:
+        amp = contact_amplitude(b.orbits)
+        st = b.stable
+        for ax, y in ((ax1, amp), (ax2, b.xi)):
+            ax.plot(b.T, y, "-", color="0.75", lw=0.8, zorder=1)
+            ax.plot(b.T[st], y[st], "o", ms=2.6, color="tab:blue", zorder=3)
+            ax.plot(b.T[~st], y[~st], "x", ms=2.6, color="tab:red", alpha=0.6, zorder=2)
+        for e in b.events:
+            i = e["index"]
+            ax2.annotate(e["kind"].split(" ")[0], (b.T[i], b.xi[i]), fontsize=6, color="0.3",
+                         xytext=(2, 4), textcoords="offset points")
+    T0I, T0II = res.paths.prob.system.T0
+    for ax in (ax1, ax2):
+        for x, lab in ((T0I, "$T_0^I$"), (T0II / 2, "$T_0^{II}/2$")):
+            ax.axvline(x, color="0.5", ls="--", lw=0.7)
+            ax.text(x, 1.0, lab, transform=ax.get_xaxis_transform(), ha="center", va="bottom", fontsize=8)
+    ax1.set_ylabel(r"max $|x_c|$ (contact node)")
+    ax2.set_ylabel(r"$\xi_{eq}$ (Eq. 22)")
+    ax2.set_xlabel("forcing period $T$")
+    ax1.plot([], [], "o", color="tab:blue", label="stable")
+    ax1.plot([], [], "x", color="tab:red", label="unstable")
+    ax1.legend(loc="upper left")
+    ax1.set_yscale("log")
+    fig.suptitle(f"{res.paths.prob.bar.describe() if res.paths.prob.bar else ''}; load "
+                 f"{res.paths.prob.load.describe() if res.paths.prob.load else ''}", fontsize=8)
+    return _save(fig, out, name)[0]
+
+
+def paths_plane(res, out, name: str = "paths_T1_T2") -> Path:
+    """Branches in the ``(T^I, T^II)`` plane (paper Fig. 2b) with their events and ends."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6.5, 5.2))
+    marks = EVENT_MARKS
+    for b in res.branches:
+        ax.plot(b.T1, b.T2, "-", lw=1.2)
+        ax.text(b.T1[len(b) // 2], b.T2[len(b) // 2], str(b.id), fontsize=7)
+        for e in b.events:
+            m, c = marks.get(e["kind"], ("o", "k"))
+            ax.plot(e["T1"], e["T2"], m, color=c, ms=5, mfc="none")
+    for kind, (m, c) in marks.items():
+        ax.plot([], [], m, color=c, mfc="none", label=kind)
+    ax.set_xlabel("$T^I$")
+    ax.set_ylabel("$T^{II}$")
+    d = res.paths.domain
+    ax.set_xlim(*d.T1)
+    ax.set_ylim(*d.T2)
+    ax.legend(fontsize=7, loc="best")
+    ax.set_title("periodic paths and events (numbers: branch id)")
+    return _save(fig, out, name)[0]

@@ -1,0 +1,106 @@
+"""The command line: output format of `plbar run`, case files, exit codes, --json/--quiet."""
+
+import json
+
+import numpy as np
+import pytest
+
+from plbar.cli import main
+from plbar.app import CSV_HEADER
+
+
+def _csv(path):
+    lines = path.read_text().splitlines()
+    return lines[0], [line.split(",") for line in lines[1:]]
+
+
+def test_run_default_writes_exact_header_and_summary(tmp_path, capsys):
+    assert main(["run", "--out", str(tmp_path), "--no-plot"]) == 0
+    out = capsys.readouterr().out
+    assert "branch" in out and "T0_I = 10.1664" in out and str(tmp_path) in out
+    header, rows = _csv(tmp_path / "paths.csv")
+    assert header == "branch,T1,T2,phi,T,dPL,xi,grazing,stable,max_abs_multiplier"
+    assert header.split(",")[:8] == "branch,T1,T2,phi,T,dPL,xi,grazing".split(",")
+    assert header.split(",") == CSV_HEADER
+    vals = np.array([[float(v) for v in r] for r in rows])
+    assert np.all(np.isfinite(vals))
+    assert np.all((vals[:, 3] >= 0) & (vals[:, 3] < 2 * np.pi))
+    np.testing.assert_allclose(vals[:, 4], vals[:, 1] + vals[:, 2], rtol=1e-15)
+    # floats with at least 10 significant digits
+    digits = [len(r[1].replace(".", "").replace("-", "").split("e")[0].lstrip("0")) for r in rows]
+    assert min(digits) >= 10
+    s = json.loads((tmp_path / "summary.json").read_text())
+    for key in ("case", "T0_I", "T0_II", "n_branches", "branches", "run_time"):
+        assert key in s
+    assert s["T0_I"] == pytest.approx(10.1664, abs=1e-4) and s["n_branches"] == len(s["branches"])
+    for b in s["branches"]:
+        assert b["T_range"][0] <= b["T_range"][1] and b["xi_range"][0] <= b["xi_range"][1]
+        assert "events" in b and "ends" in b
+    assert sorted({int(r[0]) for r in rows}) == list(range(s["n_branches"]))
+
+
+def test_run_json_and_quiet(tmp_path, capsys):
+    assert main(["run", "--out", str(tmp_path / "a"), "--json", "--no-plot", "--grid", "60", "60"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["summary"]["case"]["grid"] == [60, 60]
+    assert main(["run", "--out", str(tmp_path / "b"), "--quiet", "--no-plot", "--grid", "60", "60"]) == 0
+    assert capsys.readouterr().out == ""
+
+
+def test_run_fe_options(tmp_path):
+    rc = main(["run", "--model", "fe", "-N", "4", "--element", "P2", "--mass", "consistent", "--load-at", "0.37",
+               "--grid", "60", "60", "--out", str(tmp_path), "--quiet", "--no-plot"])
+    assert rc == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert s["case"]["element"] == "P2" and s["case"]["load_points"] == [[0.37, 1.0]]
+    assert s["T0_II"] == pytest.approx(4.0, rel=1e-3)       # clamped-free bar, L = EA = rhoA = 1
+
+
+def test_run_case_file(tmp_path, capsys):
+    from pathlib import Path
+
+    f = Path(__file__).parents[2] / "examples" / "cases" / "paper_sec42_node3.toml"
+    assert main(["run", str(f), "--out", str(tmp_path), "--no-plot"]) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert s["case"]["load_nodes"] == [[3, 1.0]]
+
+
+@pytest.mark.parametrize("text, key", [
+    ('[bar]\nmodel = "chain"\nn = "5"\n[[load]]\nnode = 1\n', "n"),                      # wrong type
+    ('[bar]\nmodel = "chain"\nnn = 5\n[[load]]\nnode = 1\n', "nn"),                      # unknown key
+    ('[[load]]\nnode = 1\n', "[bar]"),                                                   # missing section
+    ('[bar]\nmodel = "chain"\n[[load]]\nnode = 1\n[search]\ngrid = [1, 1]\n', "grid"),  # bad value
+])
+def test_malformed_case_file_exit_2_one_line(tmp_path, capsys, text, key):
+    f = tmp_path / "bad.toml"
+    f.write_text(text)
+    assert main(["run", str(f), "--out", str(tmp_path / "o"), "--no-plot"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and key in err and err.startswith("plbar: error:")
+
+
+def test_bad_cli_input_exit_2(tmp_path, capsys):
+    assert main(["run", "--load-at", "7.5", "--out", str(tmp_path), "--no-plot"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "7.5" in err and "\n" not in err
+    assert main(["run", "--element", "P3"]) == 2
+    assert main([]) == 2
+
+
+def test_refuses_other_case_in_same_folder(tmp_path, capsys):
+    assert main(["run", "--out", str(tmp_path), "--quiet", "--no-plot", "--grid", "40", "40"]) == 0
+    assert main(["run", "--out", str(tmp_path), "--quiet", "--no-plot", "--grid", "41", "41"]) == 2
+    assert "--overwrite" in capsys.readouterr().err
+    assert main(["run", "--out", str(tmp_path), "--quiet", "--no-plot", "--grid", "41", "41", "--overwrite"]) == 0
+
+
+CASES = sorted((__import__("pathlib").Path(__file__).resolve().parents[2] / "examples" / "cases").glob("*.toml"))
+
+
+@pytest.mark.parametrize("path", CASES, ids=[p.stem for p in CASES])
+def test_every_example_case_file_runs(tmp_path, path):
+    assert main(["run", str(path), "--out", str(tmp_path), "--quiet", "--no-plot"]) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert s["n_branches"] >= 1
+    _, rows = _csv(tmp_path / "paths.csv")
+    assert rows and np.all(np.isfinite(np.array([[float(v) for v in r] for r in rows])))

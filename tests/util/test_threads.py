@@ -1,0 +1,56 @@
+"""The thread pool (plbar._threads): results do not depend on the thread count, and forked children work."""
+
+import multiprocessing as mp
+
+import numpy as np
+import pytest
+
+import plbar
+from plbar.util import threads as _threads
+
+
+def _solve_points(threads, monkeypatch):
+    monkeypatch.setenv("PLBAR_THREADS", str(threads))
+    res = plbar.solve(plbar.Case(grid=(60, 60)))
+    return np.concatenate([np.c_[b.T1, b.T2, b.phi, b.xi, b.stab.max_abs] for b in res.branches])
+
+
+def test_same_bits_with_one_or_two_threads(monkeypatch):
+    a = _solve_points(1, monkeypatch)
+    b = _solve_points(2, monkeypatch)
+    assert a.shape == b.shape and np.array_equal(a, b)
+
+
+def test_map_chunks_order_and_bounds(monkeypatch):
+    monkeypatch.setenv("PLBAR_THREADS", "3")
+    out = _threads.map_chunks(lambda a, b: list(range(a, b)), 1000, 100, 150)
+    assert sum(out, []) == list(range(1000))
+    assert max(len(c) for c in out) <= 150
+    assert _threads.map_chunks(lambda a, b: (a, b), 10, 100) == [(0, 10)]
+
+
+def _child(q):
+    q.put(sum(_threads.map_chunks(lambda a, b: b - a, 10000, 100)))
+
+
+@pytest.mark.skipif("fork" not in mp.get_all_start_methods(), reason="needs fork")
+def test_forked_child_after_the_pool_was_used(monkeypatch):
+    """A child forked after the parent's pool started has none of its threads: it must start its own."""
+    monkeypatch.setenv("PLBAR_THREADS", "2")
+    assert sum(_threads.map_chunks(lambda a, b: b - a, 10000, 100)) == 10000     # the parent's pool is up
+    ctx = mp.get_context("fork")
+    q = ctx.Queue()
+    p = ctx.Process(target=_child, args=(q,))
+    p.start()
+    p.join(60)
+    alive = p.is_alive()
+    if alive:
+        p.kill()
+    assert not alive, "the forked child hung on the parent's thread pool"
+    assert q.get(timeout=5) == 10000
+
+
+@pytest.mark.parametrize("val, n", [("1", 1), ("3", 3), ("0", 1), ("x", 1)])
+def test_thread_count_from_environment(monkeypatch, val, n):
+    monkeypatch.setenv("PLBAR_THREADS", val)
+    assert _threads.n_threads() == n
