@@ -221,6 +221,7 @@ def _find(prob, domain, grid):
             return None          # a clear, typed error is an allowed outcome
 
 
+@pytest.mark.slow
 @settings(max_examples=examples(240), **SETTINGS)
 @given(setups())
 def test_random_fe_bars_identities(setup):

@@ -12,7 +12,7 @@
 
 from .executor import KINDS, SerialExecutor, get_executor
 from .families import FAMILIES, OTHER, assign_families
-from .loads import (default_positions, load_sweep_study, node_pairs, sweep_tables, write_sweep_tables,
+from .loadcases import (default_positions, load_sweep_study, node_pairs, sweep_tables, write_sweep_tables,
                     xi_along_mesh)
 from .refinement import refine_study, refine_tables, write_refine_tables
 from .study import Study, StudyError, load_results, run_study, task_key

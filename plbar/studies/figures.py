@@ -15,7 +15,7 @@ from ..app import Case, solve
 from ..errors import InputError
 from ..visuals import paper
 from .families import assign_families
-from .loads import default_positions
+from .loadcases import default_positions
 from .tasks import solve_task
 
 __all__ = ["families_of", "fig2_paths", "fig3_time_histories", "fig4_energies", "fig5_loss_damping",

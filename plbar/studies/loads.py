@@ -1,248 +1,264 @@
-"""Load-position sweep (paper Sec. 4.2, Figs. 7-9).
+"""Load studies on one path solve (issue #12): positions, node pairs and the worst load.
 
-One task per load case: a unit point force at ``s`` (any ``s`` in ``(0, L)``,
-through the shape functions, so a force between two chain masses is the
-paper's linear split) or a two-point combination ``((s1, a1), (s2, a2))``.
-Branches are grouped into families (:mod:`plbar.families`) so that "path 2"
-of one load case is compared with "path 2" of another.
+:func:`sweep_loads` solves the paths once (the case's own load is the
+reference; any load with ``h(q) != 0`` has the same paths), builds the
+quadratic forms of :mod:`plbar.loadforms` and writes into ``out``:
 
-Tables written by :func:`write_sweep_tables`:
-
-``sweep.csv``
-    Tidy: one row per load case x path point, with its family.
-``sweep_max.csv``
-    Per load case and family: the period range, the maximum ``xi_eq`` (the
-    paper's "upper limit for a time-history analysis") and where it occurs,
-    and ``geom_dev`` / ``phi_dev``: the largest distance of the family's
-    ``(T1, T2)`` points (and of ``phi`` mod ``pi``) from those of the
-    reference load case (the first task) -- the check of the paper's
-    observation that the path geometry does not depend on the load position.
-``sweep_summary.json``
-    Per family: the single-point load with the largest ``xi_eq`` and the
-    combination with the largest ``xi_eq``.
+``xi_positions.csv``
+    ``branch, point, T, s, xi, dPL`` for a unit point force at each position
+    ``s`` (default: ``per_element`` positions per element, the element ends
+    included, the clamp ``s = 0`` excluded: a force there does nothing).
+``worst_load.csv``
+    ``branch, point, T1, T2, phi, T, xi_worst, xi_best_single, s_best_single``:
+    the largest ``xi_eq`` over every load distribution (``b^T G^+ b / 2``)
+    and over every single point force (exact per-element maximum).
+``worst_load_shapes.npz``
+    The worst load ``q*`` (unit norm) per path point, with ``x`` (DOF positions).
+``xi_along_mesh.vtu``
+    Per family: max over the family's path points of ``xi_eq`` when the unit
+    force acts at that DOF position of the mesh.
+``load_pairs.csv``
+    The paper's Fig. 9 cases as special cases of the quadratic form: a unit
+    force on each free non-contact vertex and every pair of them (0.5 each);
+    per load and family the ``xi_eq`` range and where its maximum is.
+``summary.json``
+    Per family: largest ``xi_worst``, best single position, best pair; loads
+    with ``h(q) = 0`` at some path points (``"no path"`` there); timings.
+``xi_T_s.png``
+    ``xi_eq`` over ``(T, s)`` per family, with ``xi_worst(T)`` above it.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import time
 from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
+from ..util.files import atomic_path, write_csv, write_json
 from .families import FAMILIES, OTHER, assign_families
-from ..util.files import write_csv, write_json
-from .study import Study
-from .tasks import branch_arrays, solve_task
+from .loadforms import HZERO_TOL, LoadForms, load_forms
 
-__all__ = ["load_sweep_study", "default_positions", "node_pairs", "SweepTables", "sweep_tables",
-           "write_sweep_tables", "xi_along_mesh", "SWEEP_HEADER", "MAX_HEADER"]
+__all__ = ["sweep_loads", "mesh_positions", "vertex_loads", "family_labels", "pair_table", "position_table",
+           "worst_table", "POSITIONS_HEADER", "WORST_HEADER", "PAIRS_HEADER"]
 
-SWEEP_HEADER = ["case", "load", "s1", "a1", "s2", "a2", "family", "branch", "point",
-                "T1", "T2", "phi", "T", "dPL", "xi", "grazing"]
-MAX_HEADER = ["case", "load", "s1", "a1", "s2", "a2", "family", "branches", "points", "T_min", "T_max",
-              "xi_min", "xi_max", "T_at_max", "T1_at_max", "T2_at_max", "phi_at_max", "dPL_at_max",
-              "geom_dev", "phi_dev"]
+POSITIONS_HEADER = ["branch", "point", "T", "s", "xi", "dPL"]
+WORST_HEADER = ["branch", "point", "T1", "T2", "phi", "T", "xi_worst", "xi_best_single", "s_best_single"]
+PAIRS_HEADER = ["load", "s1", "a1", "s2", "a2", "family", "points", "T_min", "T_max", "xi_min", "xi_max",
+                "T_at_max", "T1_at_max", "T2_at_max", "phi_at_max", "dPL_at_max", "no_path_points"]
+G17 = "%.17g"
 
 
-def _bar_length(model: str, n: int, length: float) -> float:
-    return float(n) if model == "chain" else float(length)
+def mesh_positions(lf: LoadForms, per_element: int = 50) -> np.ndarray:
+    """``per_element`` positions per element, ``left + k h / per_element`` for ``k = 1..per_element``."""
+    if int(per_element) < 1:
+        raise InputError(f"per_element = {per_element!r} must be a positive integer")
+    el = lf._elems()
+    k = np.arange(1, int(per_element) + 1) / int(per_element)
+    return (el.left[:, None] + k[None, :] * (el.right - el.left)[:, None]).ravel()
 
 
-def default_positions(n: int, per_element: int = 10, model: str = "chain", length: float = 1.0) -> list[float]:
-    """Positions ``k h / per_element`` strictly inside ``(0, L)`` (the nodes included)."""
-    L = _bar_length(model, n, length)
-    return [float(v) for v in np.linspace(0.0, L, per_element * n + 1)[1:-1]]
+def vertex_loads(lf: LoadForms, amplitude: float = 0.5):
+    """The paper's Fig. 9 load cases: each free non-contact vertex (1.0) and each pair (``amplitude`` each)."""
+    el = lf._elems()
+    xv = np.unique(np.r_[el.left, el.right])
+    xv = xv[(xv > 0) & (xv < xv[-1])]
+    singles = [((float(s), 1.0),) for s in xv]
+    pairs = [((float(xv[i]), amplitude), (float(xv[j]), amplitude)) for i in range(xv.size)
+             for j in range(i + 1, xv.size)]
+    return singles + pairs
 
 
-def node_pairs(n: int, model: str = "chain", length: float = 1.0, amplitude: float = 0.5):
-    """All two-point combinations of the free non-contact nodes, ``amplitude`` each."""
-    L = _bar_length(model, n, length)
-    x = np.linspace(0.0, L, n + 1)[1:-1]
-    return [((float(x[i]), amplitude), (float(x[j]), amplitude)) for i in range(len(x)) for j in range(i + 1, len(x))]
+def family_labels(paths, lf: LoadForms) -> np.ndarray:
+    """Family label of every path point (:func:`plbar.families.assign_families` per branch)."""
+    br = paths.branches
+    T0I, T0II = paths.prob.system.T0
+    labels = assign_families([(float(b.T.min()), float(b.T.max())) for b in br], [len(b) for b in br], T0I, T0II)
+    lab = {b.id: f for b, f in zip(br, labels)}
+    return np.array([lab[int(i)] for i in lf.branch], dtype=object)
 
 
-def load_sweep_study(n: int = 5, model: str = "chain", positions=None, pairs=(), grid=(200, 200),
-                     element: str = "P1", mass: str = "lumped", length: float = 1.0,
-                     per_element: int = 10) -> Study:
-    """The tasks of a load-position sweep.
-
-    Parameters
-    ----------
-    n, model, element, mass, length : Case fields
-        The bar (default: the paper's chain ``N = 5``).
-    positions : sequence of float, optional
-        Unit point loads; default :func:`default_positions`.
-    pairs : sequence of ((s1, a1), (s2, a2))
-        Two-point combinations (e.g. :func:`node_pairs`).
-    grid : (int, int)
-        Scan grid of every case.
-
-    Returns
-    -------
-    Study
-        Tasks in the order: single positions, then pairs.
-    """
-    if positions is None:
-        positions = default_positions(n, per_element, model, length)
-    base = {"model": model, "n": int(n), "grid": [int(g) for g in grid]}
-    if model == "fe":
-        base.update(element=element, mass=mass, length=float(length))
-    tasks = []
-    for s in positions:
-        tasks.append({"case": {**base, "load_points": [[float(s), 1.0]]}})
-    for (s1, a1), (s2, a2) in pairs:
-        tasks.append({"case": {**base, "load_points": [[float(s1), float(a1)], [float(s2), float(a2)]]}})
-    params = {"n": int(n), "model": model, "grid": list(base["grid"]), "positions": len(positions),
-              "pairs": len(pairs)}
-    return Study("load-sweep", solve_task, tuple(tasks), params)
+def _load_vector(lf: LoadForms, load) -> np.ndarray:
+    s = np.array([p[0] for p in load], float)
+    a = np.array([p[1] for p in load], float)
+    return a @ lf.point_vectors(s)
 
 
-@dataclass(frozen=True)
-class SweepTables:
-    """Assembled sweep tables (columns as numpy arrays or lists)."""
-
-    rows: dict
-    maxima: dict
-    summary: dict
-
-
-def _load_cols(task: dict):
-    pts = task["case"]["load_points"]
-    s1, a1 = pts[0]
-    s2, a2 = pts[1] if len(pts) > 1 else (np.nan, np.nan)
-    label = "+".join(f"{a:g}@{s:g}" for s, a in pts)
-    return label, float(s1), float(a1), float(s2), float(a2)
-
-
-def _family_points(res: dict, labels, fam: str):
-    brs = [branch_arrays(b) for b, f in zip(res["branches"], labels) if f == fam]
-    if not brs:
-        return None
-    return {k: np.concatenate([b[k] for b in brs]) for k in brs[0]}, len(brs)
-
-
-def _nearest_dev(P: np.ndarray, Q: np.ndarray) -> np.ndarray:
-    """Distance from each row of P to the nearest row of Q, and that row's index."""
-    d = np.sqrt(((P[:, None, :] - Q[None, :, :]) ** 2).sum(-1))
-    j = d.argmin(1)
-    return d[np.arange(len(P)), j], j
-
-
-def sweep_tables(tasks, results, tol: float = 0.1, min_points: int = 4) -> SweepTables:
-    """Tidy rows, per-case family maxima and the summary from task results (in task order)."""
-    rows = {k: [] for k in SWEEP_HEADER}
-    mx = {k: [] for k in MAX_HEADER}
-    ref: dict[str, dict] = {}
-    labels_all = []
-    for res in results:
-        rng = [(min(np.add(b["T1"], b["T2"])), max(np.add(b["T1"], b["T2"]))) for b in res["branches"]]
-        labels_all.append(assign_families(rng, [len(b["T1"]) for b in res["branches"]], res["T0_I"],
-                                          res["T0_II"], tol, min_points))
-    for ci, (task, res, labels) in enumerate(zip(tasks, results, labels_all)):
-        load, s1, a1, s2, a2 = _load_cols(task)
-        for b, fam in zip(res["branches"], labels):
-            a = branch_arrays(b)
-            m = a["T"].size
-            for k, v in (("case", ci), ("load", load), ("s1", s1), ("a1", a1), ("s2", s2), ("a2", a2),
-                         ("family", fam), ("branch", b["id"])):
-                rows[k].append([v] * m)
-            rows["point"].append(list(range(m)))
-            for k in ("T1", "T2", "phi", "T", "dPL", "xi", "grazing"):
-                rows[k].append(list(a[k]))
-        for fam in FAMILIES:
-            got = _family_points(res, labels, fam)
-            if got is None:
+def pair_table(lf: LoadForms, fam: np.ndarray, loads) -> dict:
+    """Per load case (sequence of ``(s, a)``) and family: the ``xi_eq`` range and its maximum (Fig. 9)."""
+    Q = np.array([_load_vector(lf, ld) for ld in loads])
+    xi, dpl = lf.xi(Q), lf.dPL(Q)
+    nop = lf.no_path(Q)
+    rows = {k: [] for k in PAIRS_HEADER}
+    for li, ld in enumerate(loads):
+        (s1, a1), (s2, a2) = ld[0], (ld[1] if len(ld) > 1 else (np.nan, np.nan))
+        for f in FAMILIES + ("all",):
+            m = np.ones(len(lf), bool) if f == "all" else (fam == f)
+            if not m.any():
                 continue
-            p, nb = got
-            if fam not in ref:
-                ref[fam] = p
-            r = ref[fam]
-            dev, j = _nearest_dev(np.c_[p["T1"], p["T2"]], np.c_[r["T1"], r["T2"]])
-            dphi = np.abs(np.angle(np.exp(2j * (p["phi"] - r["phi"][j])))) / 2   # mod pi
-            i = int(np.argmax(p["xi"]))
-            vals = {"case": ci, "load": load, "s1": s1, "a1": a1, "s2": s2, "a2": a2, "family": fam,
-                    "branches": nb, "points": p["T"].size, "T_min": p["T"].min(), "T_max": p["T"].max(),
-                    "xi_min": p["xi"].min(), "xi_max": p["xi"][i], "T_at_max": p["T"][i],
-                    "T1_at_max": p["T1"][i], "T2_at_max": p["T2"][i], "phi_at_max": p["phi"][i],
-                    "dPL_at_max": p["dPL"][i], "geom_dev": dev.max(), "phi_dev": dphi.max()}
-            for k in MAX_HEADER:
-                mx[k].append(vals[k])
-    rows = {k: [x for part in v for x in part] for k, v in rows.items()}
-    return SweepTables(rows, mx, _summary(mx))
+            i = np.flatnonzero(m)[int(np.argmax(xi[m, li]))]
+            vals = dict(load="+".join(f"{a:g}@{s:g}" for s, a in ld), s1=s1, a1=a1, s2=s2, a2=a2, family=f,
+                        points=int(m.sum()), T_min=lf.T[m].min(), T_max=lf.T[m].max(), xi_min=xi[m, li].min(),
+                        xi_max=xi[i, li], T_at_max=lf.T[i], T1_at_max=lf.T1[i], T2_at_max=lf.T2[i],
+                        phi_at_max=float(np.mod(lf.phi[i], np.pi)), dPL_at_max=dpl[i, li],
+                        no_path_points=int(nop[m, li].sum()))
+            for k in PAIRS_HEADER:
+                rows[k].append(vals[k])
+    return rows
 
 
-def _summary(mx: dict) -> dict:
-    out = {"families": list(FAMILIES), "other": OTHER, "best": {}}
-    a2 = np.asarray(mx["a2"], float)
-    for fam in FAMILIES:
-        sel = [i for i, f in enumerate(mx["family"]) if f == fam]
-        entry = {}
-        for kind, keep in (("single", lambda i: np.isnan(a2[i])), ("pair", lambda i: not np.isnan(a2[i]))):
-            idx = [i for i in sel if keep(i)]
-            if not idx:
-                continue
-            i = max(idx, key=lambda k: (mx["xi_max"][k], -k))
-            entry[kind] = {k: mx[k][i] for k in ("case", "load", "s1", "a1", "s2", "a2", "xi_max", "T_at_max",
-                                                  "T1_at_max", "T2_at_max", "phi_at_max", "dPL_at_max")}
-            entry[kind]["s2"] = None if np.isnan(entry[kind]["s2"]) else entry[kind]["s2"]
-            entry[kind]["a2"] = None if np.isnan(entry[kind]["a2"]) else entry[kind]["a2"]
-            entry[kind]["cases"] = len(idx)
-            entry[kind]["max_geom_dev"] = float(max(mx["geom_dev"][k] for k in idx))
-        out["best"][fam] = entry
+def position_table(lf: LoadForms, positions) -> dict:
+    """``xi_eq`` and ``Delta_PL`` of a unit force at every position and path point (tidy columns)."""
+    s = np.asarray(positions, float)
+    xi, dpl = lf.point_loads(s)
+    P, S = xi.shape
+    return {"branch": np.repeat(lf.branch, S), "point": np.repeat(lf.point, S), "T": np.repeat(lf.T, S),
+            "s": np.tile(s, P), "xi": xi.ravel(), "dPL": dpl.ravel(), "_xi": xi}
+
+
+def worst_table(lf: LoadForms) -> tuple[dict, object]:
+    """``worst_load.csv`` columns and the :class:`plbar.loadforms.Worst` result."""
+    w = lf.worst()
+    xb, sb = lf.element_max().best()
+    cols = {"branch": lf.branch, "point": lf.point, "T1": lf.T1, "T2": lf.T2, "phi": np.mod(lf.phi, 2 * np.pi),
+            "T": lf.T, "xi_worst": w.xi, "xi_best_single": xb, "s_best_single": sb}
+    return cols, w
+
+
+def _no_path(lf: LoadForms, named: list[tuple[str, np.ndarray]]) -> list[dict]:
+    """Loads with ``h(q) = 0`` at some path points: no periodic response there (not dropped silently)."""
+    out = []
+    for name, q in named:
+        if not np.any(q):
+            out.append({"load": name, "points": len(lf), "all_points": True, "why": "zero load vector"})
+            continue
+        z = lf.no_path(q)
+        if z.any():
+            out.append({"load": name, "points": int(z.sum()), "all_points": bool(z.all()),
+                        "why": "h(q) = (H q)_c = 0: the load does not move the contact; no periodic path",
+                        "at": [{"branch": int(lf.branch[i]), "point": int(lf.point[i]), "T": float(lf.T[i])}
+                               for i in np.flatnonzero(z)[:20]]})
     return out
 
 
-def _blank_nan(col):
-    """Column values for CSV with nan written as an empty field (single loads have no s2, a2)."""
+def _summary(lf, fam, wcols, pairs_rows, positions, no_path, times) -> dict:
+    fams = {}
+    for f in FAMILIES + (OTHER,):
+        m = fam == f
+        if not m.any():
+            continue
+        i = np.flatnonzero(m)[int(np.argmax(wcols["xi_worst"][m]))]
+        j = np.flatnonzero(m)[int(np.argmax(wcols["xi_best_single"][m]))]
+        entry = {"points": int(m.sum()), "T_range": [float(lf.T[m].min()), float(lf.T[m].max())],
+                 "xi_worst_max": float(wcols["xi_worst"][i]), "T_at_xi_worst_max": float(lf.T[i]),
+                 "xi_best_single_max": float(wcols["xi_best_single"][j]), "T_at_best_single": float(lf.T[j]),
+                 "s_at_best_single": float(wcols["s_best_single"][j])}
+        pr = [k for k, ff in enumerate(pairs_rows["family"]) if ff == f and not np.isnan(pairs_rows["a2"][k])]
+        if pr:
+            k = max(pr, key=lambda r: pairs_rows["xi_max"][r])
+            entry["best_pair"] = {"load": pairs_rows["load"][k], "xi_max": float(pairs_rows["xi_max"][k]),
+                                  "T_at_max": float(pairs_rows["T_at_max"][k])}
+        fams[f] = entry
+    return {"path_points": len(lf), "dofs": lf.n, "positions": int(np.size(positions)),
+            "reference_load": lf.q_ref.tolist(), "families": fams, "no_path": no_path,
+            "h_zero_tol": HZERO_TOL, "times": {k: round(v, 6) for k, v in times.items()},
+            "note": "xi_worst = b^T G^+ b / 2 is the largest xi_eq over every in-phase load distribution at that "
+                    "path point (docs/load_structure.md); loads with h(q) = 0 have no periodic path there"}
+
+
+def _blank(col):
     return ["" if (isinstance(v, float) and np.isnan(v)) else repr(float(v)) for v in col]
 
 
-def write_sweep_tables(folder, tables: SweepTables) -> dict[str, Path]:
-    """Write ``sweep.csv``, ``sweep_max.csv`` and ``sweep_summary.json`` (atomically).
-
-    A single load has no second position: its ``s2, a2`` fields are empty
-    (no ``nan`` is ever written).
-    """
-    folder = Path(folder)
-    g = "%.17g"
-    f_rows = ["%d", "%s", g, g, "%s", "%s", "%s", "%d", "%d", g, g, g, g, g, g, "%d"]
-    f_max = ["%d", "%s", g, g, "%s", "%s", "%s", "%d", "%d"] + [g] * 11
-    rows = [(_blank_nan(tables.rows[k]) if k in ("s2", "a2") else tables.rows[k]) for k in SWEEP_HEADER]
-    maxi = [(_blank_nan(tables.maxima[k]) if k in ("s2", "a2") else tables.maxima[k]) for k in MAX_HEADER]
-    return {
-        "sweep": write_csv(folder / "sweep.csv", SWEEP_HEADER, rows, f_rows),
-        "max": write_csv(folder / "sweep_max.csv", MAX_HEADER, maxi, f_max),
-        "summary": write_json(folder / "sweep_summary.json", tables.summary),
-    }
+def _write_tables(out: Path, pos, wcols, w, fam, pairs_rows, lf) -> dict:
+    files = {}
+    files["xi_positions"] = write_csv(out / "xi_positions.csv", POSITIONS_HEADER, [pos[k] for k in POSITIONS_HEADER],
+                                      ["%d", "%d", G17, G17, G17, G17], allow_nan=False)
+    files["worst_load"] = write_csv(out / "worst_load.csv", WORST_HEADER, [wcols[k] for k in WORST_HEADER],
+                                    ["%d", "%d"] + [G17] * 7, allow_nan=False)
+    cols = [(_blank(pairs_rows[k]) if k in ("s2", "a2") else pairs_rows[k]) for k in PAIRS_HEADER]
+    fm = ["%s", G17, G17, "%s", "%s", "%s", "%d"] + [G17] * 9 + ["%d"]
+    files["load_pairs"] = write_csv(out / "load_pairs.csv", PAIRS_HEADER, cols, fm)
+    with atomic_path(out / "worst_load_shapes.npz") as tmp:
+        np.savez(tmp, q_star=w.q, x=lf.x, branch=lf.branch, point=lf.point, T1=lf.T1, T2=lf.T2,
+                 phi=np.mod(lf.phi, 2 * np.pi), xi_worst=w.xi, rank=w.rank, family=fam.astype(str))
+    files["worst_load_shapes"] = out / "worst_load_shapes.npz"
+    return files
 
 
-def xi_along_mesh(tables: SweepTables) -> tuple[np.ndarray, dict]:
-    """Per single-load position: max ``xi_eq`` over all branches and per family, and the max ``Delta_PL``.
+def _write_mesh(out: Path, lf: LoadForms, fam, bar) -> Path:
+    from ..io import write_xi_along_mesh
 
-    Returns the sorted positions (with the clamp ``s = 0`` added, where a
-    load does nothing: every value 0) and a dict of point fields for
-    :func:`plbar.export.write_xi_along_mesh`.
-    """
-    r = tables.rows
-    a2 = np.asarray(r["a2"], float)
-    s1 = np.asarray(r["s1"], float)
-    single = np.isnan(a2)
-    pos = np.unique(s1[single])
-    xi = np.asarray(r["xi"], float)
-    dpl = np.asarray(r["dPL"], float)
-    fam = np.asarray(r["family"], dtype=object)
-    fields = {"xi_eq_max": np.zeros(pos.size), "dPL_max": np.zeros(pos.size)}
+    xi, dpl = lf.point_loads(lf.x)
+    fields = {"xi_eq_max": xi.max(axis=0), "dPL_max": dpl.max(axis=0)}
     for f in FAMILIES:
-        fields[f"xi_eq_max_{f.replace('/', '_')}"] = np.zeros(pos.size)
-    for i, s in enumerate(pos):
-        m = single & (s1 == s)
-        if not m.any():
-            continue
-        fields["xi_eq_max"][i] = xi[m].max()
-        fields["dPL_max"][i] = dpl[m].max()
-        for f in FAMILIES:
-            mf = m & (fam == f)
-            if mf.any():
-                fields[f"xi_eq_max_{f.replace('/', '_')}"][i] = xi[mf].max()
-    pos = np.r_[0.0, pos]
-    return pos, {k: np.r_[0.0, v] for k, v in fields.items()}
+        m = fam == f
+        fields[f"xi_eq_max_{f.replace('/', '_')}"] = xi[m].max(axis=0) if m.any() else np.zeros(lf.n)
+    return write_xi_along_mesh(bar, lf.x, fields, out / "xi_along_mesh.vtu")
+
+
+def _plot(out: Path, lf: LoadForms, fam, pos, wcols) -> Path:
+    from ..visuals import xi_load_map
+
+    s = np.asarray(pos["s"]).reshape(len(lf), -1)[0]
+    return xi_load_map(out / "xi_T_s.png", lf.T, lf.branch, fam, s, pos["_xi"], wcols["xi_worst"],
+                       wcols["xi_best_single"], [f for f in FAMILIES + (OTHER,) if np.any(fam == f)])
+
+
+def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pairs: bool = True,
+                progress: bool = False, loads=(), plot: bool = True) -> dict:
+    """One path solve, then every load position, the node pairs and the worst load.
+
+    Parameters
+    ----------
+    case : plbar.Case, optional
+        The bar and the reference load (default: the paper's chain ``N = 5``, DOF 1).
+    out : path, optional
+        Study folder; nothing is written if None.
+    positions : array_like, optional
+        Unit point-force positions; default :func:`mesh_positions` with ``per_element``.
+    pairs : bool
+        Also the Fig. 9 table (:func:`vertex_loads`).
+    loads : sequence of sequences of (s, a)
+        Extra load combinations for the pair table (e.g. ones with ``h(q) = 0``).
+    plot : bool
+        Write ``xi_T_s.png`` (needs matplotlib).
+
+    Returns
+    -------
+    dict
+        ``files`` (name -> Path), ``summary`` (the content of ``summary.json``),
+        ``forms`` (:class:`plbar.loadforms.LoadForms`), ``result`` (the solve),
+        ``tables`` (the columns written).
+    """
+    from ..app import Case, solve
+
+    case = Case() if case is None else case
+    t0 = time.perf_counter()
+    res = solve(case, progress=progress)
+    times = {"solve": time.perf_counter() - t0}
+    t1 = time.perf_counter()
+    lf = load_forms(res.paths)
+    fam = family_labels(res.paths, lf)
+    pos_s = mesh_positions(lf, per_element) if positions is None else np.asarray(positions, float).ravel()
+    pos = position_table(lf, pos_s)
+    wcols, w = worst_table(lf)
+    cases = (vertex_loads(lf) if pairs else []) + [tuple(tuple(p) for p in ld) for ld in loads]
+    prow = pair_table(lf, fam, cases) if cases else {k: [] for k in PAIRS_HEADER}
+    named = [(f"1@{s:g}", q) for s, q in zip(pos_s, lf.point_vectors(pos_s))]
+    named += [("+".join(f"{a:g}@{s:g}" for s, a in ld), _load_vector(lf, ld)) for ld in cases]
+    no_path = _no_path(lf, named)
+    times["load_study"] = time.perf_counter() - t1
+    summary = _summary(lf, fam, wcols, prow, pos_s, no_path, times)
+    summary["case"] = case.to_dict()
+    files = {}
+    if out is not None:
+        out = Path(out)
+        files.update(_write_tables(out, pos, wcols, w, fam, prow, lf))
+        files["xi_along_mesh"] = _write_mesh(out, lf, fam, res.paths.prob.bar)
+        if plot:
+            files["plot"] = _plot(out, lf, fam, pos, wcols)
+        files["summary"] = write_json(out / "summary.json", summary)
+    return {"files": files, "summary": summary, "forms": lf, "result": res, "families": fam,
+            "tables": {"positions": pos, "worst": wcols, "pairs": prow}, "worst": w}

@@ -20,7 +20,7 @@ import ast
 import sys
 from pathlib import Path
 
-__all__ = ["LAYERS", "HEAVY", "HEAVY_OK", "MAX_MODULE", "MAX_FUNCTION", "graph", "violations", "main"]
+__all__ = ["LAYERS", "HEAVY", "HEAVY_OK", "MAX_MODULE", "MAX_FUNCTION", "modules", "graph", "violations", "main"]
 
 #: subpackages from the bottom up; each may import only from those before it (``errors`` is the base)
 LAYERS = ("errors", "util", "model", "response", "paths", "check", "io", "visuals", "app", "studies", "cli")
@@ -31,7 +31,8 @@ MAX_FUNCTION = 60
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def _modules(root: Path = ROOT) -> dict[str, Path]:
+def modules(root: Path = ROOT) -> dict[str, Path]:
+    """Module name -> file of every module under the package folder ``root``."""
     out = {}
     for p in sorted(root.rglob("*.py")):
         rel = p.relative_to(root.parent).with_suffix("")
@@ -66,7 +67,7 @@ def _layer(mod: str) -> str:
 
 def graph(mods: dict[str, Path] | None = None) -> dict[str, set[str]]:
     """Module -> the plbar modules it imports (a ``from pkg import name`` of a submodule counts as that module)."""
-    mods = mods or _modules()
+    mods = mods or modules()
     edges: dict[str, set[str]] = {m: set() for m in mods}
     for m, p in mods.items():
         for tgt, names, _ in _imports(m, p):
@@ -112,12 +113,17 @@ def _rank(layer: str) -> int:
     return LAYERS.index(layer) if layer in LAYERS else (-1 if layer == "errors" else len(LAYERS))
 
 
+def _where(p: Path) -> str:
+    parts = p.parts
+    return "/".join(parts[parts.index("plbar"):]) if "plbar" in parts else str(p)
+
+
 def _import_violations(mods: dict[str, Path]) -> list[str]:
     bad = []
     for m, p in mods.items():
         lay = _layer(m)
         for tgt, names, line in _imports(m, p):
-            where = f"{p.relative_to(ROOT.parent)}:{line}"
+            where = f"{_where(p)}:{line}"
             top = tgt.split(".")[0]
             sub = ".".join(m.split(".")[1:3])
             if top in HEAVY and lay not in HEAVY_OK and sub not in HEAVY_OK:
@@ -139,26 +145,26 @@ def _size_violations(mods: dict[str, Path]) -> list[str]:
     for m, p in mods.items():
         n = len(p.read_text().splitlines())
         if n > MAX_MODULE:
-            bad.append(f"{p.relative_to(ROOT.parent)}: {n} lines (module limit {MAX_MODULE})")
+            bad.append(f"{_where(p)}: {n} lines (module limit {MAX_MODULE})")
         for node in ast.walk(ast.parse(p.read_text())):
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 n = node.end_lineno - node.lineno + 1
                 if n > MAX_FUNCTION:
-                    bad.append(f"{p.relative_to(ROOT.parent)}:{node.lineno}: {node.name}() has {n} lines "
+                    bad.append(f"{_where(p)}:{node.lineno}: {node.name}() has {n} lines "
                                f"(function limit {MAX_FUNCTION})")
     return bad
 
 
 def violations(mods: dict[str, Path] | None = None) -> list[str]:
     """Every breach of the house rules (empty if the package is in order)."""
-    mods = mods or _modules()
+    mods = mods or modules()
     cyc = [f"import cycle: {' -> '.join(c)}" for c in _cycles(graph(mods))]
     return cyc + _import_violations(mods) + _size_violations(mods)
 
 
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
-    mods = _modules()
+    mods = modules()
     edges = graph(mods)
     if "--modules" in argv:
         for m in sorted(edges):

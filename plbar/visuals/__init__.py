@@ -4,8 +4,8 @@ matplotlib and pyvista are imported inside the drawing functions.
 """
 
 from .paper import GREEN, RED, nearest_point
-from .plots import contact_amplitude, frequency_response, paths_plane
+from .plots import contact_amplitude, frequency_response, paths_plane, xi_load_map
 from .render import RenderFiles, render
 
-__all__ = ["GREEN", "RED", "nearest_point", "contact_amplitude", "frequency_response", "paths_plane",
+__all__ = ["GREEN", "RED", "nearest_point", "contact_amplitude", "frequency_response", "paths_plane", "xi_load_map",
            "RenderFiles", "render"]

@@ -13,7 +13,7 @@ import numpy as np
 from ..paths import FOLD_MU, FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING
 from ..util.files import atomic_path
 
-__all__ = ["frequency_response", "paths_plane", "contact_amplitude", "FAM_STYLE", "DOF_COLORS", "FAMILIES"]
+__all__ = ["frequency_response", "paths_plane", "contact_amplitude", "xi_load_map", "FAM_STYLE", "DOF_COLORS", "FAMILIES"]
 
 FAMILIES = ("T0_I", "T0_II/2")      #: the branch families drawn in their own colours
 FAM_STYLE = {"T0_I": ("tab:blue", "path 1 (near $T_0^I$)"), "T0_II/2": ("tab:orange", "path 2 (near $T_0^{II}/2$)"),
@@ -112,3 +112,46 @@ def paths_plane(res, out, name: str = "paths_T1_T2") -> Path:
     ax.legend(fontsize=7, loc="best")
     ax.set_title("periodic paths and events (numbers: branch id)")
     return _save(fig, out, name)[0]
+
+
+def _edges(v):
+    """Cell edges around the values ``v`` (midpoints, ends extended by half a step)."""
+    v = np.asarray(v, float)
+    if v.size == 1:
+        return np.r_[v - 1e-3 * max(abs(v[0]), 1.0), v + 1e-3 * max(abs(v[0]), 1.0)]
+    mid = 0.5 * (v[1:] + v[:-1])
+    return np.r_[2 * v[0] - mid[0], mid, 2 * v[-1] - mid[-1]]
+
+
+def xi_load_map(path, T, branch, fam, s, xi, xi_worst, xi_best, fams) -> Path:
+    """``xi_eq`` over (period ``T``, load position ``s``) per family, with the worst-load curve above it.
+
+    ``T, branch, fam`` per path point (P,), ``xi`` (P, S) for unit forces at ``s`` (S,),
+    ``xi_worst, xi_best`` (P,) the worst load distribution and the best single force.
+    """
+    plt = _plt()
+    fig, ax = plt.subplots(2, len(fams), figsize=(4.5 * len(fams), 6), sharex="col", squeeze=False,
+                           gridspec_kw={"height_ratios": [1, 2]})
+    for c, f in enumerate(fams):
+        m = fam == f
+        for bid in np.unique(branch[m]):
+            k = m & (branch == bid)
+            ax[0, c].plot(T[k], xi_worst[k], "k-", lw=1)
+            ax[0, c].plot(T[k], xi_best[k], "r--", lw=1)
+        ax[0, c].set_title(f"family {f}")
+        ax[0, c].legend(["worst load", "best single force"], fontsize=7)
+        vmax = max(float(xi[m].max()), 1e-300)
+        for bid in np.unique(branch[m]):
+            k = np.flatnonzero(m & (branch == bid))
+            sc = ax[1, c].pcolormesh(_edges(T[k]), _edges(s), xi[k].T, cmap="viridis", vmin=0.0,
+                                     vmax=vmax, shading="flat")
+        fig.colorbar(sc, ax=ax[1, c], label="xi_eq (unit force at s)")
+        ax[1, c].set_xlabel("T")
+    ax[0, 0].set_ylabel("xi_eq")
+    ax[1, 0].set_ylabel("load position s")
+    fig.tight_layout()
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png", dpi=110)
+    plt.close(fig)
+    return path

@@ -395,6 +395,11 @@ def test_short_branch_warns():
 
 
 def test_no_warning_on_fine_grid():
+    """A grid of >= 20 points per axis whose branches all have >= 3 points: neither warning is issued."""
     with warnings.catch_warnings():
         warnings.simplefilter("error", CoarseGridWarning)
         plbar.Case(grid=(20, 20))               # building a case never warns
+        res = plbar.solve(plbar.Case(n=3, grid=(40, 40)))
+    assert res.branches and min(len(b) for b in res.branches) >= 3
+    with pytest.warns(CoarseGridWarning):       # the same case, coarser: the check is live
+        plbar.solve(plbar.Case(n=3, grid=(12, 12)))

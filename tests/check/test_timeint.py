@@ -94,5 +94,6 @@ def test_closed_form_vs_solve_ivp_chain(default_result):
     _check_points(default_result, picks)
 
 
+@pytest.mark.slow
 def test_closed_form_vs_solve_ivp_fe_p2_consistent(fe_p2_result):
     _check_points(fe_p2_result, _picks(fe_p2_result, 1))

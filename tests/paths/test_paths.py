@@ -94,6 +94,7 @@ def test_identities_default_run(default_result):
     assert np.all(np.isfinite(dmp.xi))
 
 
+@pytest.mark.slow
 def test_identities_fe_p2_consistent(fe_p2_result):
     c = fe_p2_result.case
     bar = plbar.Bar(plbar.uniform_nodes(8), "P2", "consistent", EA=3.0, rhoA=0.75)

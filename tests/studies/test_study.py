@@ -105,6 +105,7 @@ def _final(folder: Path) -> list[Path]:
     return [p for p in folder.glob("*.json") if not p.name.startswith(".")]
 
 
+@pytest.mark.slow
 def test_kill_and_resume(tmp_path):
     """(c) kill -9 mid-study: no partial file under a final name; the rerun completes identically."""
     killed = tmp_path / "killed"

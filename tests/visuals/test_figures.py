@@ -18,7 +18,8 @@ def test_every_figure_family_has_a_script():
         assert k in names
 
 
-@pytest.mark.parametrize("script", SCRIPTS, ids=lambda p: p.stem)
+@pytest.mark.parametrize("script", [pytest.param(s, marks=pytest.mark.slow) if s.stem == "fig_9_xi_position" else s
+                                    for s in SCRIPTS], ids=lambda p: p.stem)
 def test_figure_script(script, tmp_path):
     mpl = pytest.importorskip("matplotlib")
     env = {**os.environ, "MPLBACKEND": "agg", "PLBAR_GRID": "60,60", "PLBAR_PER_ELEMENT": "2"}

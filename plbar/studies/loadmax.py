@@ -1,0 +1,236 @@
+"""The extremes of the load quadratic forms: the worst load distribution and the best point force per element.
+
+``xi_eq(q) = (b . q)^2 / (2 q^T G q)`` (:mod:`plbar.studies.loadforms`): its
+largest value over every ``q`` is the largest generalised eigenvalue
+``b^T G^+ b / 2`` (:func:`worst`); for a point force moving over an element,
+``q(s)`` are the shape functions and ``xi_eq`` is a ratio of polynomials in the
+local coordinate, maximised exactly (:func:`element_max`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..util.blas import single_thread_blas
+
+__all__ = ["Worst", "ElementMax", "element_max", "worst", "RCOND"]
+
+RCOND = 1e-12       #: relative eigenvalue cutoff of the scaled Gram matrix (its numerical null space)
+
+
+@dataclass(frozen=True)
+class Worst:
+    """Largest ``xi_eq`` over every load distribution, per path point.
+
+    Attributes
+    ----------
+    xi : ndarray, shape (P,)
+        ``b^T G^+ b / 2`` (the largest generalised eigenvalue).
+    q : ndarray, shape (P, n)
+        The maximising load ``q* = G^+ b``, unit 2-norm, signed so that ``b . q* >= 0``.
+    rank : ndarray of int, shape (P,)
+        Numerical rank of ``G`` (``n`` unless a direction fell under :data:`RCOND`).
+    b_in_null : ndarray, shape (P,)
+        Share of ``b`` in the dropped null space (0 if ``null(G)`` is inside ``null(b^T)``).
+    """
+
+    xi: np.ndarray
+    q: np.ndarray
+    rank: np.ndarray
+    b_in_null: np.ndarray
+
+
+@dataclass(frozen=True)
+class ElementMax:
+    """Exact maximum of ``xi_eq`` of a unit point force over each element, per path point.
+
+    ``xi``, ``s``: shape (P, E); ``left``, ``right``: element ends (E,), sorted by position.
+    """
+
+    xi: np.ndarray
+    s: np.ndarray
+    left: np.ndarray
+    right: np.ndarray
+
+    def best(self):
+        """Best single position over the whole bar: ``xi`` (P,) and ``s`` (P,)."""
+        j = np.argmax(self.xi, axis=1)
+        r = np.arange(self.xi.shape[0])
+        return self.xi[r, j], self.s[r, j]
+
+
+@dataclass(frozen=True)
+class _Elements:
+    """Element-local shape functions of the free DOFs: ``N_e(t) = C[e] @ (1, t, t^2, ...)``.
+
+    ``dofs`` (E, k): free DOF of each local function (``n`` for the clamped DOF: a dummy
+    with zero coefficients); ``C`` (E, k, deg+1) ascending powers; ``left, right`` (E,).
+    """
+
+    dofs: np.ndarray
+    C: np.ndarray
+    left: np.ndarray
+    right: np.ndarray
+
+    def locate(self, s):
+        """Element index and local coordinate ``t`` in ``[0, 1]`` of positions ``s`` (S,)."""
+        s = np.asarray(s, float)
+        L = self.right[-1]
+        if np.any((s < self.left[0] - 1e-12 * L) | (s > L * (1 + 1e-12))) or not np.all(np.isfinite(s)):
+            raise InputError(f"load positions must lie on the bar [0, {L:g}]")
+        e = np.clip(np.searchsorted(self.left, s, side="right") - 1, 0, self.left.size - 1)
+        t = np.clip((s - self.left[e]) / (self.right[e] - self.left[e]), 0.0, 1.0)
+        return e, t
+
+    def values(self, e, t):
+        """Shape-function values ``(S, k)`` at local coordinates ``t`` of elements ``e``."""
+        pw = t[:, None] ** np.arange(self.C.shape[-1])
+        return np.einsum("skd,sd->sk", self.C[e], pw)
+
+
+def _elements(asm) -> _Elements:
+    """Element-local polynomial shape functions from the scikit-fem basis (any Lagrange degree)."""
+    basis = asm.basis
+    elem, mesh = basis.elem, basis.mesh
+    deg = int(elem.maxdeg)
+    n = asm.n
+    fidx = np.full(basis.N, n)
+    fidx[asm.free] = np.arange(n)
+    dofs = fidx[basis.element_dofs].T                                   # (E, k)
+    tt = 0.5 - 0.5 * np.cos(np.pi * np.arange(deg + 1) / max(deg, 1))   # Chebyshev-Lobatto on [0, 1]
+    vals = np.array([elem.lbasis(tt[None, :], i)[0] for i in range(dofs.shape[1])])   # (k, deg+1)
+    C = np.linalg.solve(np.vander(tt, deg + 1, increasing=True), vals.T).T           # (k, deg+1)
+    C = np.where(np.abs(C) < 1e-14 * np.abs(C).max(), 0.0, C)
+    C = np.broadcast_to(C, (dofs.shape[0],) + C.shape).copy()
+    C[dofs == n] = 0.0
+    x = mesh.p[0]
+    left, right = x[mesh.t[0]], x[mesh.t[1]]
+    if np.any(right <= left):
+        raise InputError("the mesh has an element with non-increasing vertex order; cannot map load positions")
+    order = np.argsort(left)
+    return _Elements(dofs[order], C[order], left[order], right[order])
+
+
+# -- small batched polynomial helpers (ascending coefficients on the last axis) ---------------------
+def _poly_mul(a, b):
+    out = np.zeros(np.broadcast_shapes(a.shape[:-1], b.shape[:-1]) + (a.shape[-1] + b.shape[-1] - 1,))
+    for i in range(a.shape[-1]):
+        out[..., i:i + b.shape[-1]] += a[..., i:i + 1] * b
+    return out
+
+
+def _poly_der(a):
+    k = np.arange(1, a.shape[-1])
+    return a[..., 1:] * k if a.shape[-1] > 1 else np.zeros(a.shape[:-1] + (1,))
+
+
+def _poly_sub(a, b):
+    m = max(a.shape[-1], b.shape[-1])
+    pa = np.zeros(a.shape[:-1] + (m,))
+    pb = np.zeros(b.shape[:-1] + (m,))
+    pa[..., :a.shape[-1]] = a
+    pb[..., :b.shape[-1]] = b
+    return pa - pb
+
+
+def _polyval(c, t):
+    """Horner: c (..., d+1), t (..., K) -> (..., K); nan t gives nan."""
+    out = np.zeros(t.shape)
+    for k in range(c.shape[-1] - 1, -1, -1):
+        out = out * np.nan_to_num(t) + c[..., k:k + 1]
+    return np.where(np.isfinite(t), out, np.nan)
+
+
+def _roots01(c, tol: float = 1e-14):
+    """Real roots in ``[0, 1]`` of polynomials ``c`` (..., d+1); nan pads (..., d).
+
+    Grouped by effective degree (leading coefficients below ``tol`` times the largest are
+    dropped), companion-matrix eigenvalues, then two Newton steps on the full polynomial.
+    """
+    shp, d = c.shape[:-1], c.shape[-1] - 1
+    cf = c.reshape(-1, d + 1)
+    out = np.full((cf.shape[0], max(d, 1)), np.nan)
+    scale = np.abs(cf).max(axis=1)
+    big = np.abs(cf) > tol * scale[:, None]
+    deg = np.where(big.any(axis=1), d - np.argmax(big[:, ::-1], axis=1), 0)
+    for k in range(1, d + 1):
+        rows = np.flatnonzero(deg == k)
+        if rows.size == 0:
+            continue
+        cc = cf[rows, :k + 1] / cf[rows, k:k + 1]
+        comp = np.zeros((rows.size, k, k))
+        comp[:, 1:, :-1] = np.eye(k - 1)
+        comp[:, :, -1] = -cc[:, :k]
+        z = np.linalg.eigvals(comp)
+        ok = (np.abs(z.imag) <= 1e-7 * (1 + np.abs(z.real))) & (z.real > -1e-7) & (z.real < 1 + 1e-7)
+        out[rows, :k] = np.where(ok, np.clip(z.real, 0.0, 1.0), np.nan)
+    dc = _poly_der(cf)
+    for _ in range(2):
+        f, fp = _polyval(cf, out), _polyval(dc, out)
+        step = np.divide(f, fp, out=np.zeros_like(f), where=np.isfinite(fp) & (fp != 0))
+        out = np.where(np.isfinite(out), np.clip(out - step, 0.0, 1.0), np.nan)
+    return out.reshape(shp + (out.shape[-1],))
+
+
+# -- construction -----------------------------------------------------------------------------------
+
+
+def element_max(lf) -> ElementMax:
+    """Exact maximum of ``xi_eq(s)`` over each element (a ratio of polynomials in the local coordinate).
+
+    ``xi(t) = a(t)^2 / (2 d(t))`` with ``a = b . N(t)`` and ``d = N^T G N``; the interior
+    extrema are the real roots in ``[0, 1]`` of ``2 a' d - a d'`` (degree ``3 p - 1``:
+    2 for P1, 5 for P2), found as companion-matrix eigenvalues and polished by Newton.
+    """
+    el = lf._elems()
+    bp, Gp = lf._local()
+    C, d = el.C, el.dofs
+    a = np.einsum("pek,ekd->ped", bp[:, d], C)                              # (P, E, p+1)
+    Ge = Gp[:, d[:, :, None], d[:, None, :]]                                # (P, E, k, k)
+    CC = np.einsum("eid,ejf->eijdf", C, C)                                  # products of shape functions
+    p = C.shape[-1] - 1
+    dd = np.zeros(a.shape[:2] + (2 * p + 1,))
+    for i in range(p + 1):
+        for j in range(p + 1):
+            dd[..., i + j] += np.einsum("peij,eij->pe", Ge, CC[..., i, j])
+    # an element at the clamp: every free shape function vanishes at t = 0, so a = t a~ and
+    # d = t^2 d~; divide out (xi at t = 0 is then the limit of a force approaching the clamp)
+    clamp = np.all(C[:, :, 0] == 0, axis=1)
+    a[:, clamp] = np.concatenate([a[:, clamp, 1:], np.zeros(a[:, clamp, :1].shape)], axis=-1)
+    dd[:, clamp] = np.concatenate([dd[:, clamp, 2:], np.zeros(dd[:, clamp, :2].shape)], axis=-1)
+    r = _poly_sub(2 * _poly_mul(_poly_der(a), dd), _poly_mul(a, _poly_der(dd)))
+    # candidates: the right end first (ties go to the node, not to the clamp), the roots, the left end
+    t = np.concatenate([np.ones(a.shape[:2] + (1,)), _roots01(r), np.zeros(a.shape[:2] + (1,))], axis=-1)
+    num = _polyval(a, t) ** 2
+    den = _polyval(dd, t)
+    xi = np.divide(num, 2 * den, out=np.zeros_like(num), where=(den > 0) & np.isfinite(t))
+    j = np.argmax(xi, axis=-1)
+    xi_max = np.take_along_axis(xi, j[..., None], -1)[..., 0]
+    t_max = np.take_along_axis(t, j[..., None], -1)[..., 0]
+    return ElementMax(xi_max, el.left + t_max * (el.right - el.left), el.left, el.right)
+
+
+def worst(lf, rcond: float = RCOND) -> Worst:
+    """Largest ``xi_eq`` over every load and its shape: ``b^T G^+ b / 2`` at ``q* = G^+ b``.
+
+    Computed in the coordinates ``c`` where ``b`` is along ``e_a``: the pseudo-inverse of
+    the symmetrically scaled ``Gamma`` drops eigenvalues below ``rcond`` times the largest.
+    """
+    Gam = lf.Gamma
+    dsc = np.sqrt(np.einsum("pii->pi", Gam))
+    dsc = np.where(dsc > 0, dsc, 1.0)
+    with single_thread_blas:
+        lam, U = np.linalg.eigh(Gam / (dsc[:, :, None] * dsc[:, None, :]))
+    keep = lam > rcond * lam[:, -1:]
+    inv = np.where(keep, 1.0 / np.where(keep, lam, 1.0), 0.0)
+    ea = U[:, -1, :] / dsc[:, -1:]                         # e_a in the eigenbasis (scaled)
+    cstar = np.einsum("pij,pj->pi", U, inv * ea) / dsc       # Gamma^+ e_a
+    xi = 0.5 * lf.dPL(lf.q_ref) * cstar[:, -1]          # (b . q_ref)^2 = Delta_PL(q_ref)
+    q = np.einsum("pij,pj->pi", lf.B, cstar)
+    nq = np.linalg.norm(q, axis=1, keepdims=True)
+    q = q / np.where(nq > 0, nq, 1.0)
+    q = q * np.where(np.einsum("pi,pi->p", lf.b, q) < 0, -1.0, 1.0)[:, None]
+    null = np.sqrt(np.sum(np.where(keep, 0.0, U[:, -1, :]) ** 2, axis=1))
+    return Worst(xi, q, keep.sum(axis=1), null)

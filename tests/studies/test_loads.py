@@ -1,0 +1,99 @@
+"""sweep_loads: the old per-load sweep tables reproduced from one path solve, and the study outputs."""
+
+import csv
+import json
+
+import numpy as np
+import pytest
+
+import plbar
+from plbar.studies import loadcases as sweep
+from plbar.studies.loads import WORST_HEADER, pair_table, sweep_loads
+from plbar.studies import solve_task
+
+GRID = (60, 60)
+POSITIONS = [1.0, 2.5, 3.3]
+PAIRS = [((1.0, 0.5), (3.0, 0.5)), ((2.0, 0.5), (4.0, 0.5))]
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    out = tmp_path_factory.mktemp("loads")
+    first = plbar.solve(plbar.Case(grid=GRID))
+    s = first.paths.prob.system
+    T = float(first.branches[-1].T[len(first.branches[-1]) // 2])
+    q = (s.K - (2 * np.pi / T) ** 2 * s.M)[:, 0]                 # h(q) = 0 at that path point (u = e_1)
+    zero_load = ((1.0, float(q[0])), (2.0, float(q[1])))
+    res = sweep_loads(plbar.Case(grid=GRID), out, per_element=10, loads=[zero_load])
+    return out, res, (zero_load, T)
+
+
+def test_old_sweep_tables_reproduced(study):
+    """plbar.studies.loadcases (one full solve per load: single positions and node pairs) = the quadratic forms."""
+    _, res, _ = study
+    st = sweep.load_sweep_study(5, positions=POSITIONS, pairs=PAIRS, grid=GRID)
+    results = [solve_task(t) for t in st.tasks]
+    old = sweep.sweep_tables(st.tasks, results)
+    lf, fam = res["forms"], res["families"]
+    loads = [((s, 1.0),) for s in POSITIONS] + list(PAIRS)
+    new = pair_table(lf, fam, loads)
+    key = lambda t, i: (t["s1"][i], t["a1"][i], repr(t["s2"][i]), t["family"][i])
+    nmap = {key(new, i): i for i in range(len(new["family"]))}
+    checked = 0
+    for i in range(len(old.maxima["family"])):
+        j = nmap[key(old.maxima, i)]
+        assert old.maxima["points"][i] == new["points"][j]
+        for k in ("xi_max", "xi_min", "dPL_at_max"):
+            assert abs(old.maxima[k][i] - new[k][j]) < 1e-9 * max(1.0, abs(old.maxima[k][i])), k
+        for k in ("T_at_max", "T1_at_max", "T2_at_max", "T_min", "T_max"):
+            assert abs(old.maxima[k][i] - new[k][j]) < 1e-9, k
+        checked += 1
+    assert checked == len(loads) * 2
+    # the tidy rows too: every point of every load case
+    rows = old.rows
+    for ci, ld in enumerate(loads):
+        m = np.asarray(rows["case"]) == ci
+        xi_new = lf.xi(np.sum([a * lf.point_vectors([s])[0] for s, a in ld], axis=0))
+        assert np.abs(np.asarray(rows["xi"])[m] - xi_new).max() < 1e-9
+
+
+def test_outputs(study):
+    out, res, _ = study
+    for f in ("xi_positions.csv", "worst_load.csv", "worst_load_shapes.npz", "xi_along_mesh.vtu",
+              "load_pairs.csv", "summary.json", "xi_T_s.png"):
+        assert (out / f).stat().st_size > 0, f
+    with open(out / "worst_load.csv") as fh:
+        rd = list(csv.reader(fh))
+    assert rd[0] == WORST_HEADER
+    lf = res["forms"]
+    assert len(rd) - 1 == len(lf)
+    vals = np.array(rd[1:], float)
+    assert np.all(np.isfinite(vals))
+    assert np.all(vals[:, 6] >= vals[:, 7] * (1 - 1e-12))          # worst >= best single force
+    with open(out / "xi_positions.csv") as fh:
+        head = fh.readline().strip()
+        body = fh.read()
+    assert head == "branch,point,T,s,xi,dPL" and "nan" not in body
+    assert body.count("\n") == len(lf) * 50                       # 5 elements x 10 positions
+    z = np.load(out / "worst_load_shapes.npz")
+    assert z["q_star"].shape == (len(lf), lf.n)
+    assert np.allclose(np.linalg.norm(z["q_star"], axis=1), 1.0)
+
+
+def test_zero_contact_response_is_reported(study):
+    out, res, (zero_load, T) = study
+    summ = json.loads((out / "summary.json").read_text())
+    assert summ == json.loads(json.dumps(res["summary"]))
+    name = "+".join(f"{a:g}@{s:g}" for s, a in zero_load)
+    hit = [e for e in summ["no_path"] if e["load"] == name]
+    assert hit and hit[0]["points"] >= 1 and not hit[0]["all_points"]
+    assert any(a["T"] == T for a in hit[0]["at"])
+
+
+def test_single_force_best_matches_positions(study):
+    """The exact best single force is >= every sampled position (xi_positions.csv)."""
+    _, res, _ = study
+    xi = res["tables"]["positions"]["_xi"]
+    w = res["tables"]["worst"]
+    assert np.all(xi.max(axis=1) <= w["xi_best_single"] + 1e-14)
+    assert np.all(w["xi_best_single"] <= w["xi_worst"] * (1 + 1e-12))
