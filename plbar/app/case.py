@@ -18,6 +18,8 @@ from ..util.check import grid as check_grid
 __all__ = ["Case", "MODELS"]
 
 MODELS = ("chain", "fe")
+#: default load of an FE bar: a unit point force at this fraction of the length (mid-bar, whatever the mesh)
+DEFAULT_FE_LOAD = 0.5
 
 
 @dataclass(frozen=True)
@@ -45,7 +47,9 @@ class Case:
     load_nodes : tuple of (k, amplitude)
         Forces on free DOFs (1-based from the clamp).
     load_points : tuple of (s, amplitude)
-        Point forces at positions ``s`` in ``(0, L]``.
+        Point forces at positions ``s`` in ``(0, L]``.  Without any load: a unit
+        force on DOF 1 for the chain (the paper's case), a unit point force at
+        ``s = L / 2`` for an FE bar (a fixed physical position, whatever the mesh).
     grid : (int, int)
         Scan grid over ``(T^I, T^II)``.
     T1, T2 : (float, float), optional
@@ -102,18 +106,21 @@ class Case:
                          ("point_masses", "(x, m)")):
             v = getattr(self, nm)
             object.__setattr__(self, nm, () if v is None else pairs(nm, v, what))
-        if not self.load_nodes and not self.load_points:
-            object.__setattr__(self, "load_nodes", ((1, 1.0),))
-        ld = Load(points=self.load_points, nodes=self.load_nodes)      # validates types and signs
-        object.__setattr__(self, "load_nodes", ld.nodes)
-        object.__setattr__(self, "load_points", ld.points)
-        object.__setattr__(self, "_load", ld)                           # the one validated Load (not a field)
         object.__setattr__(self, "grid", check_grid(self.grid, warn=False))
         for nm in ("T1", "T2"):
             if getattr(self, nm) is not None:
                 object.__setattr__(self, nm, interval(f"search domain {nm}", getattr(self, nm)))
         bar = self._make_bar()                 # fail now on the mesh (file), point masses, section and load
+        if not self.load_nodes and not self.load_points:     # the default load: a fixed physical position
+            if self.model == "chain":
+                object.__setattr__(self, "load_nodes", ((1, 1.0),))
+            else:
+                object.__setattr__(self, "load_points", ((DEFAULT_FE_LOAD * bar.length, 1.0),))
+        ld = Load(points=self.load_points, nodes=self.load_nodes)      # validates types and signs
         ld.check(bar)
+        object.__setattr__(self, "load_nodes", ld.nodes)
+        object.__setattr__(self, "load_points", ld.points)
+        object.__setattr__(self, "_load", ld)                           # the one validated Load (not a field)
         object.__setattr__(self, "_bar", bar)
 
     @property
@@ -154,7 +161,9 @@ class Case:
         return Domain(self.T1 or d.T1, self.T2 or d.T2)
 
     def to_dict(self) -> dict:
+        """The fields as plain data (``n`` filled in; ``length`` is the bar's, ``N`` for the chain)."""
         d = asdict(self)
         d["n"] = self.n_eff
+        d["length"] = self.bar().length
         d.pop("label")
         return d

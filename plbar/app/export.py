@@ -17,10 +17,30 @@ from ..errors import InputError
 from ..io import FORMATS, ResponseData, load_pvd, response_data, write_data
 from ..io.vtk import ResponseFiles
 from ..response import Orbits, damping, orbits
+from ..util.outputs import check_writable, clear_owned, require
 from .case import Case
 from .run import read_paths
 
-__all__ = ["select", "from_run", "write_response", "response_of", "render_response"]
+__all__ = ["select", "from_run", "write_response", "write_response_data", "response_of", "render_response",
+           "export_owned", "RENDER_OWNED"]
+
+#: what :func:`plbar.visuals.render` writes (cleared before a new render)
+RENDER_OWNED = ("snapshot_[0-9][0-9].png", "snapshots.png", "spacetime.png", "response.gif")
+
+
+def export_owned(name: str = "response") -> tuple[str, ...]:
+    """What an export named ``name`` writes (cleared before a new export, so no old format stays)."""
+    return (f"{name}_[0-9][0-9][0-9][0-9].vtu", f"{name}.pvd", f"{name}.xdmf", f"{name}.h5", f"{name}_steps.csv",
+            f"{name}.json")
+
+
+def _requirements(format: str, what: str) -> None:
+    """The optional packages a format needs (a one-line error naming the extra, before any file is made)."""
+    if format in ("pvd", "both"):
+        require("pyvista", what)
+    if format in ("xdmf", "both"):
+        require("h5py", what)
+        require("meshio", what)
 
 
 def _orbits_of(source) -> Orbits:
@@ -181,7 +201,17 @@ def write_response(source, folder, *, branch: int | None = None, index: int | No
     if format not in FORMATS:
         raise InputError(f"format = {format!r} is not allowed; choose one of {', '.join(FORMATS)}")
     orb, info = select(source, branch, index)
-    return write_data(response_data(orb, info, periods, steps), folder, format=format, name=name)
+    return write_response_data(response_data(orb, info, periods, steps), folder, format=format, name=name)
+
+
+def write_response_data(data: ResponseData, folder, *, format: str = "pvd", name: str = "response") -> ResponseFiles:
+    """:func:`plbar.io.write_data` into a folder cleared of an earlier export (optional packages checked first)."""
+    if format not in FORMATS:
+        raise InputError(f"format = {format!r} is not allowed; choose one of {', '.join(FORMATS)}")
+    _requirements(format, "the ParaView export")
+    folder = check_writable(folder)
+    clear_owned(folder, export_owned(name))
+    return write_data(data, folder, format=format, name=name)
 
 
 def response_of(source, branch: int | None = None, index: int | None = None, steps: int = 40) -> ResponseData:
@@ -211,4 +241,9 @@ def render_response(source, out, *, branch: int | None = None, index: int | None
     """:func:`plbar.visuals.render` of the response :func:`response_of` picks from ``source``."""
     from ..visuals.render import render
 
-    return render(response_of(source, branch, index, steps), out, **options)
+    require("pyvista", "rendering")
+    require("PIL", "rendering")
+    data = response_of(source, branch, index, steps)
+    out = check_writable(out)
+    clear_owned(out, RENDER_OWNED)
+    return render(data, out, **options)

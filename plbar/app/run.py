@@ -16,6 +16,7 @@ from ..paths import Paths, find_paths
 from ..util.check import MIN_BRANCH_POINTS, show
 from ..util.check import grid as check_grid
 from ..util.files import check_finite, write_csv, write_json
+from ..util.outputs import check_writable, clear_owned
 from .case import Case
 
 __all__ = ["Result", "solve", "write_results", "read_paths", "check_output", "PATHS_COLUMNS", "CSV_HEADER",
@@ -26,6 +27,8 @@ PATHS_COLUMNS = (("branch", "%d"), ("T1", "%.17g"), ("T2", "%.17g"), ("phi", "%.
                  ("dPL", "%.17g"), ("xi", "%.17g"), ("grazing", "%d"), ("stable", "%d"),
                  ("max_abs_multiplier", "%.17g"))
 CSV_HEADER = [c for c, _ in PATHS_COLUMNS]
+#: what ``plbar run`` owns in its folder besides paths.csv and summary.json (cleared before new results)
+RUN_OWNED = ("vtk", "render", "frequency_response.png", "frequency_response.pdf", "paths_T1_T2.png", "paths_T1_T2.pdf")
 CSV_FORMATS = [f for _, f in PATHS_COLUMNS]
 
 
@@ -131,15 +134,10 @@ def read_paths(path) -> dict[str, np.ndarray]:
 def check_output(case: Case, out, overwrite: bool = False) -> None:
     """Raise unless results of ``case`` may be written into ``out`` (see :func:`write_results`).
 
-    Cheap: call it before a long solve so that a bad ``--out`` fails at once.
+    Cheap: call it before a long solve so that a bad ``--out`` fails at once (the
+    folder is created and a file written and removed there).
     """
-    out = Path(out)
-    for p in (out, *out.parents):
-        if p.exists():
-            if not p.is_dir():
-                raise InputError(f"output folder {str(out)!r} cannot be used: {str(p)!r} is a file; "
-                                 "choose another --out")
-            break
+    out = check_writable(out)
     old = out / "summary.json"
     if old.is_dir():
         raise InputError(f"output folder {str(out)!r} holds a folder named summary.json; choose another --out")
@@ -163,7 +161,9 @@ def write_results(res: Result, out, overwrite: bool = False) -> dict[str, Path]:
     Rerunning the same case into ``out`` replaces its results.  An existing
     ``summary.json`` of a *different* case (or one that is not a plbar
     summary) is kept and an :class:`OutputExistsError` raised unless
-    ``overwrite``.  Both tables are checked before either is written: a nan or
+    ``overwrite``.  What an earlier run left there (:data:`RUN_OWNED`: its ParaView
+    export, renders and plots) is removed first, so no file of another case stays
+    beside the new results.  Both tables are checked before either is written: a nan or
     inf raises :class:`plbar.errors.NonFiniteError` and writes nothing.  Each
     file appears under its name only when complete; ``summary.json`` is
     written last, so a run killed in between leaves a ``paths.csv`` without
@@ -177,6 +177,7 @@ def write_results(res: Result, out, overwrite: bool = False) -> dict[str, Path]:
     summary = res.summary()
     check_finite("paths.csv", dict(zip(CSV_HEADER, rows)))
     check_finite("summary.json", summary)
+    clear_owned(out, RUN_OWNED)                         # derived outputs of an earlier run: never stale
     for name in ("paths.csv", "summary.json"):           # temporaries of a killed run of this case
         stem, suffix = name.split(".")
         for tmp in out.glob(f".{stem}.*.part.{suffix}"):

@@ -1,37 +1,34 @@
-"""Command line: ``plbar export`` and ``plbar render`` (ParaView output, pictures).
+"""``plbar export`` (one response for ParaView) and ``plbar render`` (pictures of it, headless).
 
-``register(subparsers)`` adds both subcommands to ``plbar``'s parser.  Each
-handler is a thin call into :mod:`plbar.app.export` and
-returns an exit code; errors are :class:`PlbarError` and become exit code 2
-in :func:`plbar.cli.main.main`.
-
-Sources of the response:
-
-* ``--out DIR`` of a previous ``plbar run``: the case is read from
-  ``DIR/summary.json`` and the orbit rebuilt from its row of ``DIR/paths.csv``
-  (no re-scan);
-* ``--case FILE.toml``: the case is solved first (results written to the
-  case's ``[output] dir`` or ``--out``).
+Where the response comes from: ``--from DIR`` (a previous ``plbar run``: the
+case is read from ``DIR/summary.json`` and the orbit rebuilt from its row of
+``DIR/paths.csv``, no re-scan), or ``--case FILE.toml`` (solved first, results
+written to the file's ``[output] dir`` or ``--from``).  Where it goes: ``--out``
+(default ``DIR/vtk`` or ``DIR/render``); what an earlier export or render left
+there is cleared first.  ``--dest`` is the old spelling of ``--out``.
 """
 
 from __future__ import annotations
 
-import json
+import sys
 from pathlib import Path
 
-from ..app import (OutputSettings, files_of, from_run, load_case, render_response, solve, write_response,
-                   write_results)
+from ..app import (OutputSettings, check_output, files_of, from_run, load_case, render_response, solve,
+                   write_response, write_response_data, write_results)
 from ..errors import InputError
-from ..io import response_data, write_data
+from ..io import response_data
+from ..util.outputs import check_writable, require
+from .common import hidden, report
 
 __all__ = ["register"]
 
 
-def _source_args(p) -> None:
-    p.add_argument("--out", default=None, metavar="DIR",
-                   help="folder of a previous 'plbar run' (or where --case writes its results) [plbar-out]")
-    p.add_argument("--case", default=None, metavar="FILE", help="a TOML case file: solve it first")
-    p.add_argument("--dest", default=None, metavar="DIR", help="where to write [DIR/vtk or DIR/render]")
+def _source_args(p, kind: str) -> None:
+    p.add_argument("--from", dest="src", default=None, metavar="DIR",
+                   help="folder of a previous 'plbar run' [plbar-out]")
+    p.add_argument("--case", default=None, metavar="FILE.toml", help="a TOML case file: solve it first")
+    p.add_argument("--out", default=None, metavar="DIR", help=f"where to write [DIR/{kind}]")
+    p.add_argument("--dest", dest="out", default=None, help=hidden)
     p.add_argument("--branch", type=int, default=None, help="branch id [the branch with the largest xi_eq]")
     p.add_argument("--index", type=int, default=None, help="point along the branch [the largest xi_eq]")
     p.add_argument("--steps", type=int, default=None, help="time steps per period [40]")
@@ -40,86 +37,94 @@ def _source_args(p) -> None:
     p.add_argument("--json", action="store_true", help="print the written files as JSON")
 
 
+def _pick(arg, setting):
+    return setting if arg is None else arg
+
+
+def _source(a, kind: str):
+    """``(settings, run folder, destination)``; the old ``--out DIR`` (a run folder as input) still works."""
+    if a.src is None and a.case is None and a.out is not None and (Path(a.out) / "summary.json").is_file():
+        print(f"plbar: warning: --out {a.out} as the input folder is the old spelling; use --from {a.out} "
+              f"(writing into {a.out}/{kind})", file=sys.stderr)
+        a.src, a.out = a.out, None
+    if a.case:
+        case, st = load_case(a.case)
+        run = Path(a.src or st.dir or "plbar-out")
+        check_output(case, run, a.overwrite or st.overwrite)
+        return st, run, case
+    run = Path(a.src or "plbar-out")
+    if not (run / "summary.json").is_file():
+        raise InputError(f"{str(run / 'summary.json')!r} does not exist; give --from DIR of a previous "
+                         "'plbar run' or a --case file")
+    return OutputSettings(), run, None
+
+
+def _cmd_export(a) -> int:
+    st, run, case = _source(a, "vtk")
+    fmt = _pick(a.format, st.format)
+    if fmt in ("pvd", "both"):
+        require("pyvista", "plbar export")
+    if fmt in ("xdmf", "both"):
+        require("h5py", "plbar export --format xdmf")
+    dest = check_writable(Path(a.out) if a.out else run / "vtk")
+    if case is not None:
+        res = solve(case)
+        write_results(res, run, overwrite=a.overwrite or st.overwrite)
+        f = write_response(res, dest, branch=_pick(a.branch, st.branch), index=_pick(a.index, st.index),
+                           periods=_pick(a.periods, st.periods), steps=_pick(a.steps, st.steps), format=fmt)
+    else:
+        _, orb, info = from_run(run, a.branch, a.index)
+        data = response_data(orb, info, _pick(a.periods, st.periods), _pick(a.steps, st.steps))
+        f = write_response_data(data, dest, format=fmt)
+    _report(a, f, "export")
+    return 0
+
+
+def _cmd_render(a) -> int:
+    require("pyvista", "plbar render")
+    require("PIL", "plbar render")
+    st, run, case = _source(a, "render")
+    dest = check_writable(Path(a.out) if a.out else run / "render")
+    if case is not None:
+        source = solve(case)
+        write_results(source, run, overwrite=a.overwrite or st.overwrite)
+    else:
+        pvd = run / "vtk" / "response.pvd"
+        source = pvd if pvd.is_file() and a.branch is None and a.index is None and a.steps is None else run
+    f = render_response(source, dest, field=_pick(a.field, st.field), snapshots=_pick(a.snapshots, st.snapshots),
+                        gif=st.gif and not a.no_gif, branch=_pick(a.branch, st.branch),
+                        index=_pick(a.index, st.index), steps=_pick(a.steps, st.steps))
+    _report(a, f, "render")
+    return 0
+
+
+def _report(a, f, what: str) -> None:
+    files = files_of(f)
+    main = [v for v in files.values() if not isinstance(v, list)]
+    n = sum(len(v) for v in files.values() if isinstance(v, list))
+    report(a, {"files": files, "info": getattr(f, "info", None)},
+           f"plbar {what}: wrote " + ", ".join(main) + (f" and {n} more files" if n else ""))
+
+
 def register(subparsers) -> None:
     """Add ``export`` and ``render`` to ``plbar``'s subparsers."""
     e = subparsers.add_parser(
         "export", help="write one periodic response for ParaView (.pvd + .vtu, or .xdmf + .h5)",
         description="Write one periodic response (default: the largest xi_eq) as a time series on the bar "
                     "mesh: displacement, velocity, energy densities, strain, stress, contact state and "
-                    "reaction.  Open DEST/response.pvd (or response.xdmf) in ParaView.")
-    _source_args(e)
+                    "reaction.  Open OUT/response.pvd (or response.xdmf) in ParaView.")
+    _source_args(e, "vtk")
     e.add_argument("--periods", type=int, choices=(1, 2), default=None, help="periods to write [1]")
     e.add_argument("--format", choices=("pvd", "xdmf", "both"), default=None, help="file format [pvd]")
     e.set_defaults(func=_cmd_export)
     r = subparsers.add_parser(
         "render", help="PNG snapshots, a space-time map and a GIF of one periodic response (headless)",
-        description="Render one periodic response off-screen with pyvista: DEST/snapshot_NN.png, "
+        description="Render one periodic response off-screen with pyvista: OUT/snapshot_NN.png, "
                     "snapshots.png, spacetime.png and response.gif.  Uses DIR/vtk/response.pvd when "
-                    "present (and no --branch/--index is given), else rebuilds the response.")
-    _source_args(r)
+                    "present (and no --branch/--index/--steps is given), else rebuilds the response.")
+    _source_args(r, "render")
     r.add_argument("--field", default=None, help="field to colour by [displacement]; e.g. velocity, stress, "
                                                  "strain, kinetic_energy_density")
     r.add_argument("--snapshots", type=int, default=None, help="snapshots over the period [4]")
     r.add_argument("--no-gif", action="store_true", help="skip the animated GIF")
     r.set_defaults(func=_cmd_render)
-
-
-def _pick(arg, setting):
-    return setting if arg is None else arg
-
-
-def _solve_case(a):
-    """(Result, OutputSettings, out folder) of ``--case``; results written."""
-    case, settings = load_case(a.case)
-    out = Path(a.out or settings.dir or "plbar-out")
-    res = solve(case)
-    write_results(res, out, overwrite=a.overwrite or settings.overwrite)
-    return res, settings, out
-
-
-def _export(a):
-    if a.case:
-        res, st, out = _solve_case(a)
-        return write_response(res, Path(a.dest) if a.dest else out / "vtk",
-                              branch=_pick(a.branch, st.branch), index=_pick(a.index, st.index),
-                              periods=_pick(a.periods, st.periods), steps=_pick(a.steps, st.steps),
-                              format=_pick(a.format, st.format))
-    st = OutputSettings()
-    out = Path(a.out or "plbar-out")
-    _, orb, info = from_run(out, a.branch, a.index)
-    data = response_data(orb, info, _pick(a.periods, st.periods), _pick(a.steps, st.steps))
-    return write_data(data, Path(a.dest) if a.dest else out / "vtk", format=_pick(a.format, st.format))
-
-
-def _report(a, f, what: str) -> None:
-    files = files_of(f)
-    if a.json:
-        print(json.dumps({"files": files, "info": getattr(f, "info", None)}))
-    elif not a.quiet:
-        main = [v for k, v in files.items() if not isinstance(v, list)]
-        n = sum(len(v) for v in files.values() if isinstance(v, list))
-        print(f"plbar {what}: wrote " + ", ".join(main) + (f" and {n} more files" if n else ""))
-
-
-def _cmd_export(a) -> int:
-    _report(a, _export(a), "export")
-    return 0
-
-
-def _cmd_render(a) -> int:
-    st = OutputSettings()
-    if a.case:
-        res, st, out = _solve_case(a)
-        source = res
-    else:
-        out = Path(a.out or "plbar-out")
-        pvd = out / "vtk" / "response.pvd"
-        source = pvd if pvd.is_file() and a.branch is None and a.index is None and a.steps is None else out
-        if source == out and not (out / "summary.json").is_file():
-            raise InputError(f"{str(out / 'summary.json')!r} does not exist; give the --out folder of a "
-                             "previous 'plbar run' or a --case file")
-    f = render_response(source, Path(a.dest) if a.dest else out / "render", field=_pick(a.field, st.field),
-               snapshots=_pick(a.snapshots, st.snapshots), gif=st.gif and not a.no_gif,
-               branch=_pick(a.branch, st.branch), index=_pick(a.index, st.index), steps=_pick(a.steps, st.steps))
-    _report(a, f, "render")
-    return 0

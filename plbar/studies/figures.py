@@ -13,6 +13,7 @@ import numpy as np
 
 from ..app import Case, solve
 from ..errors import InputError
+from ..util.progress import progress_bar
 from ..visuals import paper
 from .families import assign_families
 from .loadcases import default_positions
@@ -96,30 +97,25 @@ def fig9_xi_position(out, grid=(200, 200), ns=(3, 4, 5, 6), per_element=4, execu
 FIGURES = ("fig2", "fig3", "fig4", "fig56", "fig7", "fig8", "fig9")
 
 
-def make_all(out, grid=(200, 200), which=None) -> list[Path]:
-    """Draw the figure families ``which`` (default all of :data:`FIGURES`) into ``out``."""
+def make_all(out, grid=(200, 200), which=None, progress: bool = False) -> list[Path]:
+    """Draw the figure families ``which`` (default all of :data:`FIGURES`) into ``out`` (with a progress bar)."""
     which = list(which or FIGURES)
     bad = [w for w in which if w not in FIGURES]
     if bad:
         raise InputError(f"unknown figure(s) {bad}; choose from {', '.join(FIGURES)}")
     files: list[Path] = []
-    res = _solve(grid) if {"fig2", "fig3", "fig4", "fig56"} & set(which) else None
-    cases = _dof_cases(5, grid) if {"fig7", "fig8"} & set(which) else None
-    for w in which:
-        if w == "fig2":
-            files += fig2_paths(out, res)
-        elif w == "fig3":
-            files += fig3_time_histories(out, res)
-        elif w == "fig4":
-            files += fig4_energies(out, res)
-        elif w == "fig56":
-            files += fig5_loss_damping(out, res) + fig6_damping_paths(out, res)
-        elif w == "fig7":
-            files += fig7_load_responses(out, cases=cases)
-        elif w == "fig8":
-            files += fig8_xi_per_load(out, cases=cases)
-        elif w == "fig9":
-            files += fig9_xi_position(out, grid)
+    steps = [w for w in which]
+    with progress_bar(len(steps) + 2, progress, "figures", "step", delay=0.0) as bar:
+        res = _solve(grid) if {"fig2", "fig3", "fig4", "fig56"} & set(which) else None
+        bar.update(1)
+        cases = _dof_cases(5, grid) if {"fig7", "fig8"} & set(which) else None
+        bar.update(1)
+        draw = {"fig2": lambda: fig2_paths(out, res), "fig3": lambda: fig3_time_histories(out, res),
+                "fig4": lambda: fig4_energies(out, res),
+                "fig56": lambda: fig5_loss_damping(out, res) + fig6_damping_paths(out, res),
+                "fig7": lambda: fig7_load_responses(out, cases=cases), "fig8": lambda: fig8_xi_per_load(out, cases=cases),
+                "fig9": lambda: fig9_xi_position(out, grid)}
+        for w in steps:
+            files += draw[w]()
+            bar.update(1)
     return files
-
-

@@ -1,0 +1,94 @@
+"""The one vocabulary of the command line: options every command shares, and how they become a Case.
+
+* ``--out DIR`` is where a command writes; ``--from DIR`` is a previous run it reads;
+* ``--overwrite`` lets a command replace another case's results (never silently);
+* ``--quiet`` prints nothing on success, ``--json`` prints the result as JSON (both without progress bars);
+* the model is ``--model``, ``-N/--elements``, ``--element``, ``--mass``; the load ``--load-node`` / ``--load-at``;
+  a TOML file is ``--case FILE`` (``plbar run FILE`` too) and then no model, load or search option may be given.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from ..app import Case, load_case
+from ..errors import InputError
+
+__all__ = ["output_args", "case_args", "case_from_args", "progress", "report", "hidden"]
+
+hidden = argparse.SUPPRESS
+
+#: the model, load and search options (dest names); with a case file none of them may be given
+CASE_OPTIONS = {"model": "--model", "elements": "-N/--elements", "element": "--element", "mass": "--mass",
+                "mesh_file": "--mesh-file", "grading": "--grading", "modes": "--modes", "load_node": "--load-node",
+                "load_at": "--load-at", "grid": "--grid", "T1": "--T1", "T2": "--T2", "method": "--method"}
+
+
+def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None:
+    """``--out``, ``--overwrite``, ``--quiet``, ``--json``."""
+    g = p.add_argument_group("output")
+    g.add_argument("--out", default=default_out, metavar="DIR", help=f"{what} [{default_out}]")
+    g.add_argument("--overwrite", action="store_true", help="replace results of another case in DIR")
+    g.add_argument("--quiet", "-q", action="store_true", help="print nothing on success (no progress bars)")
+    g.add_argument("--json", action="store_true", help="print the result as JSON (no progress bars)")
+
+
+def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load") -> None:
+    """The model, load and search options (all default to None: given ones are known) and ``--case``."""
+    g = p.add_argument_group("model")
+    g.add_argument("--case", default=None, metavar="FILE.toml",
+                   help="a TOML case file (examples/cases/); then no model, load or search option may be given")
+    g.add_argument("--model", choices=("chain", "fe"), default=None,
+                   help="the paper's mass-spring chain (L = N) or a finite-element bar (L = 1) [chain]")
+    g.add_argument("--elements", "-N", type=int, default=None, metavar="N",
+                   help="masses of the chain / elements of the FE bar [5 / 8]")
+    g.add_argument("--element", choices=("P1", "P2"), default=None, help="FE element [P1]")
+    g.add_argument("--mass", choices=("lumped", "consistent"), default=None, help="FE mass matrix [lumped]")
+    g.add_argument("--mesh-file", default=None, help="meshio-readable 1D line mesh for --model fe")
+    g.add_argument("--grading", type=float, default=None,
+                   help="FE mesh grading: last/first element length [1 = uniform]")
+    g.add_argument("--modes", type=int, default=None, metavar="M",
+                   help="keep the lowest M modes of each state (modal truncation: never for xi_eq, see README) [all]")
+    g = p.add_argument_group(f"load ({load_help}; unit amplitude; default: DOF 1 of the chain, s = L/2 of an FE bar)")
+    g.add_argument("--load-node", type=int, action="append", default=None, metavar="K",
+                   help="force on free DOF K (1-based from the clamp, as in the paper); repeatable")
+    g.add_argument("--load-at", type=float, action="append", default=None, metavar="S",
+                   help="point force at position S in (0, L] through the shape functions; repeatable")
+    g = p.add_argument_group("search")
+    g.add_argument("--grid", type=int, nargs=2, default=None, metavar=("N1", "N2"),
+                   help="scan grid over (T1, T2) [200 200]")
+    g.add_argument("--T1", type=float, nargs=2, default=None, metavar=("LO", "HI"), help="T1 range [(0, T0_I/2]]")
+    g.add_argument("--T2", type=float, nargs=2, default=None, metavar=("LO", "HI"), help="T2 range [(0, T0_II/2]]")
+    g.add_argument("--method", choices=("continuation", "grid"), default=None,
+                   help="branches by pseudo-arclength continuation seeded by the scan, or by linking the "
+                        "scan's crossings only (faster, may fragment) [continuation]")
+
+
+def case_from_args(a):
+    """``(Case, OutputSettings or None)`` of the parsed options (a case file, or the model/load/search options)."""
+    if a.case:
+        given = [flag for dest, flag in CASE_OPTIONS.items() if getattr(a, dest, None) is not None]
+        if given:
+            raise InputError(f"{given[0]} conflicts with the case file {a.case!r}, which defines the model, load "
+                             "and search; edit the file or drop the option")
+        return load_case(a.case)
+    nodes = tuple((k, 1.0) for k in (a.load_node or ()))
+    points = tuple((s, 1.0) for s in (a.load_at or ()))
+    kw = dict(model=a.model, n=a.elements, element=a.element, mass=a.mass, mesh_file=a.mesh_file,
+              grading=a.grading, grid=tuple(a.grid) if a.grid else None, T1=tuple(a.T1) if a.T1 else None,
+              T2=tuple(a.T2) if a.T2 else None, method=a.method, modes=a.modes)
+    return Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None}), None
+
+
+def progress(a) -> bool:
+    """Progress bars (stderr) unless ``--quiet`` or ``--json``."""
+    return not (getattr(a, "quiet", False) or getattr(a, "json", False))
+
+
+def report(a, payload: dict, text: str) -> None:
+    """Print ``payload`` as JSON (``--json``), ``text`` (default) or nothing (``--quiet``)."""
+    if a.json:
+        print(json.dumps(payload, default=str))
+    elif not a.quiet:
+        print(text)
