@@ -60,8 +60,8 @@ def main(argv=None) -> int:
             print(f"plbar: error: {_one_line(exc)}", file=sys.stderr)
             return 2
         except KeyboardInterrupt:
-            print("plbar: interrupted", file=sys.stderr)
-            return 1
+            print("plbar: interrupted (finished results are kept; rerun to continue a study)", file=sys.stderr)
+            return 130
         except Exception as exc:  # pragma: no cover - reported, not hidden
             print(f"plbar: failed: {type(exc).__name__}: {_one_line(exc)}", file=sys.stderr)
             return 1

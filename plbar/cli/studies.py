@@ -10,6 +10,8 @@ import importlib.util
 import json
 from pathlib import Path
 
+import numpy as np
+
 from ..errors import OutputExistsError
 from ..util.outputs import check_writable, clear_owned, require
 from .common import case_args, case_from_args, hidden, output_args, progress, report
@@ -77,7 +79,7 @@ def _cmd_refine(a) -> int:
     m = tb.maxima
     lines = [f"{m['series'][i]:18s} N = {m['n'][i]:3d}: T0_I = {m['T0_I'][i]:.4f}, T0_II = {m['T0_II'][i]:.4f}, "
              f"family T0_II/2: T in [{m['T_min'][i]:.4f}, {m['T_max'][i]:.4f}], max xi_eq = {m['xi_max'][i]:.4f}"
-             for i in range(len(m["n"])) if m["family"][i] == "T0_II/2" and m["points"][i] > 0]
+             for i in range(len(m["n"])) if m["family"][i] == "T0_II/2" and np.isfinite(m["T_min"][i])]
     lines += ["rates: " + json.dumps(tb.rates), "wrote " + ", ".join(str(f) for f in files.values())]
     report(a, {"rates": tb.rates, "files": {k: str(v) for k, v in files.items()}}, "\n".join(lines))
     return 0

@@ -19,8 +19,10 @@ Tables written by :func:`write_refine_tables`:
     Observed convergence rates: for each series, family and quantity
     ``q(N)`` in ``T0_I/L, T0_II/L, Tmin/L, Tmax/L, xi_max``, the slope of
     ``log |q(N) - q(N_fin)|`` against ``log N`` over ``N <= N_fin / 2``
-    (``N_fin`` the finest N), reported only where at least 3 such points
-    exist and the differences decrease monotonically; else ``null``.
+    (``N_fin`` the finest N), as ``{"rate": p, "why": ""}``, or
+    ``{"rate": null, "why": reason}`` where it cannot be computed (fewer than 3
+    such sizes, a family missing at some N, no monotone decrease).  Missing
+    values are empty fields in the CSV files (never ``nan``).
 """
 
 from __future__ import annotations
@@ -90,21 +92,36 @@ def refine_study(ns, series=("chain",), fracs=(0.5,), grid=(200, 200), T2_frac=N
     return Study("refine", solve_task, tuple(tasks), params)
 
 
-def observed_rate(ns, q):
-    """Observed convergence rate of ``q(N)`` against the finest N (see module docstring), or None."""
+def observed_rate(ns, q) -> dict:
+    """Observed convergence rate of ``q(N)`` against the finest N: ``{"rate": p or None, "why": reason}``.
+
+    The slope of ``log |q(N) - q(N_fin)|`` against ``log N`` over ``N <= N_fin / 2``;
+    where it cannot be computed, ``rate`` is None and ``why`` says why.
+    """
     ns = np.asarray(ns, float)
     q = np.asarray(q, float)
     ok = np.isfinite(q)
+    if ok.sum() < ns.size:
+        miss = ", ".join(f"{int(n)}" for n in ns[~ok])
+        if ok.sum() < 4:
+            return {"rate": None, "why": f"the quantity is missing at N = {miss} (no branch of the family there); "
+                                         "a rate needs it at >= 4 sizes"}
     ns, q = ns[ok], q[ok]
     if ns.size < 4:
-        return None
+        return {"rate": None, "why": f"only {ns.size} size(s); a rate needs >= 4 (3 against the finest)"}
     o = np.argsort(ns)
     ns, q = ns[o], q[o]
     sel = ns <= ns[-1] / 2
     err = np.abs(q[sel] - q[-1])
-    if sel.sum() < 3 or np.any(err <= 0) or np.any(np.diff(err) >= 0):
-        return None
-    return float(-np.polyfit(np.log(ns[sel]), np.log(err), 1)[0])
+    if sel.sum() < 3:
+        return {"rate": None, "why": f"only {int(sel.sum())} size(s) at most half the finest N = {int(ns[-1])}; "
+                                     "a rate needs 3"}
+    if np.any(err <= 0):
+        return {"rate": None, "why": "the value equals the finest one at a coarser N (no error to fit)"}
+    if np.any(np.diff(err) >= 0):
+        return {"rate": None, "why": "the differences to the finest N do not decrease monotonically "
+                                     "(not in the asymptotic range)"}
+    return {"rate": float(-np.polyfit(np.log(ns[sel]), np.log(err), 1)[0]), "why": ""}
 
 
 @dataclass(frozen=True)

@@ -18,6 +18,7 @@ executor ran the tasks or in which order they finished.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
 import hashlib
 import json
 from dataclasses import dataclass
@@ -151,6 +152,7 @@ def run_study(folder, study: Study, executor: cf.Executor | None = None, progres
     failed: list[tuple[str, str]] = []
     bar = tqdm(total=len(set(keys)), initial=len(set(keys)) - len(todo), desc=study.name, unit="task",
                disable=not progress, leave=False)
+    futs: dict = {}
     try:
         futs = {ex.submit(call_task, study.func, t): (k, t) for k, t in todo}
         for fut in cf.as_completed(futs):
@@ -162,6 +164,13 @@ def run_study(folder, study: Study, executor: cf.Executor | None = None, progres
             else:
                 write_json(_task_file(folder, k), {"key": k, "task": t, "result": res})
             bar.update(1)
+    except KeyboardInterrupt:
+        # every finished task is on disk already; cancel the pending ones now, and stop the running ones
+        for fut in futs:
+            fut.cancel()
+        ex.shutdown(wait=False, cancel_futures=True)
+        _stop_workers(ex)
+        raise
     finally:
         bar.close()
     if failed:
@@ -169,6 +178,13 @@ def run_study(folder, study: Study, executor: cf.Executor | None = None, progres
         raise StudyError(f"{len(failed)} of {len(todo)} task(s) failed ({lines}); "
                          "finished tasks are kept, rerun to retry the others")
     return load_results(folder, study)
+
+
+def _stop_workers(ex) -> None:
+    """Terminate the worker processes of a local process pool (a dask cluster cancels its own futures)."""
+    for proc in list(getattr(ex, "_processes", {}).values() or ()):
+        with contextlib.suppress(Exception):
+            proc.terminate()
 
 
 def load_results(folder, study: Study) -> list[dict]:

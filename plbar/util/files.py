@@ -125,7 +125,8 @@ def write_csv(path, header: list[str], columns: list[np.ndarray], fmts: list[str
 
     Infinite values are always refused, and nan too unless ``allow_nan``
     (tables that mark a missing entry, such as a second load position of a
-    single-load row, by nan); :class:`NonFiniteError` names the column and row.
+    single-load row, by nan, which is written as an empty field: "nan" never
+    appears in a file); :class:`NonFiniteError` names the column and row.
     """
     if len(header) != len(columns) or len(header) != len(fmts):
         raise ValueError(f"write_csv: {len(header)} names, {len(columns)} columns, {len(fmts)} formats")
@@ -142,5 +143,6 @@ def write_csv(path, header: list[str], columns: list[np.ndarray], fmts: list[str
                                  "not finite; refusing to write it (this is a solver failure: please report the case)")
     rows = [",".join(header)]
     for vals in zip(*columns):
-        rows.append(",".join(f % v for f, v in zip(fmts, vals)))
+        rows.append(",".join("" if isinstance(v, (float, np.floating)) and v != v else f % v
+                             for f, v in zip(fmts, vals)))
     return write_text(path, "\n".join(rows) + "\n")
