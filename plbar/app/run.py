@@ -17,6 +17,7 @@ from ..util.check import MIN_BRANCH_POINTS, show
 from ..util.check import grid as check_grid
 from ..util.files import check_finite, write_csv, write_json
 from ..util.outputs import check_writable, clear_owned
+from ..visuals.plots import contact_amplitude
 from .case import Case
 
 __all__ = ["Result", "solve", "write_results", "read_paths", "check_output", "PATHS_COLUMNS", "CSV_HEADER",
@@ -25,7 +26,7 @@ __all__ = ["Result", "solve", "write_results", "read_paths", "check_output", "PA
 #: the columns of ``paths.csv`` (name, printf format): the one definition, for writers and readers
 PATHS_COLUMNS = (("branch", "%d"), ("T1", "%.17g"), ("T2", "%.17g"), ("phi", "%.17g"), ("T", "%.17g"),
                  ("dPL", "%.17g"), ("xi", "%.17g"), ("grazing", "%d"), ("stable", "%d"),
-                 ("max_abs_multiplier", "%.17g"))
+                 ("max_abs_multiplier", "%.17g"), ("max_abs_xc", "%.17g"), ("omega", "%.17g"))
 CSV_HEADER = [c for c, _ in PATHS_COLUMNS]
 #: what ``plbar run`` owns in its folder besides paths.csv and summary.json (cleared before new results)
 RUN_OWNED = ("vtk", "render", "frequency_response.png", "frequency_response.pdf", "paths_T1_T2.png", "paths_T1_T2.pdf")
@@ -116,6 +117,8 @@ def _rows(res: Result):
         cols["grazing"].append(b.grazing.astype(int))
         cols["stable"].append(b.stable.astype(int))
         cols["max_abs_multiplier"].append(b.max_abs_multiplier)
+        cols["max_abs_xc"].append(contact_amplitude(b.orbits))          # the amplitude the plot shows
+        cols["omega"].append(2 * np.pi / b.T)
     return [np.concatenate(cols[k]) if cols[k] else np.zeros(0) for k in CSV_HEADER]
 
 
