@@ -1,37 +1,39 @@
-"""Load-position sweep of the chain N = 5 (paper Sec. 4.2): where is xi_eq largest on path 2?
+"""Load positions of the chain N = 5 (paper Sec. 4.2): where is xi_eq largest, and what is the worst load?
 
-Solves the paper's chain for a unit point load at 49 positions s = 0.1, 0.2, ..., 4.9
-(nodes included; between nodes the load is the paper's linear split), groups the branches
-into families (plbar.families) and prints, on the family near T0_II/2 ("path 2"), the
-position and value of the maximum xi_eq.  Resumable study folder: argv[1] (default
+One path solve (unit force on DOF 1: any load with a contact response gives the same paths), then
+xi_eq of a unit force at every position s in (0, 5] (50 per element, between nodes the paper's
+linear split), the node pairs of Fig. 9 and the worst load distribution at every path point
+(xi_worst = b^T G^+ b / 2; docs/load_structure.md).  Writes the study folder argv[1] (default
 ./plbar-load-sweep).  Environment: PLBAR_GRID="N1,N2" (default 200,200).
 """
 import os
 import sys
 
-from plbar.studies import get_executor
-from plbar.studies import run_study
-from plbar.studies import load_sweep_study, sweep_tables, write_sweep_tables
+import numpy as np
+
+import plbar
+from plbar.studies.loads import sweep_loads
 
 GRID = tuple(int(v) for v in os.environ.get("PLBAR_GRID", "200,200").split(","))
 
+r = sweep_loads(plbar.Case(grid=GRID), None, per_element=50, plot=False)
+lf, fam = r["forms"], r["families"]
+s = np.linspace(0.0, 5.0, 501)[1:]
+xi = lf.xi_point(s)                                      # (path points, positions)
+path2 = fam == "T0_II/2"
+k, j = np.unravel_index(np.argmax(np.where(path2[:, None], xi, -1.0)), xi.shape)
+worst = lf.worst()
+w = int(np.argmax(np.where(path2, worst.xi, -1.0)))
+best = {"s": float(s[j]), "xi": float(xi[k, j]), "T": float(lf.T[k])}
+
 if __name__ == "__main__":
     out = sys.argv[1] if len(sys.argv) > 1 else "plbar-load-sweep"
-    study = load_sweep_study(n=5, grid=GRID, per_element=10)
-    with get_executor("local") as ex:
-        results = run_study(out, study, ex)
-    tables = sweep_tables(study.tasks, results)
-    write_sweep_tables(out, tables)
-    mx = tables.maxima
-    print(f"{len(study.tasks)} load positions in (0, 5), grid {GRID[0]}x{GRID[1]}")
-    for fam in ("T0_I", "T0_II/2"):
-        rows = [i for i, f in enumerate(mx["family"]) if f == fam]
-        print(f"family {fam}: {len(rows)} positions, T in [{min(mx['T_min'][i] for i in rows):.4f}, "
-              f"{max(mx['T_max'][i] for i in rows):.4f}], largest geometry deviation from s = "
-              f"{mx['s1'][0]:g}: {max(mx['geom_dev'][i] for i in rows):.2e}")
-    best = tables.summary["best"]["T0_II/2"]["single"]
-    print(f"path 2 (near T0_II/2): max xi_eq = {best['xi_max']:.5f} at s = {best['s1']:g} "
-          f"(T = {best['T_at_max']:.4f}, T1 = {best['T1_at_max']:.4f}, T2 = {best['T2_at_max']:.4f}, "
-          f"phi = {best['phi_at_max']:.4f}, Delta_PL = {best['dPL_at_max']:.4f})")
-    for i in [j for j, f in enumerate(mx["family"]) if f == "T0_II/2"][::5]:
-        print(f"   s = {mx['s1'][i]:4.2f}: max xi_eq = {mx['xi_max'][i]:.5f}")
+    files = sweep_loads(plbar.Case(grid=GRID), out, per_element=50, plot=False)["files"]
+    print(f"{len(lf)} path points from one solve (grid {GRID[0]}x{GRID[1]}), {s.size} positions")
+    print(f"path 2 (near T0_II/2): max xi_eq of a single force = {best['xi']:.5f} at s = {best['s']:.2f} "
+          f"(T = {best['T']:.4f})")
+    print(f"path 2: worst load distribution xi_eq = {worst.xi[w]:.5f} at T = {lf.T[w]:.4f}, "
+          f"shape q* = {np.round(worst.q[w], 3).tolist()}")
+    for sj in (1.0, 2.0, 3.0, 4.0):
+        print(f"   s = {sj:.1f}: max xi_eq on path 2 = {lf.xi_point([sj])[path2, 0].max():.5f}")
+    print("wrote " + ", ".join(str(f) for f in files.values()))

@@ -7,6 +7,7 @@
 2. A uniform P1 lumped FE bar (L = 1, EA = rhoA = 1), load at mid-length, N = 4 .. 64,
    with coarser scan grids for large N and T2 searched in [0.5, 1] * T0_II/2
    (PLBAR_FE_NMAX limits the largest N, default 64; N = 64 takes ~90 s on one core at 20x20).
+   PLBAR_GRID="N1,N2" sets the chain's scan grid (default 200,200).
 
 Resumable study folders under argv[1] (default ./plbar-refinement).
 """
@@ -29,7 +30,8 @@ FE_GRID = {4: (200, 200), 8: (160, 160), 16: (100, 100), 32: (60, 60), 64: (20, 
 if __name__ == "__main__":
     out = Path(sys.argv[1] if len(sys.argv) > 1 else "plbar-refinement")
     fe_nmax = int(os.environ.get("PLBAR_FE_NMAX", "64"))
-    chain = refine_study([3, 4, 5, 6], ("chain",), fracs=np.round(np.arange(1, 20) * 0.05, 2), grid=(200, 200))
+    grid = tuple(int(v) for v in os.environ.get("PLBAR_GRID", "200,200").split(","))
+    chain = refine_study([3, 4, 5, 6], ("chain",), fracs=np.round(np.arange(1, 20) * 0.05, 2), grid=grid)
     fe_ns = [n for n in FE_GRID if n <= fe_nmax]
     fe = refine_study(fe_ns, ("fe-P1-lumped",), fracs=(0.5,), grid=FE_GRID, T2_frac=(0.5, 1.0))
     with get_executor("local") as ex:
@@ -48,6 +50,9 @@ if __name__ == "__main__":
         if m["family"][i] != "T0_II/2":
             continue
         n = m["n"][i]
+        if not np.isfinite(m["T_min"][i]):
+            print(f"  {n}  {m['T0_I'][i]:7.4f}  {m['T0_II'][i]:7.4f} ({PAPER_T0II[n]:5.2f})   no branch near T0_II/2")
+            continue
         print(f"  {n}  {m['T0_I'][i]:7.4f}  {m['T0_II'][i]:7.4f} ({PAPER_T0II[n]:5.2f})   "
               f"[{m['T_min'][i]:7.4f}, {m['T_max'][i]:7.4f}]   {m['xi_max'][i]:.4f}    {m['frac_at_max'][i]:.2f}   "
               f"| {PAPER[n]}")
@@ -57,5 +62,6 @@ if __name__ == "__main__":
     for n in fe_ns:
         r = {m["family"][i]: i for i in range(len(m["n"])) if m["n"][i] == n}
         print(f"  {n:3d}  {FE_GRID[n][0]}x{FE_GRID[n][1]}  {m['T0_I'][r['all']]:.5f}  {m['T0_II'][r['all']]:.5f}  "
-              + "  ".join(f"{m['xi_max'][r[f]]:.4f}" for f in ("T0_I", "T0_II/2", "all")))
+              + "  ".join(f"{m['xi_max'][r[f]]:.4f}" if np.isfinite(m["xi_max"][r[f]]) else "  -   "
+                          for f in ("T0_I", "T0_II/2", "all")))
     print("observed convergence rates (vs finest N):", json.dumps(tf.rates["fe-P1-lumped"]["all"]))

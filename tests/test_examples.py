@@ -56,3 +56,24 @@ def test_one_response_example():
     assert "admissible (no premature switch on (0, T)): True" in out
     assert float(re.search(r"back to it within ([0-9.e+-]+)", out).group(1)) < 1e-9
     assert float(re.search(r"periodicity defect ([0-9.e+-]+)", out).group(1)) < 1e-12
+
+
+def test_load_sweep_example(tmp_path):
+    env = dict(os.environ, MPLBACKEND="agg", PLBAR_GRID="60,60")
+    p = subprocess.run([sys.executable, str(EX / "load_sweep.py"), str(tmp_path)], capture_output=True, text=True,
+                       timeout=300, env=env)
+    assert p.returncode == 0, p.stderr[-2000:]
+    single = float(p.stdout.split("max xi_eq of a single force = ")[1].split()[0])
+    worst = float(p.stdout.split("worst load distribution xi_eq = ")[1].split()[0])
+    assert single == pytest.approx(0.0958, abs=2e-3) and worst >= single
+    assert (tmp_path / "worst_load.csv").read_text().startswith("branch,point,T1,T2,phi,T,xi_worst,")
+
+
+def test_refinement_example(tmp_path):
+    env = dict(os.environ, MPLBACKEND="agg", PLBAR_GRID="40,40", PLBAR_FE_NMAX="8")
+    p = subprocess.run([sys.executable, str(EX / "refinement.py"), str(tmp_path)], capture_output=True, text=True,
+                       timeout=600, env=env)
+    assert p.returncode == 0, p.stderr[-2000:]
+    for n, t0 in ((3, "14.1182"), (4, "18.0917"), (5, "22.0749"), (6, "26.0634")):
+        assert f"  {n}  " in p.stdout and t0 in p.stdout
+    assert "nan" not in p.stdout and '"why"' in p.stdout
