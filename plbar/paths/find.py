@@ -15,6 +15,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model import Problem
+from ..util.progress import progress_bar
 from . import continuation
 from .branches import Domain, Paths, build_branches, default_domain
 from .contour import curves_grid
@@ -95,19 +96,25 @@ def find_paths(prob: Problem, domain: Domain | None = None, grid: tuple[int, int
     stats = {"grid": [n1, n2], "method": method, "crossings": int(sc.ids.size), "t_scan": time.perf_counter() - t0}
     branches = []
     if sc.ids.size:
-        stats["refine_iterations"] = sc.iterations
-        ev0 = evaluate(prob, sc.P)
-        stats["zeros"] = int((ev0.r1 < ZERO_TOL).sum())
-        stats["admissible_crossings"] = int(ev0.good.sum())
-        t1c = time.perf_counter()
-        if method == "grid":
-            curves = [(np.asarray(ix, int), ends) for ix, ends in curves_grid(sc)]
-            ev = ev0
-        else:
-            curves, ev = _traced(prob, sc, ev0, progress, stats)
-        stats["t_curves"] = time.perf_counter() - t1c
-        runs = admissible_runs(curves, ev.good, ev.why) if ev is not None else []
-        branches = build_branches(ev, runs)
-        stats["admissible"] = int(sum(len(r) for r, _ in runs))
+        with progress_bar(3, progress, "checking crossings", "phase", delay=2.0) as bar:
+            stats["refine_iterations"] = sc.iterations
+            ev0 = evaluate(prob, sc.P)
+            stats["zeros"] = int((ev0.r1 < ZERO_TOL).sum())
+            stats["admissible_crossings"] = int(ev0.good.sum())
+            bar.update(1)
+            t1c = time.perf_counter()
+            if method == "grid":
+                curves = [(np.asarray(ix, int), ends) for ix, ends in curves_grid(sc)]
+                ev = ev0
+            else:
+                bar.set_description("tracing and checking path points")
+                curves, ev = _traced(prob, sc, ev0, progress, stats)
+            stats["t_curves"] = time.perf_counter() - t1c
+            bar.update(1)
+            bar.set_description("damping and stability")
+            runs = admissible_runs(curves, ev.good, ev.why) if ev is not None else []
+            branches = build_branches(ev, runs)
+            stats["admissible"] = int(sum(len(r) for r, _ in runs))
+            bar.update(1)
     stats["t_total"] = time.perf_counter() - t0
     return Paths(prob, domain, (n1, n2), tuple(branches), stats)

@@ -149,12 +149,25 @@ def run_study(folder, study: Study, executor: cf.Executor | None = None, progres
     todo = [(k, t) for k, t in zip(keys, study.tasks) if _read_task(_task_file(folder, k), k) is None]
     todo = list({k: t for k, t in todo}.items())          # duplicate tasks run once
     ex = executor or SerialExecutor()
-    failed: list[tuple[str, str]] = []
     bar = tqdm(total=len(set(keys)), initial=len(set(keys)) - len(todo), desc=study.name, unit="task",
                disable=not progress, leave=False)
+    try:
+        failed = _collect(ex, study.func, todo, folder, bar)
+    finally:
+        bar.close()
+    if failed:
+        lines = "; ".join(f"{k}: {m}" for k, m in failed[:5])
+        raise StudyError(f"{len(failed)} of {len(todo)} task(s) failed ({lines}); "
+                         "finished tasks are kept, rerun to retry the others")
+    return load_results(folder, study)
+
+
+def _collect(ex, func, todo, folder: Path, bar) -> list[tuple[str, str]]:
+    """Submit ``todo``, write each result as it arrives; on Ctrl-C cancel the pending tasks and stop the workers."""
+    failed: list[tuple[str, str]] = []
     futs: dict = {}
     try:
-        futs = {ex.submit(call_task, study.func, t): (k, t) for k, t in todo}
+        futs = {ex.submit(call_task, func, t): (k, t) for k, t in todo}
         for fut in cf.as_completed(futs):
             k, t = futs[fut]
             try:
@@ -171,13 +184,7 @@ def run_study(folder, study: Study, executor: cf.Executor | None = None, progres
         ex.shutdown(wait=False, cancel_futures=True)
         _stop_workers(ex)
         raise
-    finally:
-        bar.close()
-    if failed:
-        lines = "; ".join(f"{k}: {m}" for k, m in failed[:5])
-        raise StudyError(f"{len(failed)} of {len(todo)} task(s) failed ({lines}); "
-                         "finished tasks are kept, rerun to retry the others")
-    return load_results(folder, study)
+    return failed
 
 
 def _stop_workers(ex) -> None:

@@ -12,6 +12,9 @@ class _Null:
     def close(self):
         pass
 
+    def set_description(self, *_):
+        pass
+
     def __enter__(self):
         return self
 
