@@ -45,6 +45,12 @@ class Result:
     def branches(self):
         return self.paths.branches
 
+    def __repr__(self) -> str:
+        n = sum(len(b) for b in self.branches)
+        return (f"Result({self.paths.prob.bar.describe() if self.paths.prob.bar else 'bar'}; "
+                f"{len(self.branches)} branches, {n} path points, solved in {self.solver_time:.3g} s)\n"
+                f"  case: {self.case!r}\n  paths: {self.paths!r}")
+
     def summary(self) -> dict:
         """The content of ``summary.json``."""
         s = self.paths.prob.system

@@ -227,3 +227,12 @@ def test_paths_csv_has_amplitude_and_frequency(tmp_path, capsys):
     cols = plbar.app.read_paths(tmp_path / "o" / "paths.csv")
     assert np.allclose(cols["omega"], 2 * np.pi / cols["T"], rtol=1e-15)
     assert np.all(cols["max_abs_xc"] > 0)
+
+
+# 8. short reprs ---------------------------------------------------------------------------------------------------
+
+def test_result_repr_is_short():
+    res = plbar.solve(plbar.Case(model="fe", n=8, grid=(60, 60)))
+    text = repr(res)
+    assert len(text) < 3000 and text.startswith("Result(") and f"{len(res.branches)} branches" in text
+    assert len(repr(res.case)) < 500 and len(repr(res.paths.prob)) < 2000
