@@ -185,18 +185,12 @@ def write_response(source, folder, *, branch: int | None = None, index: int | No
     periods : {1, 2}
     steps : int
         Time steps per period.
-    format : {"pvd", "xdmf", "both"}
-        ``pvd``: one ``<name>_NNNN.vtu`` per step and ``<name>.pvd``;
-        ``xdmf``: ``<name>.xdmf`` + ``<name>.h5`` (point and cell data; the
-        per-step scalars are in ``<name>_steps.csv``).
-    name : str
-        File name stem.
+    format, name
+        As in :func:`plbar.io.write_data` (which writes the files).
 
     Returns
     -------
     ResponseFiles
-        Also always written: ``<name>_steps.csv`` (time, state, reaction,
-        gap, energies per step) and ``<name>.json`` (the orbit).
     """
     if format not in FORMATS:
         raise InputError(f"format = {format!r} is not allowed; choose one of {', '.join(FORMATS)}")
