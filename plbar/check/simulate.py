@@ -41,6 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from ..errors import InputError, PlbarError
+from ..util.reprs import build, rng
 from .segments import (IMPACT, OPEN, SAMPLES_PER_RAD, _at, _energy, _Model, _model, _next_event, _physical, _Seg,
                        _switch, _work)
 
@@ -84,6 +85,12 @@ class History:
     def energy(self) -> np.ndarray:
         """Mechanical energy ``ek + ep``."""
         return self.ek + self.ep
+
+    def __repr__(self) -> str:
+        st = np.asarray(self.state)
+        return build("History", {"samples": self.t.size, "n": np.shape(self.x)[-1], "t": rng(self.t),
+                                 "states": f"{{1: {int(np.sum(st == 1))}, 2: {int(np.sum(st == 2))}}}",
+                                 "energy": rng(self.energy)})
 
 
 @dataclass(frozen=True)
@@ -134,6 +141,13 @@ class Simulation:
     energy0: float
     energy: float
     history: History | None = None
+
+    def __repr__(self) -> str:
+        return build("Simulation", {"T": self.T, "phi": self.phi, "t": f"[{self.t0:.6g}, {self.t_end:.6g}]",
+                                    "n": np.size(self.x), "openings": int(np.sum(self.event_kinds == OPEN)),
+                                    "impacts": int(np.sum(self.event_kinds == IMPACT)), "state": self.state,
+                                    "strobes": np.size(self.strobe_t), "energy_residual": f"{self.energy_residual:.3g}",
+                                    "history": "None" if self.history is None else f"{self.history.t.size} samples"})
 
     @property
     def impact_times(self) -> np.ndarray:

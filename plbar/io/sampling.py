@@ -14,10 +14,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError, PlbarError
+from ..util.reprs import build, rng
 
-__all__ = ["ResponseData", "response_data", "FIELD_KEYS"]
+__all__ = ["ResponseData", "response_data", "nodal_stress", "FIELD_KEYS", "XDMF_STEP_KEYS"]
 
 FIELD_KEYS = ("time", "phase_time", "state", "contact_reaction", "gap", "kinetic_energy", "potential_energy")
+#: per-step scalars also written into the XDMF as point data constant over the mesh (it has no field data)
+XDMF_STEP_KEYS = FIELD_KEYS[1:]
 
 
 @dataclass(frozen=True)
@@ -53,9 +56,22 @@ class ResponseData:
     def n_steps(self) -> int:
         return self.times.size
 
+    def __repr__(self) -> str:
+        info = {k: self.info[k] for k in ("T", "T1", "T2", "phi", "branch", "index", "xi") if k in self.info}
+        return build("ResponseData", {"points": self.points.size, "x": rng(self.points),
+                                      "cells": f"{self.cells.shape[0]} {self.cell_type}", "steps": self.n_steps,
+                                      "times": rng(self.times), "point_data": _names(self.point_data),
+                                      "cell_data": _names(self.cell_data), "field_data": _names(self.field_data),
+                                      "info": "{" + ", ".join(f"{k}: {v:.6g}" if isinstance(v, float) else f"{k}: {v}"
+                                                              for k, v in info.items()) + "}"})
+
     def points3(self) -> np.ndarray:
         """Points as ``(n_points, 3)`` with ``y = z = 0``."""
         return np.c_[self.points, np.zeros((self.points.size, 2))]
+
+
+def _names(d: dict) -> str:
+    return "[" + ", ".join(map(str, d)) + "]"
 
 
 def _mesh(prob):
@@ -98,6 +114,36 @@ def _node_average(values_at, cells, n_points, K):
         np.add.at(acc.T, cells[:, col], val.T)
         np.add.at(cnt, cells[:, col], 1.0)
     return acc / cnt
+
+
+def nodal_stress(u, points, cells, cell_type: str, EA) -> np.ndarray:
+    """``EA du/dx`` at every point: the average of the adjacent elements' end (P2: and midside) values.
+
+    Parameters
+    ----------
+    u : ndarray, shape (K, n_points) or (n_points,)
+        Nodal displacements (clamp included).
+    points, cells, cell_type
+        As in :class:`ResponseData` (``line``: ``(a, b)``, ``line3``: ``(a, b, midside)``).
+    EA : float or ndarray, shape (n_cells,)
+
+    Returns
+    -------
+    ndarray, shape (K, n_points) (or (n_points,) for a 1D ``u``)
+        The element end strains are those of the energy densities: P1 the
+        constant ``(u_b - u_a) / h`` of each element, P2 the exact end and
+        midside derivatives of the element's quadratic.  A vertex shared by two
+        elements gets the mean of their two end stresses; for P1 that is the
+        mean of the adjacent cell ``stress`` values.
+    """
+    u = np.asarray(u, float)
+    uu = np.atleast_2d(u)
+    points, cells = np.asarray(points, float), np.asarray(cells)
+    e0, em, e1 = _strains(uu, points, cells, cell_type)
+    EA = np.broadcast_to(np.asarray(EA, float), (cells.shape[0],))
+    at = [(0, EA * e0), (1, EA * e1)] + ([(2, EA * em)] if cell_type == "line3" else [])
+    out = _node_average(at, cells, points.size, uu.shape[0])
+    return out if u.ndim == 2 else out[0]
 
 
 def _densities(u, vel, pts, cells, ctype, EA, rA):
@@ -165,6 +211,7 @@ def response_data(orbit, info: dict | None = None, periods: int = 1, steps: int 
         "displacement": u, "displacement_vec": np.stack([u, zeros2, zeros2], axis=-1),
         "velocity": vel, "velocity_vec": np.stack([vel, zeros2, zeros2], axis=-1),
         "kinetic_energy_density": ked, "potential_energy_density": ped,
+        "stress_nodal": nodal_stress(u, pts, cells, ctype, EA),
     }
     cell = {"strain": em, "stress": EA * em, "strain_energy": sen}
     full = {"T1": float(orb.T1[0]), "T2": float(orb.T2[0]), "phi": float(np.mod(orb.phi[0], 2 * np.pi)), "T": T}

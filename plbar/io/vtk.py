@@ -7,7 +7,8 @@ displacement.  Every step holds
 point data
     ``displacement`` (axial ``u``), ``displacement_vec`` ``(u, 0, 0)`` for
     *Warp By Vector*, ``velocity``, ``velocity_vec``,
-    ``kinetic_energy_density`` and ``potential_energy_density`` (see below);
+    ``kinetic_energy_density``, ``potential_energy_density`` and
+    ``stress_nodal`` (see below);
 cell data
     ``strain``, ``stress`` (the axial force ``EA * strain``) and
     ``strain_energy`` (the element's exact share of the potential energy);
@@ -17,6 +18,13 @@ field data (``.vtu`` only; also in ``<name>_steps.csv``)
     with, Eq. (4); zero in state II), ``gap`` (``-x_c >= 0``, zero in state I),
     ``kinetic_energy``, ``potential_energy`` (Eqs. (12)-(13)),
     ``T1``, ``T2``, ``phi``, ``T``.
+XDMF (``.xdmf`` + ``.h5``)
+    The same point and cell data.  meshio's XDMF time series has no field
+    data, so the per-step scalars ``phase_time``, ``state``,
+    ``contact_reaction``, ``gap``, ``kinetic_energy`` and ``potential_energy``
+    are written as point data constant over the mesh (same names, same values
+    as the ``.vtu`` field data and ``<name>_steps.csv``); the time is the XDMF
+    step time.
 
 The displacements and velocities are those of :meth:`Orbits.response`, so the
 file holds exactly the solver's response.
@@ -26,6 +34,11 @@ Definitions of the derived fields
 * The strain on an element is ``du/dx`` of its interpolant.  P1: constant.
   P2: the cell value is the strain at the element midpoint, which for a
   linear strain field is also its element average.
+* ``stress_nodal`` is ``EA du/dx`` at the points, from the element end strains
+  that the energy densities use (P2 also at the midside node, where it is the
+  cell ``stress``): at a vertex shared by two elements the two end stresses are
+  averaged (P1: the mean of the two adjacent cell ``stress`` values).  It shows
+  the linear stress variation inside P2 elements that the one cell value hides.
 * ``strain_energy`` of an element is ``1/2 int EA (du/dx)^2 dx`` exactly
   (P1: ``1/2 EA h eps^2``; P2: ``EA h (e0^2 + e0 e1 + e1^2) / 6`` with the end
   strains ``e0, e1``).  The element values sum to the total potential energy.
@@ -51,7 +64,8 @@ import numpy as np
 
 from ..errors import InputError, PlbarError
 from ..util.files import atomic_path, write_csv, write_json, write_text
-from .sampling import FIELD_KEYS, ResponseData
+from ..util.reprs import build
+from .sampling import FIELD_KEYS, XDMF_STEP_KEYS, ResponseData
 
 __all__ = ["ResponseFiles", "write_data", "write_xi_along_mesh", "load_pvd", "FORMATS"]
 
@@ -70,6 +84,11 @@ class ResponseFiles:
     steps_csv: Path
     info_json: Path
     info: dict
+
+    def __repr__(self) -> str:
+        names = [p.name for p in (self.pvd, self.xdmf, self.h5, self.steps_csv, self.info_json) if p is not None]
+        return build("ResponseFiles", {"folder": str(self.folder), "files": names, "vtus": len(self.vtus),
+                                       "T": self.info.get("T"), "xi": self.info.get("xi")})
 
 
 def _vtk_grid(points3, cells, ctype):
@@ -140,6 +159,9 @@ def _write_xdmf(data: ResponseData, folder: Path, name: str) -> tuple[Path, Path
                 w.write_points_cells(data.points3(), [(data.cell_type, data.cells)])
                 for k in range(data.n_steps):
                     pd = {nm: np.ascontiguousarray(a[k]) for nm, a in data.point_data.items()}
+                    n = data.points.size    # per-step scalars: constant point data (XDMF has no field data)
+                    pd.update({nm: np.full(n, data.field_data[nm][k]) for nm in XDMF_STEP_KEYS
+                               if nm in data.field_data})
                     cd = {nm: [np.ascontiguousarray(a[k])] for nm, a in data.cell_data.items()}
                     w.write_data(float(data.times[k]), point_data=pd, cell_data=cd)
         h5, xdmf = folder / f"{name}.h5", folder / f"{name}.xdmf"
@@ -161,7 +183,8 @@ def write_data(data: ResponseData, folder, *, format: str = "pvd", name: str = "
     format : {"pvd", "xdmf", "both"}
         ``pvd``: one ``<name>_NNNN.vtu`` per step and ``<name>.pvd``;
         ``xdmf``: ``<name>.xdmf`` + ``<name>.h5`` (point and cell data; the
-        per-step scalars are in ``<name>_steps.csv``).
+        per-step scalars ``state``, ``contact_reaction``, ``gap``, ... as
+        point data constant over the mesh).
     name : str
         File name stem.
 

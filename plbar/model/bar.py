@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..util.check import choice, finite, integer, pairs, positive, show
+from ..util.reprs import build, rng
 from ..errors import InputError
 
 __all__ = ["Bar", "Assembled", "assemble", "chain", "uniform_bar", "graded_nodes", "uniform_nodes"]
@@ -225,6 +226,11 @@ class Assembled:
     @property
     def n(self) -> int:
         return self.x.size
+
+    def __repr__(self) -> str:
+        elem = type(getattr(self.basis, "elem", None)).__name__
+        return build("Assembled", {"n": self.n, "x": rng(self.x), "K": f"{self.K.shape}",
+                                   "M": f"{self.M.shape}", "basis": f"{type(self.basis).__name__} ({elem})"})
 
     def load_vector(self, s: float) -> np.ndarray:
         """Consistent load vector of a unit point force at ``s`` (shape functions)."""

@@ -17,6 +17,7 @@ import scipy.linalg as sla
 from .bar import Assembled, Bar, assemble
 from ..errors import InputError
 from .load import Load
+from ..util.reprs import build, rng
 
 __all__ = ["TwoStateSystem", "Problem", "two_state", "problem", "with_load_vector"]
 
@@ -85,6 +86,12 @@ class TwoStateSystem:
     def truncated(self) -> bool:
         """True if only the lowest modes of a state are kept (rectangular ``V1`` or ``V2``)."""
         return self.w1.size < self.n - 1 or self.w2.size < self.n
+
+    def __repr__(self) -> str:
+        T0I, T0II = self.T0
+        return build("TwoStateSystem", {"n": self.n, "modes": (self.w1.size, self.w2.size),
+                                        "T0": f"({T0I:.6g}, {T0II:.6g})", "w1": rng(self.w1),
+                                        "w2": rng(self.w2), "lumped": self.lumped})
 
     @property
     def T0(self) -> tuple[float, float]:
@@ -175,6 +182,17 @@ class Problem:
     bar: Bar | None = None
     load: Load | None = None
     asm: Assembled | None = None
+
+    def __repr__(self) -> str:
+        s = self.system
+        T0I, T0II = s.T0
+        items = {"n": s.n, "modes": (s.w1.size, s.w2.size), "T0": f"({T0I:.6g}, {T0II:.6g})",
+                 "q": f"{int(np.count_nonzero(self.q))} non-zero in {rng(self.q)}"}
+        if self.bar is not None:
+            items["bar"] = repr(self.bar.describe())
+        if self.load is not None:
+            items["load"] = repr(self.load.describe())
+        return build("Problem", items)
 
     def cached(self, key: str, factory):
         """``factory(self)``, computed once per problem (a private cache of derived constants).

@@ -9,6 +9,7 @@ import numpy as np
 from ..model import Problem
 from ..response import Admissibility, Damping, Orbits, Stability, damping, stability
 from ..util.check import interval
+from ..util.reprs import build, count, listing, rng
 
 __all__ = ["Domain", "default_domain", "Branch", "Paths", "events", "build_branches", "EVENT_KINDS", "FOLD_T",
            "GRAZING", "NEIMARK_SACKER", "PERIOD_DOUBLING", "FOLD_MU"]
@@ -113,6 +114,18 @@ class Branch:
     def __len__(self):
         return len(self.orbits)
 
+    def describe(self) -> str:
+        """One line: id, points, ``T`` and ``xi`` ranges, stable points, events by kind and the ends."""
+        ev = _event_counts(self.events)
+        return (f"branch {self.id}: {len(self)} points, T in {rng(self.T)}, xi in {rng(self.xi)}, "
+                f"stable {count(self.stable)}" + (f", events {ev}" if ev else "") + f", ends: {' / '.join(self.ends)}")
+
+    def __repr__(self) -> str:
+        return build("Branch", {"id": self.id, "points": len(self), "T": rng(self.T),
+                                "T1": rng(self.T1), "T2": rng(self.T2), "xi": rng(self.xi),
+                                "stable": count(self.stable), "grazing": count(self.grazing),
+                                "events": _event_counts(self.events) or "{}", "ends": self.ends})
+
 
 @dataclass(frozen=True)
 class Paths:
@@ -124,9 +137,26 @@ class Paths:
     branches: tuple[Branch, ...]
     stats: dict = field(default_factory=dict)
 
+    def __repr__(self) -> str:
+        n = sum(len(b) for b in self.branches)
+        xi = max((float(b.xi.max()) for b in self.branches if len(b)), default=0.0)
+        T0I, T0II = self.prob.system.T0
+        head = build("Paths", {"branches": len(self.branches), "points": n, "grid": self.grid,
+                               "T1": f"({self.domain.T1[0]:.4g}, {self.domain.T1[1]:.4g}]",
+                               "T2": f"({self.domain.T2[0]:.4g}, {self.domain.T2[1]:.4g}]",
+                               "n": self.prob.system.n, "T0": f"({T0I:.4g}, {T0II:.4g})", "max_xi": f"{xi:.4g}"})
+        return head + "".join("\n  " + ln for ln in listing((b.describe() for b in self.branches), 5))
+
     def points(self) -> Orbits | None:
         """All path points of all branches as one :class:`Orbits` (None if empty)."""
         return Orbits.concat([b.orbits for b in self.branches]) if self.branches else None
+
+
+def _event_counts(evs) -> str:
+    """``{kind: count, ...}`` of a sequence of events, in the order of :data:`EVENT_KINDS` ("" if none)."""
+    kinds = [e["kind"] for e in evs]
+    order = [k for k in EVENT_KINDS if k in kinds] + sorted(set(kinds) - set(EVENT_KINDS))
+    return "{" + ", ".join(f"{k}: {kinds.count(k)}" for k in order) + "}" if kinds else ""
 
 
 def _stability_kind(mu) -> str:

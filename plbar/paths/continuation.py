@@ -28,6 +28,7 @@ from ..model import Problem
 from ..response import scan_G as G
 from ..util.blas import single_thread_blas
 from ..util.progress import progress_bar
+from ..util.reprs import build, rng
 from ..util.roots import bracketed
 from .contour import link
 
@@ -45,6 +46,11 @@ class Trace:
     edges: dict          # grid edge id -> index into P of the exact crossing point
     ends: tuple[str, str]
     nevals: int = 0
+
+    def __repr__(self) -> str:
+        P = np.asarray(self.P, float).reshape(-1, 2)
+        return build("Trace", {"points": P.shape[0], "T1": rng(P[:, 0]), "T2": rng(P[:, 1]),
+                               "grid_edges": len(self.edges), "ends": self.ends, "nevals": self.nevals})
 
 
 class _Tracer:

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..util.batch import Batch
+from ..util.reprs import build, count
 
 from .orbit import Orbits
 
@@ -56,6 +57,11 @@ class Admissibility(Batch):
     min_reaction: np.ndarray
     max_gap: np.ndarray
     reason: np.ndarray
+
+    def __repr__(self) -> str:
+        why, k = np.unique(np.asarray(self.reason, str), return_counts=True)
+        return build("Admissibility", {"P": np.size(self.ok), "ok": count(self.ok), "grazing": count(self.grazing),
+                                       "reasons": "{" + ", ".join(f"{w}: {int(c)}" for w, c in zip(why, k)) + "}"})
 
 
 def n_samples(prob, T) -> int:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..util.batch import Batch
+from ..util.reprs import build, count, rng
 
 from .flow import gauss, psi
 from .orbit import Orbits
@@ -43,6 +44,10 @@ class Damping(Batch):
     denom: np.ndarray
     xi: np.ndarray
     closed_form: np.ndarray
+
+    def __repr__(self) -> str:
+        return build("Damping", {"P": self.xi.size, "xi": rng(self.xi), "dPL": rng(self.dPL),
+                                 "closed_form": count(self.closed_form)})
 
 
 def impact_loss(orb: Orbits) -> np.ndarray:

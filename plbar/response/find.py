@@ -29,6 +29,7 @@ from ..errors import InputError, PlbarError
 from ..model import Problem
 from ..util import check as _check
 from ..util.blas import single_thread_blas
+from ..util.reprs import build
 from ..util.roots import bracketed
 from . import scalar as _scalar
 from .energy import damping
@@ -92,6 +93,11 @@ class Response:
     prob: Problem
     eta_s: np.ndarray
     v_s: np.ndarray
+
+    def __repr__(self) -> str:
+        return build("Response", {k: getattr(self, k) for k in ("T", "T1", "T2", "phi", "xi", "dPL", "v_impact", "e1",
+                                                                "e2", "periodicity", "evaluations")}
+                     | {"n": self.prob.system.n})
 
     @cached_property
     def orbit(self) -> Orbits:

@@ -21,6 +21,7 @@ import numpy as np
 
 from ..model import Problem
 from ..util.blas import single_thread_blas
+from ..util.reprs import build, rng
 from .flow import free_flow, kernels
 
 __all__ = ["PeriodMap", "period_map", "Coefficients", "coefficients", "scan_function", "G", "phase", "states",
@@ -72,6 +73,10 @@ class Coefficients:
         """:func:`scan_function` of these coefficients."""
         return scan_function(self.a1, self.b1, self.a2, self.b2, self.sign)
 
+    def __repr__(self) -> str:
+        return build("Coefficients", {"B": np.size(self.T1), "T1": rng(self.T1), "T2": rng(self.T2),
+                                      "G": rng(self.G), "Z": f"{np.shape(self.Z)}"})
+
 
 @dataclass(frozen=True)
 class PeriodMap:
@@ -107,6 +112,12 @@ class PeriodMap:
         """:func:`scan_function` (with ``sign(det)`` if it was computed, else unsigned)."""
         return scan_function(self.e1[:, 0], self.e1[:, 1], self.e2[:, 0], self.e2[:, 1],
                              1.0 if self.sign is None else self.sign)
+
+    def __repr__(self) -> str:
+        return build("PeriodMap", {"B": np.size(self.T1), "T1": rng(self.T1), "T2": rng(self.T2),
+                                   "G": rng(self.G), "Z": f"{np.shape(self.Z)}",
+                                   "sign": self.sign is not None, "IA": self.IA is not None,
+                                   "scales": self.sc1 is not None})
 
     def coefficients(self) -> Coefficients:
         return Coefficients(self.T1, self.T2, self.e1[:, 0], self.e1[:, 1], self.e2[:, 0], self.e2[:, 1],

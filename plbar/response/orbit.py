@@ -14,6 +14,7 @@ import numpy as np
 
 from ..model import Problem
 from ..util.batch import Batch
+from ..util.reprs import build, rng
 from .flow import segment
 from .onemap import coefficients, states
 
@@ -55,6 +56,10 @@ class Orbits(Batch):
 
     def __len__(self) -> int:
         return self.T1.size
+
+    def __repr__(self) -> str:
+        return build("Orbits", {"P": len(self), "n": self.prob.system.n, "T": rng(self.T),
+                                "T1": rng(self.T1), "T2": rng(self.T2), "phi": rng(self.phi)})
 
     def _cs(self):
         return np.cos(self.phi)[:, None, None], np.sin(self.phi)[:, None, None]

@@ -41,6 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..util.batch import Batch
+from ..util.reprs import build, count, rng
 
 from ..errors import InputError
 from .flow import free_flow
@@ -283,6 +284,11 @@ class Stability(Batch):
     stable: np.ndarray
     unstable: np.ndarray
     tol: float
+
+    def __repr__(self) -> str:
+        return build("Stability", {"P": self.max_abs.size, "multipliers": f"{self.multipliers.shape}",
+                                   "max_abs": rng(self.max_abs), "stable": count(self.stable),
+                                   "unstable": count(self.unstable), "tol": self.tol})
 
 
 def stability(orbits, tol: float = TOL) -> Stability:

@@ -241,7 +241,7 @@ def draw_fig9(out, allres, families) -> list[Path]:
             j = int(np.argmax(P[:, 2]))
             ax.plot(P[j, 0], P[j, 1], "*", color="red", ms=12, mec="k",
                     label=rf"max $\xi_{{eq}}$ = {P[j, 2]:.4f} at s = {P[j, 1]:.3g}")
-            ax.legend(loc="lower right")
+            ax.legend(loc="best", framealpha=0.8, fontsize=7)   # where it hides the fewest points
         ax.axvline(T0II / 2, color="k", ls=":", lw=0.8)
         ax.set(xlabel="T", title=f"{lab}) N = {n}")
     axes[0].set_ylabel("load position s (0 = clamp, DOF k at s = k)")

@@ -54,63 +54,117 @@ def contact_amplitude(orb, samples: int = 400) -> np.ndarray:
     return np.abs(orb.gap(orb.T2[:, None] * u)).max(axis=1)
 
 
+def _event_points(branches, y=None) -> dict:
+    """Event kind -> ``(T1, T2, T, y)`` rows of its events (``y``: per-branch values, default ``xi``)."""
+    pts: dict = {}
+    for j, b in enumerate(branches):
+        yy = b.xi if y is None else y[j]
+        for e in b.events:
+            i = e["index"]
+            pts.setdefault(e["kind"], []).append((e["T1"], e["T2"], e["T"], float(yy[i])))
+    order = [k for k in EVENT_MARKS if k in pts] + sorted(set(pts) - set(EVENT_MARKS))
+    return {k: np.array(pts[k], float).reshape(-1, 4) for k in order}
+
+
+def _draw_events(ax, pts: dict, cols: tuple[int, int], label: bool = True) -> None:
+    """One marker series per event kind (``cols`` of the point arrays as x, y), labelled once per kind."""
+    for kind, P in pts.items():
+        m, c = EVENT_MARKS.get(kind, ("o", "k"))
+        ax.plot(P[:, cols[0]], P[:, cols[1]], m, color=c, ms=5, mfc="none", mew=1.0, ls="none", zorder=4,
+                label=kind if label else None)
+
+
+#: anchor labels closer than this fraction of the axis span are stacked vertically
+ANCHOR_GAP = 0.03
+
+
+def _anchors(ax, T0I: float, T0II: float, label: bool = True) -> list:
+    """Dashed lines at ``T0^I`` and ``T0^II/2``; their labels above the axes, stacked if they would overlap.
+
+    Labels whose periods are closer than :data:`ANCHOR_GAP` of the axis span are stacked 14 pt apart.
+    """
+    marks = ((T0I, "$T_0^I$"), (T0II / 2, "$T_0^{II}/2$"))
+    for x, _ in marks:
+        ax.axvline(x, color="0.5", ls="--", lw=0.7)
+    lo, hi = ax.get_xlim()
+    close = abs(T0I - T0II / 2) < ANCHOR_GAP * max(hi - lo, 1e-300)
+    texts = []
+    for k, (x, lab) in enumerate(marks):
+        if label:
+            texts.append(ax.annotate(lab, (x, 1.0), xycoords=ax.get_xaxis_transform(), ha="center", va="bottom",
+                                     xytext=(0, 14 * k if close else 0), textcoords="offset points", fontsize=8))
+    return texts
+
+
 def frequency_response(res, out, name: str = "frequency_response") -> Path:
     """Frequency-response view: ``max |x_c|`` and ``xi_eq`` against ``T``, coloured by stability.
 
     Solid dark points are stable orbits (all Floquet multipliers inside the
     unit circle), light crosses unstable ones; events along the branches
-    (folds, grazing, stability changes) are marked.
+    (folds, grazing, stability changes) are markers, one legend entry per kind
+    present (no per-event text, so hundreds of branches stay readable).
     """
     plt = _plt()
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7.5, 6.2), sharex=True)
+    amps = []
     for b in res.branches:
-        amp = contact_amplitude(b.orbits)
+        amps.append(contact_amplitude(b.orbits))
+        amp = amps[-1]
         st = b.stable
         for ax, y in ((ax1, amp), (ax2, b.xi)):
             ax.plot(b.T, y, "-", color="0.75", lw=0.8, zorder=1)
             ax.plot(b.T[st], y[st], "o", ms=2.6, color="tab:blue", zorder=3)
             ax.plot(b.T[~st], y[~st], "x", ms=2.6, color="tab:red", alpha=0.6, zorder=2)
-        for e in b.events:
-            i = e["index"]
-            ax2.annotate(e["kind"].split(" ")[0], (b.T[i], b.xi[i]), fontsize=6, color="0.3",
-                         xytext=(2, 4), textcoords="offset points")
+    _draw_events(ax1, _event_points(res.branches, amps), (2, 3), label=False)
+    ev = _event_points(res.branches)
+    _draw_events(ax2, ev, (2, 3))
     T0I, T0II = res.paths.prob.system.T0
-    for ax in (ax1, ax2):
-        for x, lab in ((T0I, "$T_0^I$"), (T0II / 2, "$T_0^{II}/2$")):
-            ax.axvline(x, color="0.5", ls="--", lw=0.7)
-            ax.text(x, 1.0, lab, transform=ax.get_xaxis_transform(), ha="center", va="bottom", fontsize=8)
+    _anchors(ax1, T0I, T0II)
+    _anchors(ax2, T0I, T0II, label=False)
     ax1.set_ylabel(r"max $|x_c|$ (contact node)")
     ax2.set_ylabel(r"$\xi_{eq}$ (Eq. 22)")
     ax2.set_xlabel("forcing period $T$")
     ax1.plot([], [], "o", color="tab:blue", label="stable")
     ax1.plot([], [], "x", color="tab:red", label="unstable")
-    ax1.legend(loc="upper left")
+    ax1.legend(loc="best", framealpha=0.8)
+    if ev:
+        ax2.legend(loc="best", framealpha=0.8, title="events")
     ax1.set_yscale("log")
-    fig.suptitle(f"{res.paths.prob.bar.describe() if res.paths.prob.bar else ''}; load "
-                 f"{res.paths.prob.load.describe() if res.paths.prob.load else ''}", fontsize=8)
+    p = res.paths.prob
+    fig.suptitle(f"{p.bar.describe() if p.bar else ''}; load {p.load.describe() if p.load else ''}", fontsize=8)
     return _save(fig, out, name)[0]
 
 
+#: at most this many branches (those with the largest ``xi_eq``) get their id written in :func:`paths_plane`
+MAX_BRANCH_LABELS = 8
+
+
 def paths_plane(res, out, name: str = "paths_T1_T2") -> Path:
-    """Branches in the ``(T^I, T^II)`` plane (paper Fig. 2b) with their events and ends."""
+    """Branches in the ``(T^I, T^II)`` plane (paper Fig. 2b) with their events.
+
+    Events are markers with one legend entry per kind present; only the
+    :data:`MAX_BRANCH_LABELS` branches with the largest ``xi_eq`` carry their id.
+    """
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6.5, 5.2))
-    marks = EVENT_MARKS
+    top = sorted(res.branches, key=lambda b: -float(b.xi.max()) if len(b) else 0.0)[:MAX_BRANCH_LABELS]
     for b in res.branches:
         ax.plot(b.T1, b.T2, "-", lw=1.2)
-        ax.text(b.T1[len(b) // 2], b.T2[len(b) // 2], str(b.id), fontsize=7)
-        for e in b.events:
-            m, c = marks.get(e["kind"], ("o", "k"))
-            ax.plot(e["T1"], e["T2"], m, color=c, ms=5, mfc="none")
-    for kind, (m, c) in marks.items():
-        ax.plot([], [], m, color=c, mfc="none", label=kind)
+    for b in top:
+        j = int(np.argmax(b.xi))
+        ax.annotate(str(b.id), (b.T1[j], b.T2[j]), xytext=(3, 3), textcoords="offset points", fontsize=7)
+    ev = _event_points(res.branches)
+    _draw_events(ax, ev, (0, 1))
     ax.set_xlabel("$T^I$")
     ax.set_ylabel("$T^{II}$")
     d = res.paths.domain
     ax.set_xlim(*d.T1)
     ax.set_ylim(*d.T2)
-    ax.legend(fontsize=7, loc="best")
-    ax.set_title("periodic paths and events (numbers: branch id)")
+    if ev:
+        ax.legend(fontsize=7, loc="best", framealpha=0.8)
+    more = len(res.branches) > len(top)
+    ax.set_title("periodic paths and events (numbers: branch id" +
+                 (f", the {len(top)} with the largest $\\xi_{{eq}}$)" if more else ")"))
     return _save(fig, out, name)[0]
 
 

@@ -11,7 +11,7 @@ from plbar.response import Orbits
 from plbar.check import period_map, simulate
 from plbar.response import Stability, monodromy, multipliers, periodic_state, stability
 
-from test_simulate import FE_POINT, good_points
+from shared_points import FE_POINT, good_points
 
 RED = (1.7748, 8.1525)
 GREEN = (2.3876, 9.8894)
