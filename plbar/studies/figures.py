@@ -104,8 +104,7 @@ def make_all(out, grid=(200, 200), which=None, progress: bool = False) -> list[P
     if bad:
         raise InputError(f"unknown figure(s) {bad}; choose from {', '.join(FIGURES)}")
     files: list[Path] = []
-    steps = [w for w in which]
-    with progress_bar(len(steps) + 2, progress, "figures", "step", delay=0.0) as bar:
+    with progress_bar(len(which) + 2, progress, "figures", "step", delay=0.0) as bar:
         res = _solve(grid) if {"fig2", "fig3", "fig4", "fig56"} & set(which) else None
         bar.update(1)
         cases = _dof_cases(5, grid) if {"fig7", "fig8"} & set(which) else None
@@ -115,7 +114,7 @@ def make_all(out, grid=(200, 200), which=None, progress: bool = False) -> list[P
                 "fig56": lambda: fig5_loss_damping(out, res) + fig6_damping_paths(out, res),
                 "fig7": lambda: fig7_load_responses(out, cases=cases), "fig8": lambda: fig8_xi_per_load(out, cases=cases),
                 "fig9": lambda: fig9_xi_position(out, grid)}
-        for w in steps:
+        for w in which:
             files += draw[w]()
             bar.update(1)
     return files
