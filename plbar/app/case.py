@@ -6,13 +6,16 @@ The default :class:`Case` is the paper's Sec. 4.1 example: the chain with
 
 from __future__ import annotations
 
+import math
 import os
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
+
+import numpy as np
 
 from ..errors import InputError
 from ..model import ELEMENTS, MASSES, Bar, Load, Problem, chain, graded_nodes, problem
 from ..paths import Domain, default_domain
-from ..util.check import choice, integer, interval, pairs, positive, show
+from ..util.check import choice, integer, interval, number, pairs, positive, show
 from ..util.check import grid as check_grid
 
 __all__ = ["Case", "MODELS"]
@@ -44,6 +47,12 @@ class Case:
         A meshio-readable 1D line mesh for the FE bar (overrides ``n``, ``length``, ``grading``).
     point_masses : tuple of (x, m)
         Extra concentrated masses on FE vertices.
+    end_mass : float
+        A rigid point mass on the contact node ``x = L``, as a fraction of the
+        bar's own mass (``sum_e rhoA_e h_e``; ``N m`` for the chain), added to
+        the point masses already there (the chain keeps its ``m / 2``).  0: none.
+    end_mass_absolute : bool
+        Take ``end_mass`` as the mass itself, not a fraction (see :attr:`end_mass_value`).
     load_nodes : tuple of (k, amplitude)
         Forces on free DOFs (1-based from the clamp).
     load_points : tuple of (s, amplitude)
@@ -74,6 +83,8 @@ class Case:
     grading: float = 1.0
     mesh_file: str | None = None
     point_masses: tuple = ()
+    end_mass: float = 0.0
+    end_mass_absolute: bool = False
     load_nodes: tuple = ()
     load_points: tuple = ()
     grid: tuple[int, int] = (200, 200)
@@ -106,6 +117,7 @@ class Case:
                          ("point_masses", "(x, m)")):
             v = getattr(self, nm)
             object.__setattr__(self, nm, () if v is None else pairs(nm, v, what))
+        self._check_end_mass()
         object.__setattr__(self, "grid", check_grid(self.grid, warn=False))
         for nm in ("T1", "T2"):
             if getattr(self, nm) is not None:
@@ -131,7 +143,31 @@ class Case:
         """The bar of this case (built once, when the case was made)."""
         return self.__dict__["_bar"]
 
+    def _check_end_mass(self) -> None:
+        must = ">= 0 (a fraction of the bar's mass, or an absolute mass with end_mass_absolute)"
+        v = number("end_mass", self.end_mass, f"a finite number {must}")
+        if not (math.isfinite(v) and v >= 0):
+            raise InputError(f"end_mass = {show(v)} is not allowed; it must be finite and {must}")
+        object.__setattr__(self, "end_mass", v)
+        if not isinstance(self.end_mass_absolute, (bool, np.bool_)):
+            raise InputError(f"end_mass_absolute = {show(self.end_mass_absolute)} must be True or False "
+                             "(end_mass is an absolute mass, or a fraction of the bar's mass)")
+        object.__setattr__(self, "end_mass_absolute", bool(self.end_mass_absolute))
+
+    @property
+    def end_mass_value(self) -> float:
+        """The end mass itself: ``end_mass`` times the bar's mass, or ``end_mass`` if absolute."""
+        return self.end_mass if self.end_mass_absolute else self.end_mass * self.bar().bar_mass
+
     def _make_bar(self) -> Bar:
+        """The bar of the case with its end mass (a point mass on the contact node, added to any there)."""
+        bar = self._base_bar()
+        me = self.end_mass if self.end_mass_absolute else self.end_mass * bar.bar_mass
+        if me == 0:
+            return bar
+        return replace(bar, point_masses=bar.point_masses + ((bar.length, me),))
+
+    def _base_bar(self) -> Bar:
         if self.model == "chain":
             return chain(self.n_eff, self.m, self.k)
         if self.mesh_file:

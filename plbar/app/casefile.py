@@ -21,6 +21,8 @@ A case file::
 
 ``[bar]`` keys: ``model, n, element, mass, length, EA, rhoA, m, k, grading,
 mesh_file`` (relative to the TOML file), ``point_masses = [[x, m], ...]``,
+``end_mass`` (a point mass on the contact node, as a fraction of the bar's mass;
+``end_mass_absolute = true`` for the mass itself; both models),
 ``modes`` (modal truncation: the lowest modes of each state).
 Every mistake raises :class:`plbar.errors.CaseFileError` with one line naming
 the file, the section and the key.
@@ -52,7 +54,8 @@ SCHEMA = {
     "": {"title": "str", "bar": "table", "load": "tables", "search": "table", "output": "table"},
     "bar": {"model": ("choice", ("chain", "fe")), "n": "int", "element": ("choice", ("P1", "P2")),
             "mass": ("choice", ("lumped", "consistent")), "length": "float", "EA": "float", "rhoA": "float",
-            "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs", "modes": "int"},
+            "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs",
+            "end_mass": "float", "end_mass_absolute": "bool", "modes": "int"},
     "load": {"node": "int", "at": "float", "amplitude": "float"},
     "search": {"grid": "grid", "T1": "pair", "T2": "pair"},
     "output": {"dir": "str", "vtk": "bool", "format": ("choice", FORMATS), "render": "bool", "field": "str",
@@ -336,6 +339,9 @@ def dump_case(case, output: OutputSettings | None = None) -> str:
         lines.append(f"mesh_file = {_fmt(str(case.mesh_file))}")
     if case.model == "fe" and case.point_masses:
         lines.append(f"point_masses = {_fmt([list(p) for p in case.point_masses])}")
+    if case.end_mass != 0 or case.end_mass_absolute:
+        lines.append(f"end_mass = {_fmt(float(case.end_mass))}")
+        lines.append(f"end_mass_absolute = {_fmt(bool(case.end_mass_absolute))}")
     if case.modes is not None:
         lines.append(f"modes = {int(case.modes)}")
     for k, a in case.load_nodes:

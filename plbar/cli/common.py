@@ -3,8 +3,9 @@
 * ``--out DIR`` is where a command writes; ``--from DIR`` is a previous run it reads;
 * ``--overwrite`` lets a command replace another case's results (never silently);
 * ``--quiet`` prints nothing on success, ``--json`` prints the result as JSON (both without progress bars);
-* the model is ``--model``, ``-N/--elements``, ``--element``, ``--mass``; the load ``--load-node`` / ``--load-at``;
-  a TOML file is ``--case FILE`` (``plbar run FILE`` too) and then no model, load or search option may be given.
+* the model is ``--model``, ``-N/--elements``, ``--element``, ``--mass``, ``--end-mass``; the load ``--load-node`` /
+  ``--load-at``; a TOML file is ``--case FILE`` (``plbar run FILE`` too) and then no model, load or search option
+  may be given.
 """
 
 from __future__ import annotations
@@ -21,7 +22,8 @@ hidden = argparse.SUPPRESS
 
 #: the model, load and search options (dest names); with a case file none of them may be given
 CASE_OPTIONS = {"model": "--model", "elements": "-N/--elements", "element": "--element", "mass": "--mass",
-                "mesh_file": "--mesh-file", "grading": "--grading", "modes": "--modes", "load_node": "--load-node",
+                "mesh_file": "--mesh-file", "grading": "--grading", "end_mass": "--end-mass",
+                "end_mass_absolute": "--end-mass-absolute", "modes": "--modes", "load_node": "--load-node",
                 "load_at": "--load-at", "grid": "--grid", "T1": "--T1", "T2": "--T2", "method": "--method"}
 
 
@@ -48,6 +50,11 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load") ->
     g.add_argument("--mesh-file", default=None, help="meshio-readable 1D line mesh for --model fe")
     g.add_argument("--grading", type=float, default=None,
                    help="FE mesh grading: last/first element length [1 = uniform]")
+    g.add_argument("--end-mass", type=float, default=None, metavar="M",
+                   help="a rigid point mass on the contact node, as a fraction of the bar's mass (N m for the "
+                        "chain) [0]")
+    g.add_argument("--end-mass-absolute", action="store_true", default=None,
+                   help="take --end-mass as an absolute mass")
     g.add_argument("--modes", type=int, default=None, metavar="M",
                    help="keep the lowest M modes of each state (modal truncation: never for xi_eq, see README) [all]")
     g = p.add_argument_group(f"load ({load_help}; unit amplitude; default: DOF 1 of the chain, s = L/2 of an FE bar)")
@@ -77,7 +84,8 @@ def case_from_args(a):
     points = tuple((s, 1.0) for s in (a.load_at or ()))
     kw = dict(model=a.model, n=a.elements, element=a.element, mass=a.mass, mesh_file=a.mesh_file,
               grading=a.grading, grid=tuple(a.grid) if a.grid else None, T1=tuple(a.T1) if a.T1 else None,
-              T2=tuple(a.T2) if a.T2 else None, method=a.method, modes=a.modes)
+              T2=tuple(a.T2) if a.T2 else None, method=a.method, modes=a.modes, end_mass=a.end_mass,
+              end_mass_absolute=a.end_mass_absolute)
     return Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None}), None
 
 

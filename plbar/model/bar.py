@@ -171,6 +171,11 @@ class Bar:
         return self.nodes.size - 1
 
     @property
+    def bar_mass(self) -> float:
+        """Mass of the bar itself, ``sum_e rhoA_e h_e`` (without the point masses; ``N m`` for the chain)."""
+        return float(np.sum(self.rhoA * np.diff(self.nodes)))
+
+    @property
     def n_dofs(self) -> int:
         """Free DOFs (every node but the clamp; P2 adds a midside node per element)."""
         return self.n_elements * (1 if self.element == "P1" else 2)

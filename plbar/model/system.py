@@ -94,6 +94,19 @@ class TwoStateSystem:
                                         "w2": rng(self.w2), "lumped": self.lumped})
 
     @property
+    def impact_mass(self) -> float:
+        """Mass seen by the plastic impact, ``S = M_cc - M_cr M_rr^-1 M_rc`` (FORMULATION §3).
+
+        The impact loss is exactly ``Delta_PL = 1/2 S v_c(T^-)^2`` (Eq. (14)):
+        ``M_rr v_r^+ = M_rr v_r^- + M_rc v_c`` gives ``v_r^+ = v_r^- + M_rr^-1 M_rc v_c``, and
+        ``v^-T M v^- - v_r^+T M_rr v_r^+ = (M_cc - M_cr M_rr^-1 M_rc) v_c^2`` (the ``v_r^-`` terms cancel).
+        For lumped mass ``S = M_cc``.  Exact with all modes; a truncated modal
+        impact loses more (see :func:`two_state`).
+        """
+        Mrc = self.M[:-1, -1]
+        return float(self.M[-1, -1] - Mrc @ sla.solve(self.M[:-1, :-1], Mrc, assume_a="pos"))
+
+    @property
     def T0(self) -> tuple[float, float]:
         """Fundamental periods ``(T0^I, T0^II)``."""
         return 2 * np.pi / self.w1[0], 2 * np.pi / self.w2[0]
