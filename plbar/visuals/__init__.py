@@ -3,9 +3,10 @@
 matplotlib and pyvista are imported inside the drawing functions.
 """
 
+from .convergence import convergence_plot
 from .paper import GREEN, RED, nearest_point
 from .plots import contact_amplitude, frequency_response, paths_plane, xi_load_map
 from .render import RenderFiles, render
 
 __all__ = ["GREEN", "RED", "nearest_point", "contact_amplitude", "frequency_response", "paths_plane", "xi_load_map",
-           "RenderFiles", "render"]
+           "RenderFiles", "render", "convergence_plot"]
