@@ -36,15 +36,23 @@ def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None
     g.add_argument("--json", action="store_true", help="print the result as JSON (no progress bars)")
 
 
-def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load") -> None:
-    """The model, load and search options (all default to None: given ones are known) and ``--case``."""
+def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", sizes=None) -> None:
+    """The model, load and search options (all default to None: given ones are known) and ``--case``.
+
+    ``sizes`` (a default list) makes ``-N/--elements`` a list of sizes (``a.sizes``; ``plbar refine``).
+    """
     g = p.add_argument_group("model")
     g.add_argument("--case", default=None, metavar="FILE.toml",
                    help="a TOML case file (examples/cases/); then no model, load or search option may be given")
     g.add_argument("--model", choices=("chain", "fe"), default=None,
                    help="the paper's mass-spring chain (L = N) or a finite-element bar (L = 1) [chain]")
-    g.add_argument("--elements", "-N", type=int, default=None, metavar="N",
-                   help="masses of the chain / elements of the FE bar [5 / 8]")
+    if sizes is None:
+        g.add_argument("--elements", "-N", type=int, default=None, metavar="N",
+                       help="masses of the chain / elements of the FE bar [5 / 8]")
+    else:
+        g.add_argument("--elements", "-N", "--n", dest="sizes", type=int, nargs="+", default=list(sizes),
+                       metavar="N", help="masses of the chain / elements of the FE bar, coarse to fine "
+                                         f"[{' '.join(str(n) for n in sizes)}]")
     g.add_argument("--element", choices=("P1", "P2"), default=None, help="FE element [P1]")
     g.add_argument("--mass", choices=("lumped", "consistent"), default=None, help="FE mass matrix [lumped]")
     g.add_argument("--mesh-file", default=None, help="meshio-readable 1D line mesh for --model fe")
@@ -82,7 +90,7 @@ def case_from_args(a):
         return load_case(a.case)
     nodes = tuple((k, 1.0) for k in (a.load_node or ()))
     points = tuple((s, 1.0) for s in (a.load_at or ()))
-    kw = dict(model=a.model, n=a.elements, element=a.element, mass=a.mass, mesh_file=a.mesh_file,
+    kw = dict(model=a.model, n=getattr(a, "elements", None), element=a.element, mass=a.mass, mesh_file=a.mesh_file,
               grading=a.grading, grid=tuple(a.grid) if a.grid else None, T1=tuple(a.T1) if a.T1 else None,
               T2=tuple(a.T2) if a.T2 else None, method=a.method, modes=a.modes, end_mass=a.end_mass,
               end_mass_absolute=a.end_mass_absolute)

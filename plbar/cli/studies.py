@@ -8,13 +8,14 @@ from __future__ import annotations
 
 import importlib.util
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import OutputExistsError
+from ..errors import InputError, OutputExistsError
 from ..util.outputs import check_writable, clear_owned, require
-from .common import case_args, case_from_args, hidden, output_args, progress, report
+from .common import CASE_OPTIONS, case_args, case_from_args, hidden, output_args, progress, report
 
 __all__ = ["register"]
 
@@ -61,27 +62,67 @@ def _cmd_sweep(a) -> int:
     return 0
 
 
+def _refine_cases(a) -> list:
+    """The series of ``plbar refine``: the model options (or a case file), or the old ``--series`` names."""
+    from ..app import Case
+    from ..studies.refinement import parse_series
+
+    if a.T2_frac:
+        raise InputError("--T2-frac is no longer used: refine follows each family inside its period window "
+                         "(--family ANCHOR --window W)")
+    if a.series:
+        given = [f for d, f in CASE_OPTIONS.items() if d != "grid" and getattr(a, d, None) is not None]
+        if given or a.case:
+            raise InputError(f"--series conflicts with {given[0] if given else '--case'}; give the model with "
+                             "--model/--element/--mass (one series) or --series names, not both")
+        cases = [Case(**parse_series(s)) for s in a.series]
+    else:
+        cases = [case_from_args(a)[0]]
+    if a.frac:                                       # old spelling: loads at fractions of the length
+        cases = [replace(c, load_nodes=(), load_points=((f * c.bar().length, 1.0),)) for c in cases for f in a.frac]
+    return cases
+
+
+def _refine_lines(r: dict) -> list[str]:
+    lines = []
+    for key in dict.fromkeys((row["series"], row["family"]) for row in r["rows"]):
+        lines.append(f"{key[0]}, family {key[1]}:")
+        lines.append("      N  status        adm.  T/L range              largest xi_eq  at T/L     S/M_e")
+        for row in (x for x in r["rows"] if (x["series"], x["family"]) == key):
+            rng = (f"[{row['T_min_L']:.5f}, {row['T_max_L']:.5f}]" if np.isfinite(row["T_min_L"]) else "-").ljust(22)
+            xi = f"{row['xi_max']:.5f}  {row['T_at_max_L']:.5f}" if np.isfinite(row["xi_max"]) else "-".ljust(16)
+            sm = f"{row['impact_mass'] / row['end_mass']:.5f}" if row["end_mass"] > 0 else "-"
+            lines.append(f"  {row['n']:5d}  {row['status']:12s} {row['admissible']:5d}  {rng} {xi}  {sm}")
+        rates = r["rates"][key[0]][key[1]]
+        for q in ("T0_I_L", "T0_II_L", "S/M_e", "T_mid_T0I", "T_spread_T0I", "xi_max"):
+            if q in rates:
+                c = rates[q]
+                v = f"rate {c['rate']:.3f}" if c["rate"] is not None else f"no rate: {c['why']}"
+                lim = f", limit {c['limit']:.6g}" if c.get("limit") is not None else ""
+                lines.append(f"    {q:8s} {v}{lim}")
+        d = rates["xi_decay"]
+        if d.get("model"):
+            lines.append(f"    xi_max decays like {d['formula']} ({d['model']} law fits best)")
+    return lines
+
+
 def _cmd_refine(a) -> int:
-    from ..studies import get_executor, refine_study, refine_tables, run_study, write_refine_tables
+    from ..studies import get_executor, run_refine
+    from ..studies.track import TrackSettings
 
-    if a.case:
-        from ..app import load_case
-
-        case, _ = load_case(a.case)
-        a.series = ["chain"] if case.model == "chain" else [f"fe-{case.element}-{case.mass}"]
-        a.grid = case.grid
-    st = refine_study(a.elements, a.series, a.frac, tuple(a.grid or (200, 200)),
-                      tuple(a.T2_frac) if a.T2_frac else None)
+    cases = _refine_cases(a)
+    grid = tuple(a.grid) if a.grid else (cases[0].grid if a.case else (200, 200))
+    st = TrackSettings(width=a.window, grid=grid, pick=a.pick, step=a.step)
+    out = check_writable(a.out)
     with get_executor("dask" if a.scheduler else a.executor, a.scheduler, a.workers) as ex:
-        res = run_study(check_writable(a.out), st, ex, progress=progress(a), overwrite=a.overwrite)
-    tb = refine_tables(st.tasks, res)
-    files = write_refine_tables(a.out, tb)
-    m = tb.maxima
-    lines = [f"{m['series'][i]:18s} N = {m['n'][i]:3d}: T0_I = {m['T0_I'][i]:.4f}, T0_II = {m['T0_II'][i]:.4f}, "
-             f"family T0_II/2: T in [{m['T_min'][i]:.4f}, {m['T_max'][i]:.4f}], max xi_eq = {m['xi_max'][i]:.4f}"
-             for i in range(len(m["n"])) if m["family"][i] == "T0_II/2" and np.isfinite(m["T_min"][i])]
-    lines += ["rates: " + json.dumps(tb.rates), "wrote " + ", ".join(str(f) for f in files.values())]
-    report(a, {"rates": tb.rates, "files": {k: str(v) for k, v in files.items()}}, "\n".join(lines))
+        r = run_refine(cases, a.sizes, a.family or ["T0_II/2"], st, out, ex, progress=progress(a),
+                       overwrite=a.overwrite, plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
+    lines = _refine_lines(r) + [f"done in {r['time']:.1f} s; wrote " + ", ".join(
+        str(f) for v in r["files"].values() for f in (v if isinstance(v, list) else [v]))]
+    payload = {"rates": r["rates"], "rows": [{k: (None if isinstance(v, float) and not np.isfinite(v) else v)
+                                              for k, v in row.items()} for row in r["rows"]],
+               "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v) for k, v in r["files"].items()}}
+    report(a, payload, "\n".join(lines))
     return 0
 
 
@@ -122,20 +163,26 @@ def register(sub) -> None:
     case_args(s, "the reference load")
     s.set_defaults(func=_cmd_sweep)
 
-    r = sub.add_parser("refine", help="the same case for a list of N: periods, path extent, xi_eq (Sec. 4.3)",
-                       description="Mesh refinement: write DIR/refine.csv, DIR/refine_max.csv and "
-                                   "DIR/refine_rates.json.  Resumable.")
+    r = sub.add_parser("refine", help="families followed through a list of N, full model (Sec. 4.3)",
+                       description="Mesh refinement: seed each family (--family anchor, --window) on the coarsest "
+                                   "mesh by the scan, then follow its curve to every finer mesh with the full model. "
+                                   "Writes DIR/refine.csv (one row per family and N), DIR/refine_rates.json "
+                                   "(observed rates, Richardson limits, continuum limits), DIR/refine_convergence.png "
+                                   "and DIR/refine_family.png (with matplotlib).  Resumable (per mesh).")
     output_args(r, "plbar-refine", "study folder (resumable)")
-    r.add_argument("--elements", "-N", "--n", type=int, nargs="+", default=[3, 4, 5, 6, 8, 12, 16], metavar="N",
-                   help="masses / elements [3 4 5 6 8 12 16]")
-    r.add_argument("--series", nargs="+", default=["chain"], metavar="S",
-                   help="chain and/or fe-P1-lumped, fe-P1-consistent, fe-P2-lumped, fe-P2-consistent [chain]")
-    r.add_argument("--frac", type=float, nargs="+", default=[0.5], metavar="F", help="load positions s/L [0.5]")
-    r.add_argument("--case", default=None, metavar="FILE.toml",
-                   help="take the series (model/element/mass) and the grid from a TOML case file")
-    r.add_argument("--grid", type=int, nargs=2, default=None, metavar=("N1", "N2"), help="scan grid [200 200]")
-    r.add_argument("--T2-frac", type=float, nargs=2, default=None, metavar=("LO", "HI"),
-                   help="search T2 in [LO, HI] * T0_II/2 only (cheaper for large N)")
+    case_args(r, "the load, at the same place on every mesh", sizes=(3, 4, 5, 6, 8, 12, 16))
+    r.add_argument("--family", action="append", default=None, metavar="ANCHOR",
+                   help="family anchor: T0_I, T0_II/2, k*T0_I, a*T0_II/b or a period; repeatable [T0_II/2]")
+    r.add_argument("--window", type=float, default=0.15, metavar="W",
+                   help="relative half-width of the family's period window [0.15]")
+    r.add_argument("--pick", choices=("longest", "xi", "nearest", "all"), default="longest",
+                   help="the seed branch in the window: most points, largest xi_eq, nearest the anchor, or all [longest]")
+    r.add_argument("--step", type=float, default=1 / 200, metavar="H",
+                   help="largest continuation step, as a fraction of the window [0.005]")
+    r.add_argument("--no-plot", action="store_true", help="skip the plots")
+    r.add_argument("--series", nargs="+", default=None, help=hidden)
+    r.add_argument("--frac", type=float, nargs="+", default=None, help=hidden)
+    r.add_argument("--T2-frac", type=float, nargs=2, default=None, help=hidden)
     _executor_args(r)
     r.set_defaults(func=_cmd_refine)
 

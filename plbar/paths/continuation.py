@@ -65,6 +65,10 @@ class _Tracer:
         self.hmax = hmax or 1.0 / max(self.n1, self.n2)
         self.nevals = 0
 
+    def halt(self, q, u0, pts, h):
+        """Why the walker stops at the accepted point ``q`` (None: go on); a hook for :mod:`.follow`."""
+        return None
+
     def T(self, u):
         return self.lo + np.asarray(u) * self.span
 
@@ -215,6 +219,9 @@ class _Tracer:
             inside = np.all((q >= 0) & (q <= 1))
             if not inside:
                 return pts, edges, "domain edge"
+            why = self.halt(q, u0, pts, h)
+            if why:
+                return pts, edges, why
             pts.append(q)
             u, t, gr = q, tq, gq
             h = min(h * (1.5 if ang < 0.05 else 1.0), self.hmax)

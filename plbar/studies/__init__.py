@@ -5,7 +5,9 @@
 * :mod:`.tasks` -- the task function (solve one case);
 * :mod:`.families` -- branch families across cases;
 * :mod:`.loads` -- load-position sweeps (paper Sec. 4.2);
-* :mod:`.refinement` -- mesh refinement (paper Sec. 4.3);
+* :mod:`.anchors`, :mod:`.track`, :mod:`.refinement`, :mod:`.refine_tables` -- mesh refinement (paper Sec. 4.3):
+  families followed through N with the full model;
+* :mod:`.convergence` -- observed rates, Richardson limits, decay laws;
 * :mod:`.truncation` -- modal truncation against a finer model;
 * :mod:`.figures` -- the paper's figures for our numbers.
 """
@@ -14,12 +16,12 @@ from .executor import KINDS, SerialExecutor, get_executor
 from .families import FAMILIES, OTHER, assign_families
 from .loadcases import (default_positions, load_sweep_study, node_pairs, sweep_tables, write_sweep_tables,
                     xi_along_mesh)
-from .refinement import refine_study, refine_tables, write_refine_tables
+from .refinement import refine_study, run_refine
 from .study import Study, StudyError, load_results, run_study, task_key
 from .tasks import solve_task
 from .truncation import truncation_check
 
 __all__ = ["KINDS", "SerialExecutor", "get_executor", "FAMILIES", "OTHER", "assign_families", "default_positions",
            "load_sweep_study", "node_pairs", "sweep_tables", "write_sweep_tables", "xi_along_mesh", "refine_study",
-           "refine_tables", "write_refine_tables", "Study", "StudyError", "load_results", "run_study", "task_key",
+           "run_refine", "Study", "StudyError", "load_results", "run_study", "task_key",
            "solve_task", "truncation_check"]

@@ -1,50 +1,45 @@
-"""Mesh-refinement study (paper Sec. 4.3, Fig. 9): the same case for a list of N.
+"""Mesh-refinement study (paper Sec. 4.3): families followed through N, with the full model.
 
-One task per (series, N, load position).  A *series* is a bar family:
-``"chain"`` (the paper's mass-spring chain, ``L = N``) or
-``"fe-<P1|P2>-<lumped|consistent>"`` (uniform FE bar, ``L = 1``).  Loads are
-unit point forces at fixed fractions ``s / L`` of the bar, so the same
-physical load is compared across N.
-
-Tables written by :func:`write_refine_tables`:
-
-``refine.csv``
-    Per series, N, load fraction and family (:mod:`plbar.families`, plus
-    ``"all"`` = every branch with at least ``min_points`` points): the
-    fundamental periods, the family's period range, and the range and maximum
-    of ``xi_eq``.  Periods are also given divided by ``L``.
-``refine_max.csv``
-    Per series, N and family: the maximum over the load fractions.
-``refine_rates.json``
-    Observed convergence rates: for each series, family and quantity
-    ``q(N)`` in ``T0_I/L, T0_II/L, Tmin/L, Tmax/L, xi_max``, the slope of
-    ``log |q(N) - q(N_fin)|`` against ``log N`` over ``N <= N_fin / 2``
-    (``N_fin`` the finest N), as ``{"rate": p, "why": ""}``, or
-    ``{"rate": null, "why": reason}`` where it cannot be computed (fewer than 3
-    such sizes, a family missing at some N, no monotone decrease).  Missing
-    values are empty fields in the CSV files (never ``nan``).
+A *series* is a bar without its size: the paper's chain (``L = N``) or a
+finite-element bar (``L`` fixed), with its element, mass, end mass and load.
+For each series and each family anchor (:mod:`.anchors`) one task seeds the
+family on the coarsest mesh and carries it through the finer ones
+(:mod:`.track`); every level is checkpointed (``DIR/levels/<task>/N00064.json``,
+written atomically), so a rerun resumes inside a task, and the tasks run on any
+executor through :func:`plbar.studies.run_study`.  Tables, observed rates and
+plots are assembled by :mod:`.refine_tables`.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import contextvars
+import hashlib
+import json
+import time
+from dataclasses import asdict, replace
 from pathlib import Path
 
-import numpy as np
+from ..app import Case
+from ..errors import InputError, OutputExistsError
+from ..util.check import show
+from ..util.files import write_json
+from ..util.outputs import clear_owned
+from ..util.progress import progress_bar
+from .anchors import parse_anchor, slug
+from .executor import SerialExecutor
+from .refine_tables import convergence_of, decay_of, family_label, refine_rows, write_refine
+from .study import Study, run_study
+from .track import TrackSettings, carry_level, seed_levels
 
-from .families import FAMILIES, assign_families
-from ..errors import InputError
-from ..util.files import write_csv, write_json
-from .study import Study
-from .tasks import branch_arrays, solve_task
+__all__ = ["parse_series", "series_name", "refine_study", "refine_task", "track_family", "run_refine", "case_at",
+           "REFINE_OWNED", "PLOTTED"]
 
-__all__ = ["refine_study", "parse_series", "RefineTables", "refine_tables", "write_refine_tables",
-           "observed_rate", "REFINE_HEADER"]
+#: the quantities drawn in ``refine_convergence.png``
+PLOTTED = ("T0_I_L", "T0_II_L", "S/M_e", "T_mid_T0I", "T_spread_T0I", "xi_max")
 
-REFINE_HEADER = ["series", "n", "frac", "family", "T0_I", "T0_II", "L", "branches", "points", "T_min", "T_max",
-                 "xi_min", "xi_max", "T_at_max", "T0_I_L", "T0_II_L", "T_min_L", "T_max_L"]
-MAX_HEADER = ["series", "n", "family", "T0_I", "T0_II", "L", "T_min", "T_max", "xi_max", "frac_at_max",
-              "T_at_max"]
+#: Case fields a series may set (everything but the size)
+SERIES_FIELDS = ("model", "element", "mass", "length", "EA", "rhoA", "m", "k", "grading", "end_mass",
+                 "end_mass_absolute", "load_nodes", "load_points")
 
 
 def parse_series(name: str) -> dict:
@@ -58,150 +53,203 @@ def parse_series(name: str) -> dict:
     return {"model": "fe", "element": parts[1], "mass": parts[2]}
 
 
-def refine_study(ns, series=("chain",), fracs=(0.5,), grid=(200, 200), T2_frac=None) -> Study:
-    """The tasks of a refinement study.
+def series_name(base: dict) -> str:
+    """A short label of a series (``fe-P1-lumped``, with ``+Me0.5`` for an end mass)."""
+    name = "chain" if base.get("model", "chain") == "chain" else \
+        f"fe-{base.get('element', 'P1')}-{base.get('mass', 'lumped')}"
+    me = base.get("end_mass", 0.0)
+    if me:
+        name += f"+Me{me:g}" + ("abs" if base.get("end_mass_absolute") else "")
+    return name
+
+
+def _series(case: Case) -> dict:
+    """The series fields of a case (JSON-able; the load as given, positions in the model's length)."""
+    d = case.to_dict()
+    out = {k: d[k] for k in SERIES_FIELDS if k in d}
+    for k in ("load_nodes", "load_points"):
+        out[k] = [list(p) for p in out.get(k, ())]
+    if out["model"] == "chain":
+        for k in ("element", "mass", "length", "EA", "rhoA", "grading"):
+            out.pop(k, None)
+    return out
+
+
+def _ns(ns) -> list[int]:
+    try:
+        out = sorted({int(n) for n in ns})
+    except (TypeError, ValueError):
+        raise InputError(f"N = {show(ns)} must be a list of integers (masses / elements)") from None
+    if not out or out[0] < 2:
+        raise InputError(f"N = {show(ns)}: give the sizes of the refinement, each >= 2 (rates need three)")
+    return out
+
+
+def refine_study(cases, ns, families=("T0_II/2",), settings: TrackSettings | None = None,
+                 checkpoints=None) -> Study:
+    """The tasks of a refinement study: one per (series, family).
 
     Parameters
     ----------
+    cases : sequence of Case
+        The series (the case's own ``n`` is ignored; a chain's load positions
+        are scaled with ``N``: a load at ``s`` on the case's chain of ``N0`` masses
+        sits at ``s N / N0`` on the chain of ``N``).
     ns : sequence of int
-        Masses (chain) / elements (FE bar).
-    series : sequence of str
-        See :func:`parse_series`.
-    fracs : sequence of float
-        Load positions ``s / L`` in ``(0, 1)`` (one task each).
-    grid : (int, int) or dict
-        Scan grid, or a mapping ``N -> (n1, n2)`` (coarser grids for large N).
-    T2_frac : (float, float), optional
-        Restrict the ``T^II`` search to ``[lo, hi] * T0^II / 2``.
+        Masses (chain) / elements (FE bar), coarse to fine.
+    families : sequence of str
+        Anchors (:func:`plbar.studies.anchors.parse_anchor`).
+    settings : TrackSettings
+    checkpoints : path, optional
+        Folder for the per-level checkpoints of the tasks.
     """
+    st = settings or TrackSettings()
+    ns = _ns(ns)
+    fams = [str(parse_anchor(f)) for f in families]
+    if not fams:
+        raise InputError("give at least one family anchor (T0_I, T0_II/2, ...)")
     tasks = []
-    for ser in series:
-        base = parse_series(ser)
-        for n in ns:
-            g = grid.get(n, grid.get(int(n))) if isinstance(grid, dict) else grid
-            L = float(n) if base["model"] == "chain" else 1.0
-            for fr in fracs:
-                t = {"series": ser, "frac": float(fr),
-                     "case": {**base, "n": int(n), "grid": [int(v) for v in g],
-                              "load_points": [[float(fr) * L, 1.0]]}}
-                if T2_frac:
-                    t["T2_frac"] = [float(v) for v in T2_frac]
-                tasks.append(t)
-    params = {"ns": [int(n) for n in ns], "series": list(series), "fracs": [float(f) for f in fracs],
-              "T2_frac": list(T2_frac) if T2_frac else None}
-    return Study("refine", solve_task, tuple(tasks), params)
+    for case in cases:
+        base = _series(case)
+        base["n0"] = case.n_eff
+        for fam in fams:
+            t = {"series": series_name(base), "family": fam, "ns": ns, "base": base,
+                 "settings": {**asdict(st), "grid": list(st.grid)}}
+            if checkpoints is not None:
+                t["checkpoints"] = str(Path(checkpoints).resolve())
+            tasks.append(t)
+    params = {"ns": ns, "families": fams, "series": [t["series"] for t in tasks[::len(fams)]]}
+    return Study("refine", refine_task, tuple(tasks), params)
 
 
-def observed_rate(ns, q) -> dict:
-    """Observed convergence rate of ``q(N)`` against the finest N: ``{"rate": p or None, "why": reason}``.
+def case_at(base: dict, n: int) -> Case:
+    """The case of a series at size ``n``."""
+    b = dict(base)
+    n0 = b.pop("n0", n)
+    if b.get("model") == "chain" and b.get("load_points"):     # the chain's length is N: scale positions
+        b["load_points"] = [[s * n / n0, a] for s, a in b["load_points"]]
+    for k in ("load_nodes", "load_points"):
+        b[k] = tuple(tuple(p) for p in b.get(k, ()))
+    return Case(n=int(n), **b)
 
-    The slope of ``log |q(N) - q(N_fin)|`` against ``log N`` over ``N <= N_fin / 2``;
-    where it cannot be computed, ``rate`` is None and ``why`` says why.
+
+def _level_key(task: dict, n: int) -> str:
+    core = {k: task[k] for k in ("family", "base", "settings")}
+    core["ns"] = [m for m in task["ns"] if m <= n]
+    return hashlib.sha256(json.dumps(core, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def _read_level(path: Path, key: str):
+    try:
+        d = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+    return d.get("levels") if isinstance(d, dict) and d.get("key") == key else None
+
+
+def track_family(task: dict, progress: bool = False) -> list[list[dict]]:
+    """The levels of the family (or families, with ``pick = "all"``) of a task, coarse to fine.
+
+    Levels already checkpointed under ``task["checkpoints"]`` are read back
+    (same task, same sizes so far); every new one is written there atomically.
     """
-    ns = np.asarray(ns, float)
-    q = np.asarray(q, float)
-    ok = np.isfinite(q)
-    if ok.sum() < ns.size:
-        miss = ", ".join(f"{int(n)}" for n in ns[~ok])
-        if ok.sum() < 4:
-            return {"rate": None, "why": f"the quantity is missing at N = {miss} (no branch of the family there); "
-                                         "a rate needs it at >= 4 sizes"}
-    ns, q = ns[ok], q[ok]
-    if ns.size < 4:
-        return {"rate": None, "why": f"only {ns.size} size(s); a rate needs >= 4 (3 against the finest)"}
-    o = np.argsort(ns)
-    ns, q = ns[o], q[o]
-    sel = ns <= ns[-1] / 2
-    err = np.abs(q[sel] - q[-1])
-    if sel.sum() < 3:
-        return {"rate": None, "why": f"only {int(sel.sum())} size(s) at most half the finest N = {int(ns[-1])}; "
-                                     "a rate needs 3"}
-    if np.any(err <= 0):
-        return {"rate": None, "why": "the value equals the finest one at a coarser N (no error to fit)"}
-    if np.any(np.diff(err) >= 0):
-        return {"rate": None, "why": "the differences to the finest N do not decrease monotonically "
-                                     "(not in the asymptotic range)"}
-    return {"rate": float(-np.polyfit(np.log(ns[sel]), np.log(err), 1)[0]), "why": ""}
+    st = TrackSettings(**{**task["settings"], "grid": tuple(task["settings"]["grid"])})
+    anchor = parse_anchor(task["family"])
+    folder = Path(task["checkpoints"]) / f"{slug(task['series'])}-{slug(task['family'])}" \
+        if task.get("checkpoints") else None
+    chains: list[list[dict]] = []
+    with progress_bar(len(task["ns"]), progress, f"{task['series']} {task['family']}", "mesh") as bar:
+        for n in task["ns"]:
+            key = _level_key(task, n)
+            path = folder / f"N{n:05d}.json" if folder else None
+            got = _read_level(path, key) if path else None
+            if got is None:
+                case = case_at(task["base"], n)
+                got = seed_levels(case, anchor, st) if not chains else \
+                    [carry_level(ch[-1], case, anchor, st) for ch in chains]
+                if path:
+                    write_json(path, {"key": key, "n": n, "levels": got})
+            chains = [[lv] for lv in got] if not chains else [ch + [lv] for ch, lv in zip(chains, got)]
+            bar.update(1)
+    return chains
 
 
-@dataclass(frozen=True)
-class RefineTables:
-    rows: dict
-    maxima: dict
-    rates: dict
+def refine_task(task: dict) -> dict:
+    """The study task: ``{"series", "family", "chains": [[level, ...], ...]}`` (JSON-able)."""
+    return {"series": task["series"], "family": task["family"], "chains": track_family(task, _SHOW.get())}
 
 
-def refine_tables(tasks, results, tol: float = 0.1, min_points: int = 4) -> RefineTables:
-    """Assemble the refinement tables from task results (in task order)."""
-    rows = {k: [] for k in REFINE_HEADER}
-    for task, res in zip(tasks, results):
-        brs = [branch_arrays(b) for b in res["branches"]]
-        labels = assign_families([(b["T"].min(), b["T"].max()) for b in brs], [b["T"].size for b in brs],
-                                 res["T0_I"], res["T0_II"], tol, min_points)
-        L = res["length"]
-        for fam in FAMILIES + ("all",):
-            sel = [b for b, f in zip(brs, labels) if (f == fam if fam != "all" else b["T"].size >= min_points)]
-            if sel:
-                T = np.concatenate([b["T"] for b in sel])
-                xi = np.concatenate([b["xi"] for b in sel])
-                i = int(np.argmax(xi))
-                v = dict(branches=len(sel), points=T.size, T_min=T.min(), T_max=T.max(), xi_min=xi.min(),
-                         xi_max=xi[i], T_at_max=T[i])
-            else:
-                v = dict(branches=0, points=0, T_min=np.nan, T_max=np.nan, xi_min=np.nan, xi_max=np.nan,
-                         T_at_max=np.nan)
-            v.update(series=task["series"], n=task["case"]["n"], frac=task["frac"], family=fam,
-                     T0_I=res["T0_I"], T0_II=res["T0_II"], L=L, T0_I_L=res["T0_I"] / L, T0_II_L=res["T0_II"] / L,
-                     T_min_L=v["T_min"] / L, T_max_L=v["T_max"] / L)
-            for k in REFINE_HEADER:
-                rows[k].append(v[k])
-    maxima = _maxima(rows)
-    return RefineTables(rows, maxima, _rates(maxima))
+#: what a refinement study owns in its folder (cleared before another study is written there)
+REFINE_OWNED = ("refine.csv", "refine_rates.json", "refine_max.csv", "refine_convergence.png",
+                "refine_convergence.pdf", "refine_family.png", "refine_family.pdf", "study.json", "tasks", "levels")
+
+_SHOW = contextvars.ContextVar("plbar_refine_progress", default=False)
 
 
-def _maxima(rows: dict) -> dict:
-    out = {k: [] for k in MAX_HEADER}
-    keys = []
-    for s, n, f in zip(rows["series"], rows["n"], rows["family"]):
-        if (s, n, f) not in keys:
-            keys.append((s, n, f))
-    for s, n, f in keys:
-        idx = [i for i, k in enumerate(zip(rows["series"], rows["n"], rows["family"])) if k == (s, n, f)]
-        xs = np.array([rows["xi_max"][i] for i in idx], float)
-        j = idx[int(np.nanargmax(xs))] if np.isfinite(xs).any() else idx[0]
-        v = {"series": s, "n": n, "family": f, "T0_I": rows["T0_I"][j], "T0_II": rows["T0_II"][j],
-             "L": rows["L"][j], "T_min": np.nanmin([rows["T_min"][i] for i in idx]) if np.isfinite(xs).any()
-             else np.nan, "T_max": np.nanmax([rows["T_max"][i] for i in idx]) if np.isfinite(xs).any() else np.nan,
-             "xi_max": rows["xi_max"][j], "frac_at_max": rows["frac"][j], "T_at_max": rows["T_at_max"][j]}
-        for k in MAX_HEADER:
-            out[k].append(v[k])
-    return out
+def _claim(folder: Path, study: Study, overwrite: bool) -> None:
+    """Refuse a folder holding another refinement (or other) study unless ``overwrite``; clear it if so."""
+    old = folder / "study.json"
+    if not old.is_file():
+        clear_owned(folder, REFINE_OWNED)
+        return
+    try:
+        prev = json.loads(old.read_text())
+    except (OSError, ValueError):
+        prev = None
+    same = isinstance(prev, dict) and prev.get("study") == "refine" and \
+        prev.get("tasks") == json.loads(json.dumps(study.manifest()["tasks"]))
+    if same:
+        return
+    if not overwrite:
+        raise OutputExistsError(f"study folder {str(folder)!r} holds another study; choose another --out or "
+                                "pass --overwrite")
+    clear_owned(folder, REFINE_OWNED)
 
 
-def _rates(mx: dict) -> dict:
-    out: dict = {}
-    for s in dict.fromkeys(mx["series"]):
-        for f in dict.fromkeys(mx["family"]):
-            idx = [i for i, (a, b) in enumerate(zip(mx["series"], mx["family"])) if (a, b) == (s, f)]
-            ns = [mx["n"][i] for i in idx]
-            L = np.array([mx["L"][i] for i in idx], float)
-            q = {"T0_I/L": np.array([mx["T0_I"][i] for i in idx]) / L,
-                 "T0_II/L": np.array([mx["T0_II"][i] for i in idx]) / L,
-                 "T_min/L": np.array([mx["T_min"][i] for i in idx], float) / L,
-                 "T_max/L": np.array([mx["T_max"][i] for i in idx], float) / L,
-                 "xi_max": np.array([mx["xi_max"][i] for i in idx], float)}
-            out.setdefault(s, {})[f] = {k: observed_rate(ns, v) for k, v in q.items()}
-    return out
+def run_refine(cases, ns, families=("T0_II/2",), settings: TrackSettings | None = None, out="plbar-refine",
+               executor=None, progress: bool = False, overwrite: bool = False, plot: bool = True) -> dict:
+    """Run (or resume) a refinement study into ``out`` and write its tables and plots.
+
+    Returns
+    -------
+    dict
+        ``rows`` (one per series, family and N), ``rates`` (per series and family:
+        quantity -> :meth:`Convergence.as_dict`, plus ``xi_decay``), ``files`` and ``time``.
+    """
+    t0 = time.perf_counter()
+    folder = Path(out)
+    study = refine_study(cases, ns, families, settings, checkpoints=folder / "levels")
+    _claim(folder, study, overwrite)
+    token = _SHOW.set(progress and (executor is None or isinstance(executor, SerialExecutor)))
+    try:
+        results = run_study(folder, study, executor, progress=progress, overwrite=True)
+    finally:
+        _SHOW.reset(token)
+    rows = refine_rows(results)
+    bases = {t["series"]: t["base"] for t in study.tasks}
+    rates: dict = {}
+    conv = {}
+    for key in dict.fromkeys((r["series"], r["family"]) for r in rows):
+        fam = [r for r in rows if (r["series"], r["family"]) == key]
+        conv[key] = convergence_of(fam, bases[key[0]])
+        rates.setdefault(key[0], {})[key[1]] = {**{q: c.as_dict() for q, c in conv[key].items()},
+                                                "xi_decay": decay_of(fam)}
+    files = write_refine(folder, rows, rates)
+    if plot:
+        files.update(_plots(folder, results, conv))
+    return {"rows": rows, "rates": rates, "files": files, "time": time.perf_counter() - t0}
 
 
-def write_refine_tables(folder, tables: RefineTables) -> dict[str, Path]:
-    """Write ``refine.csv``, ``refine_max.csv`` and ``refine_rates.json`` (atomically)."""
-    folder = Path(folder)
-    g = "%.17g"
-    fr = ["%s", "%d", g, "%s", g, g, g, "%d", "%d"] + [g] * 9
-    fm = ["%s", "%d", "%s"] + [g] * 8
-    return {
-        "refine": write_csv(folder / "refine.csv", REFINE_HEADER, [tables.rows[k] for k in REFINE_HEADER], fr),
-        "max": write_csv(folder / "refine_max.csv", MAX_HEADER, [tables.maxima[k] for k in MAX_HEADER], fm),
-        "rates": write_json(folder / "refine_rates.json", tables.rates),
-    }
+def _plots(folder: Path, results: list[dict], conv: dict) -> dict:
+    from ..visuals import convergence_plot, refine_family_plot
+
+    items = []
+    for (series, family), cs in conv.items():
+        for q, c in cs.items():
+            if q in PLOTTED:
+                items.append(replace(c, name=f"{family} {q}" if len(conv) == 1 else f"{series} {family} {q}"))
+    fams = [(f"{r['series']} {family_label(r['family'], k, len(r['chains']))}", ch)
+            for r in results for k, ch in enumerate(r["chains"])]
+    return {"convergence": convergence_plot(items, folder, "refine_convergence",
+                                            "observed convergence against h = 1/N"),
+            "family": refine_family_plot(fams, folder, "refine_family")}

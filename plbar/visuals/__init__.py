@@ -6,7 +6,8 @@ matplotlib and pyvista are imported inside the drawing functions.
 from .convergence import convergence_plot
 from .paper import GREEN, RED, nearest_point
 from .plots import contact_amplitude, frequency_response, paths_plane, xi_load_map
+from .refinement import refine_family_plot
 from .render import RenderFiles, render
 
 __all__ = ["GREEN", "RED", "nearest_point", "contact_amplitude", "frequency_response", "paths_plane", "xi_load_map",
-           "RenderFiles", "render", "convergence_plot"]
+           "RenderFiles", "render", "convergence_plot", "refine_family_plot"]
