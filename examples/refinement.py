@@ -1,67 +1,72 @@
-"""Mesh refinement (paper Sec. 4.3): periods and xi_eq maxima against N.
+"""Mesh refinement (paper Sec. 4.3) and the continuum check: a family followed through N with the full model.
 
-1. The paper's chain, N = 3..6, unit point load at s/L = 0.05, 0.10, ..., 0.95
-   (nodes and linear splits between them): the fundamental periods and the maximum
-   xi_eq on the family near T0_II/2 over the load positions, next to the paper's
-   maxima (N = 3: 0.0418; N = 4: > 0.5 "artefact"; N = 5: 0.121; N = 6: 0.111).
-2. A uniform P1 lumped FE bar (L = 1, EA = rhoA = 1), load at mid-length, N = 4 .. 64,
-   with coarser scan grids for large N and T2 searched in [0.5, 1] * T0_II/2
-   (PLBAR_FE_NMAX limits the largest N, default 64; N = 64 takes ~90 s on one core at 20x20).
-   PLBAR_GRID="N1,N2" sets the chain's scan grid (default 200,200).
+1. A uniform P1 lumped bar (L = 1, EA = rhoA = 1, unit force at L/2) with a rigid end mass of half the bar's
+   mass: the family near T0_II/2, N = 8 ... 256.  The impact loss is Delta_PL = S v_c^2 / 2 exactly, with
+   S = M_e + rhoA L / (2 N) here, so Delta_PL / (M_e v_c^2 / 2) -> 1 at rate 1; xi_eq falls to 0 anyway.
+2. The same bar without an end mass: xi_eq falls faster (Delta_PL itself ~ h).
+3. The paper's chain (N is the model): its path 2, N = 5 ... 48.
+4. Why xi_eq falls: the damping denominator of Eq. (22) on the velocity jump that the impact leaves in the
+   bar grows like (4 / pi) rhoA c ln N (printed against N).
 
-Resumable study folders under argv[1] (default ./plbar-refinement).
+PLBAR_NMAX limits the largest N (default 256; the example test uses 32).  Resumable study folders under
+argv[1] (default ./plbar-refinement).  Prints the tables and the continuum check.
 """
-import json
+import math
 import os
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
-from plbar.studies import get_executor
-from plbar.studies import refine_study, refine_tables, write_refine_tables
-from plbar.studies import run_study
+import plbar
+from plbar.studies import run_refine
 
-PAPER = {3: "0.0418", 4: ">0.5 (artefact)", 5: "0.121", 6: "0.111"}
-PAPER_T0II = {3: 14.12, 4: 18.09, 5: 22.07, 6: 26.06}
-FE_GRID = {4: (200, 200), 8: (160, 160), 16: (100, 100), 32: (60, 60), 64: (20, 20)}
+NMAX = int(os.environ.get("PLBAR_NMAX", "256"))
+FE_NS = [n for n in (8, 16, 32, 64, 128, 256) if n <= NMAX]
+CHAIN_NS = [n for n in (5, 6, 8, 12, 16, 24, 32, 48) if n <= max(NMAX // 2, 8)]
+
+
+def table(title: str, r: dict) -> None:
+    print(title)
+    print("      N  status        adm.  T / T0_I range       largest xi_eq   Delta_PL/(M_e v_c^2/2)")
+    for row in r["rows"]:
+        t0 = row["T0_I_L"]
+        rng = (f"[{row['T_min_L'] / t0:.5f}, {row['T_max_L'] / t0:.5f}]" if np.isfinite(row["T_min_L"])
+               else "-").ljust(21)
+        xi = f"{row['xi_max']:.3e}" if np.isfinite(row["xi_max"]) else "-".ljust(9)
+        lr = f"{row['loss_ratio']:.6f}" if np.isfinite(row["loss_ratio"]) else "-"
+        print(f"  {row['n']:5d}  {row['status']:12s} {row['admissible']:5d}  {rng} {xi}       {lr}")
+    for series, fams in r["rates"].items():
+        for fam, q in fams.items():
+            for name in ("T0_I_L", "T0_II_L", "S/M_e", "T_mid_T0I", "T_spread_T0I", "xi_max"):
+                if name in q:
+                    c = q[name]
+                    rate = f"rate {c['rate']:.3f} (fitted {c['fitted']:.3f})" if c["rate"] is not None \
+                        else f"no rate: {c['why']}"
+                    print(f"    {name:13s} -> {c['limit']:.6g}: {rate}")
+            if q["xi_decay"].get("model"):
+                print(f"    xi_max decays like {q['xi_decay']['formula']}")
+
+
+def jump_energy() -> None:
+    print("damping denominator of a unit velocity jump, sum_j w_j etadot_j^2 (rhoA = c = 1):")
+    prev = None
+    for n in (16, 32, 64, 128, 256):
+        s = plbar.Case(model="fe", n=n, end_mass=0.5).problem().system
+        ed = s.V1.T @ (s.M[:-1, :-1] @ np.ones(s.n - 1))
+        e = float(np.sum(s.w1 * ed ** 2))
+        step = "" if prev is None else f"   step / ln 2 = {(e - prev) / math.log(2):.5f} (4/pi = {4 / math.pi:.5f})"
+        print(f"  N = {n:4d}: {e:.5f}{step}")
+        prev = e
+
 
 if __name__ == "__main__":
     out = Path(sys.argv[1] if len(sys.argv) > 1 else "plbar-refinement")
-    fe_nmax = int(os.environ.get("PLBAR_FE_NMAX", "64"))
-    grid = tuple(int(v) for v in os.environ.get("PLBAR_GRID", "200,200").split(","))
-    chain = refine_study([3, 4, 5, 6], ("chain",), fracs=np.round(np.arange(1, 20) * 0.05, 2), grid=grid)
-    fe_ns = [n for n in FE_GRID if n <= fe_nmax]
-    fe = refine_study(fe_ns, ("fe-P1-lumped",), fracs=(0.5,), grid=FE_GRID, T2_frac=(0.5, 1.0))
-    with get_executor("local") as ex:
-        t0 = time.perf_counter()
-        rc = run_study(out / "chain", chain, ex)
-        t1 = time.perf_counter()
-        rf = run_study(out / "fe-P1-lumped", fe, ex)
-        t2 = time.perf_counter()
-    tc, tf = refine_tables(chain.tasks, rc), refine_tables(fe.tasks, rf)
-    write_refine_tables(out / "chain", tc)
-    write_refine_tables(out / "fe-P1-lumped", tf)
-    print(f"chain N = 3..6 ({len(chain.tasks)} cases, {t1 - t0:.0f} s):")
-    print("  N   T0_I     T0_II (paper)     path 2: T range        max xi_eq  at s/L  | paper max")
-    m = tc.maxima
-    for i in range(len(m["n"])):
-        if m["family"][i] != "T0_II/2":
-            continue
-        n = m["n"][i]
-        if not np.isfinite(m["T_min"][i]):
-            print(f"  {n}  {m['T0_I'][i]:7.4f}  {m['T0_II'][i]:7.4f} ({PAPER_T0II[n]:5.2f})   no branch near T0_II/2")
-            continue
-        print(f"  {n}  {m['T0_I'][i]:7.4f}  {m['T0_II'][i]:7.4f} ({PAPER_T0II[n]:5.2f})   "
-              f"[{m['T_min'][i]:7.4f}, {m['T_max'][i]:7.4f}]   {m['xi_max'][i]:.4f}    {m['frac_at_max'][i]:.2f}   "
-              f"| {PAPER[n]}")
-    print(f"P1 lumped FE bar, load at L/2 ({len(fe.tasks)} cases, {t2 - t1:.0f} s):")
-    print("  N    grid      T0_I     T0_II    max xi_eq (T0_I fam., T0_II/2 fam., all branches)")
-    m = tf.maxima
-    for n in fe_ns:
-        r = {m["family"][i]: i for i in range(len(m["n"])) if m["n"][i] == n}
-        print(f"  {n:3d}  {FE_GRID[n][0]}x{FE_GRID[n][1]}  {m['T0_I'][r['all']]:.5f}  {m['T0_II'][r['all']]:.5f}  "
-              + "  ".join(f"{m['xi_max'][r[f]]:.4f}" if np.isfinite(m["xi_max"][r[f]]) else "  -   "
-                          for f in ("T0_I", "T0_II/2", "all")))
-    print("observed convergence rates (vs finest N):", json.dumps(tf.rates["fe-P1-lumped"]["all"]))
+    fe = plbar.Case(model="fe", element="P1", mass="lumped")
+    r1 = run_refine([plbar.Case(model="fe", end_mass=0.5)], FE_NS, ["T0_II/2"], out=out / "end-mass")
+    table("1. P1 lumped, end mass 0.5 of the bar's mass, family T0_II/2:", r1)
+    r2 = run_refine([fe], FE_NS, ["T0_II/2"], out=out / "no-end-mass")
+    table("2. P1 lumped, no end mass, family T0_II/2:", r2)
+    r3 = run_refine([plbar.Case(model="chain")], CHAIN_NS, ["T0_II/2"], out=out / "chain")
+    table("3. the paper's chain, path 2 (T0_II/2):", r3)
+    jump_energy()

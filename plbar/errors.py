@@ -14,7 +14,7 @@ results, such as a scan grid too coarse to resolve the branches.
 from __future__ import annotations
 
 __all__ = ["PlbarError", "InputError", "CaseFileError", "OutputExistsError", "NonFiniteError",
-           "PlbarWarning", "CoarseGridWarning"]
+           "PlbarWarning", "CoarseGridWarning", "TruncationWarning"]
 
 
 class PlbarError(ValueError):
@@ -43,3 +43,7 @@ class PlbarWarning(UserWarning):
 
 class CoarseGridWarning(PlbarWarning):
     """The scan grid (or a branch found on it) is too coarse to resolve the paths well."""
+
+
+class TruncationWarning(PlbarWarning):
+    """``Delta_PL`` and ``xi_eq`` of a modally truncated model: the impact loses the energy outside the kept modes."""

@@ -67,6 +67,9 @@ def _refine_cases(a) -> list:
     from ..app import Case
     from ..studies.refinement import parse_series
 
+    if a.modes is not None:
+        raise InputError("refine follows each family with the full model (xi_eq needs all modes: a truncated "
+                         "impact loses the energy outside the kept modes); drop --modes")
     if a.T2_frac:
         raise InputError("--T2-frac is no longer used: refine follows each family inside its period window "
                          "(--family ANCHOR --window W)")
@@ -97,9 +100,10 @@ def _refine_lines(r: dict) -> list[str]:
         for q in ("T0_I_L", "T0_II_L", "S/M_e", "T_mid_T0I", "T_spread_T0I", "xi_max"):
             if q in rates:
                 c = rates[q]
-                v = f"rate {c['rate']:.3f}" if c["rate"] is not None else f"no rate: {c['why']}"
-                lim = f", limit {c['limit']:.6g}" if c.get("limit") is not None else ""
-                lines.append(f"    {q:8s} {v}{lim}")
+                fit = f" (fitted over all N: {c['fitted']:.3f})" if c.get("fitted") is not None else ""
+                v = f"rate {c['rate']:.3f}{fit}" if c["rate"] is not None else f"no rate: {c['why']}"
+                lim = f"-> {c['limit']:.6g}: " if c.get("limit") is not None else ""
+                lines.append(f"    {q:13s} {lim}{v}")
         d = rates["xi_decay"]
         if d.get("model"):
             lines.append(f"    xi_max decays like {d['formula']} ({d['model']} law fits best)")

@@ -110,6 +110,9 @@ def refine_study(cases, ns, families=("T0_II/2",), settings: TrackSettings | Non
         raise InputError("give at least one family anchor (T0_I, T0_II/2, ...)")
     tasks = []
     for case in cases:
+        if case.modes is not None:
+            raise InputError(f"case {case.label or case.model!r} keeps {case.modes} modes; a refinement follows the "
+                             "full model (xi_eq needs all modes), so give cases without modes")
         base = _series(case)
         base["n0"] = case.n_eff
         for fam in fams:
