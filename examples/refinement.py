@@ -28,7 +28,7 @@ CHAIN_NS = [n for n in (5, 6, 8, 12, 16, 24, 32, 48) if n <= max(NMAX // 2, 8)]
 
 def table(title: str, r: dict) -> None:
     print(title)
-    print("      N  status        adm.  T / T0_I range       largest xi_eq   Delta_PL/(M_e v_c^2/2)")
+    print("      N  status        adm.  main stretch T/T0_I  largest xi_eq   Delta_PL/(M_e v_c^2/2)")
     for row in r["rows"]:
         t0 = row["T0_I_L"]
         rng = (f"[{row['T_min_L'] / t0:.5f}, {row['T_max_L'] / t0:.5f}]" if np.isfinite(row["T_min_L"])
@@ -41,9 +41,10 @@ def table(title: str, r: dict) -> None:
             for name in ("T0_I_L", "T0_II_L", "S/M_e", "T_mid_T0I", "T_spread_T0I", "xi_max"):
                 if name in q:
                     c = q[name]
-                    rate = f"rate {c['rate']:.3f} (fitted {c['fitted']:.3f})" if c["rate"] is not None \
-                        else f"no rate: {c['why']}"
-                    print(f"    {name:13s} -> {c['limit']:.6g}: {rate}")
+                    fit = f" (fitted {c['fitted']:.3f})" if c["fitted"] is not None else ""
+                    rate = f"rate {c['rate']:.3f}{fit}" if c["rate"] is not None else f"no rate: {c['why']}"
+                    lim = f"-> {c['limit']:.6g}: " if c["limit"] is not None else ""
+                    print(f"    {name:13s} {lim}{rate}")
             if q["xi_decay"].get("model"):
                 print(f"    xi_max decays like {q['xi_decay']['formula']}")
 

@@ -83,5 +83,6 @@ def test_refinement_example(tmp_path):
         if not line[0].rstrip().endswith("-"):
             assert float(line[0].split()[-1]) == pytest.approx(1 + 1 / n, rel=1e-9)
     assert "S/M_e         -> 1: rate 1.000" in out and "T0_I_L        -> 2: rate 2.0" in out
+    assert "xi_max        -> 0: rate" in out
     steps = [float(ln.split("step / ln 2 = ")[1].split()[0]) for ln in out.splitlines() if "step / ln 2" in ln]
     assert len(steps) == 4 and steps[-1] == pytest.approx(4 / 3.141592653589793, rel=2e-3)

@@ -90,7 +90,7 @@ def _refine_lines(r: dict) -> list[str]:
     lines = []
     for key in dict.fromkeys((row["series"], row["family"]) for row in r["rows"]):
         lines.append(f"{key[0]}, family {key[1]}:")
-        lines.append("      N  status        adm.  T/L range              largest xi_eq  at T/L     S/M_e")
+        lines.append("      N  status        adm.  main stretch T/L       largest xi_eq  at T/L     S/M_e")
         for row in (x for x in r["rows"] if (x["series"], x["family"]) == key):
             rng = (f"[{row['T_min_L']:.5f}, {row['T_max_L']:.5f}]" if np.isfinite(row["T_min_L"]) else "-").ljust(22)
             xi = f"{row['xi_max']:.5f}  {row['T_at_max_L']:.5f}" if np.isfinite(row["xi_max"]) else "-".ljust(16)
@@ -118,7 +118,10 @@ def _cmd_refine(a) -> int:
     grid = tuple(a.grid) if a.grid else (cases[0].grid if a.case else (200, 200))
     st = TrackSettings(width=a.window, grid=grid, pick=a.pick, step=a.step)
     out = check_writable(a.out)
-    with get_executor("dask" if a.scheduler else a.executor, a.scheduler, a.workers) as ex:
+    kind = "dask" if a.scheduler else a.executor
+    if kind == "local" and len(cases) * len(a.family or ["T0_II/2"]) == 1:
+        kind = "serial"          # one task: in this process, with its progress per mesh and the thread pool
+    with get_executor(kind, a.scheduler, a.workers) as ex:
         r = run_refine(cases, a.sizes, a.family or ["T0_II/2"], st, out, ex, progress=progress(a),
                        overwrite=a.overwrite, plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
     lines = _refine_lines(r) + [f"done in {r['time']:.1f} s; wrote " + ", ".join(
@@ -144,7 +147,8 @@ def _executor_args(p) -> None:
     g.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="dask scheduler address (tcp://host:8786) or scheduler file; implies --executor dask")
     g.add_argument("--executor", choices=("local", "serial", "dask"), default="local",
-                   help="local process pool, serial, or dask (LocalCluster without --scheduler) [local]")
+                   help="local process pool, serial, or dask (LocalCluster without --scheduler); a refinement "
+                        "with one task runs in this process [local]")
     g.add_argument("--workers", type=int, default=None, metavar="W", help="worker processes [all cores]")
 
 

@@ -23,7 +23,7 @@ from ..errors import InputError
 from ..paths.follow import Band
 from ..util.check import show
 
-__all__ = ["Anchor", "parse_anchor", "window_band", "DEFAULT_WINDOW", "slug"]
+__all__ = ["Anchor", "parse_anchor", "window_band", "DEFAULT_WINDOW", "slug", "family_label"]
 
 DEFAULT_WINDOW = 0.15    #: relative half-width of a family's period window (holds the chain's paths at N = 5)
 
@@ -91,3 +91,8 @@ def window_band(anchor: Anchor, T0_I: float, T0_II: float, width: float = DEFAUL
 def slug(text: str) -> str:
     """A file-name-safe form of a family label (``T0_II/2`` -> ``T0_II_over_2``)."""
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", text.replace("/", "_over_").replace("*", "x"))
+
+
+def family_label(family: str, k: int, count: int) -> str:
+    """``T0_II/2``, or ``T0_II/2#2`` for the second of several families seeded in one window."""
+    return family if count == 1 else f"{family}#{k + 1}"

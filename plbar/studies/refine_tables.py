@@ -3,7 +3,9 @@
 ``refine.csv``
     One row per series, family and N (:data:`REFINE_HEADER`): the fundamental
     periods and the anchor (divided by the length ``L``), the family's curve
-    pieces and admissible points, its period range, the largest ``xi_eq`` and
+    pieces, admissible stretches and points, the period range of its main
+    stretch (the one holding the largest ``xi_eq``) and of all its admissible
+    points, the largest ``xi_eq`` and
     the response there (``T``, ``T^I``, ``Delta_PL``, ``v_c``), the impact mass
     ``S`` and, with an end mass ``M_e``, ``Delta_PL / (M_e v_c^2 / 2)`` there (which
     equals ``S / M_e`` exactly), the status (seed, tracked, split, inadmissible,
@@ -26,22 +28,18 @@ from scipy.optimize import brentq
 
 from ..util.files import write_csv, write_json
 from .convergence import converge, decay_fit, known_limit
+from .anchors import family_label
+from .track import admissible_runs_of
 
 __all__ = ["REFINE_HEADER", "family_rows", "refine_rows", "convergence_of", "continuum_periods", "write_refine",
-           "family_label", "front_period"]
+           "family_label"]
 
-REFINE_HEADER = ["series", "family", "n", "h", "dofs", "status", "pieces", "points", "admissible", "T0_I_L",
-                 "T0_II_L", "A_L", "T_min_L", "T_max_L", "T_mid_T0I", "T_spread_T0I", "xi_max", "T_at_max_L",
-                 "T1_at_max_L", "dPL_at_max", "v_c_at_max", "impact_mass", "end_mass", "loss_ratio", "evaluations",
-                 "time", "notes"]
-MAX_FRONTS = 4   #: largest number of periods a wave front may take to come back (see :func:`front_period`)
+REFINE_HEADER = ["series", "family", "n", "h", "dofs", "status", "pieces", "stretches", "points", "admissible",
+                 "T0_I_L", "T0_II_L", "A_L", "T_min_L", "T_max_L", "T_mid_T0I", "T_spread_T0I", "T_all_min_L",
+                 "T_all_max_L", "xi_max", "T_at_max_L", "T1_at_max_L", "dPL_at_max", "v_c_at_max", "impact_mass",
+                 "end_mass", "loss_ratio", "evaluations", "time", "notes"]
 _STR = {"series", "family", "status", "notes"}
-_INT = {"n", "dofs", "pieces", "points", "admissible", "evaluations"}
-
-
-def family_label(family: str, k: int, count: int) -> str:
-    """``T0_II/2``, or ``T0_II/2#2`` for the second of several seeded families."""
-    return family if count == 1 else f"{family}#{k + 1}"
+_INT = {"n", "dofs", "pieces", "stretches", "points", "admissible", "evaluations"}
 
 
 def _cat(level: dict, key: str) -> np.ndarray:
@@ -49,27 +47,45 @@ def _cat(level: dict, key: str) -> np.ndarray:
     return np.concatenate(parts) if parts else np.zeros(0)
 
 
+def _main_stretch(level: dict):
+    """Indices (into the concatenated points) of the admissible stretch holding the largest ``xi_eq``, and all runs."""
+    best, off, runs = None, 0, 0
+    for p in level["pieces"]:
+        xi = np.asarray(p["xi"], float)
+        for r in admissible_runs_of(p["good"]):
+            runs += 1
+            m = np.nanmax(xi[r])
+            if best is None or m > best[0]:
+                best = (m, r + off)
+        off += len(p["T1"])
+    return (best[1] if best else np.zeros(0, int)), runs
+
+
 def level_row(level: dict) -> dict:
-    """The table row of one level (floats; ``nan`` where a value does not exist)."""
-    L = level["length"]
+    """The table row of one level (floats; ``nan`` where a value does not exist).
+
+    The family's *main stretch* is its admissible stretch that holds the largest
+    ``xi_eq``: its period range is ``T_min_L, T_max_L`` (``T_mid_T0I``,
+    ``T_spread_T0I``); ``T_all_min_L, T_all_max_L`` span every admissible point.
+    """
+    L, T0 = level["length"], level["T0_I"]
     good = _cat(level, "good") > 0
     T1, T2, xi = _cat(level, "T1"), _cat(level, "T2"), _cat(level, "xi")
     T = T1 + T2
+    main, runs = _main_stretch(level)
     row = {k: level[k] for k in ("n", "h", "dofs", "length", "status", "impact_mass", "end_mass", "evaluations",
                                  "time")}
-    row.update(pieces=len(level["pieces"]), points=int(T.size), admissible=int(good.sum()),
-               T0_I_L=level["T0_I"] / L, T0_II_L=level["T0_II"] / L, A_L=level["A"] / L,
-               notes="; ".join(level["notes"]))
+    row.update(pieces=len(level["pieces"]), stretches=runs, points=int(T.size), admissible=int(good.sum()),
+               T0_I_L=T0 / L, T0_II_L=level["T0_II"] / L, A_L=level["A"] / L, notes="; ".join(level["notes"]))
     nan = float("nan")
-    row.update(T_min_L=nan, T_max_L=nan, T_mid_T0I=nan, T_spread_T0I=nan, xi_max=nan, T_at_max_L=nan,
-               T1_at_max_L=nan, dPL_at_max=nan, v_c_at_max=nan, loss_ratio=nan)
-    ok = good & np.isfinite(xi)
-    if ok.any():
-        i = np.flatnonzero(ok)[np.argmax(xi[ok])]
+    row.update(T_min_L=nan, T_max_L=nan, T_all_min_L=nan, T_all_max_L=nan, T_mid_T0I=nan, T_spread_T0I=nan,
+               xi_max=nan, T_at_max_L=nan, T1_at_max_L=nan, dPL_at_max=nan, v_c_at_max=nan, loss_ratio=nan)
+    if main.size:
+        i = main[np.nanargmax(xi[main])]
         dpl, vc = _cat(level, "dPL")[i], _cat(level, "v_c")[i]
-        lo, hi = T[ok].min(), T[ok].max()
-        row.update(T_min_L=lo / L, T_max_L=hi / L, T_mid_T0I=0.5 * (lo + hi) / level["T0_I"],
-                   T_spread_T0I=(hi - lo) / level["T0_I"], xi_max=xi[i], T_at_max_L=T[i] / L,
+        lo, hi = T[main].min(), T[main].max()
+        row.update(T_min_L=lo / L, T_max_L=hi / L, T_all_min_L=T[good].min() / L, T_all_max_L=T[good].max() / L,
+                   T_mid_T0I=0.5 * (lo + hi) / T0, T_spread_T0I=(hi - lo) / T0, xi_max=xi[i], T_at_max_L=T[i] / L,
                    T1_at_max_L=T1[i] / L, dPL_at_max=dpl, v_c_at_max=vc)
         if level["end_mass"] > 0 and vc != 0:
             row["loss_ratio"] = dpl / (0.5 * level["end_mass"] * vc * vc)
@@ -119,29 +135,16 @@ def _expected(base: dict) -> float:
     return 4.0 if base.get("element") == "P2" else 2.0
 
 
-def front_period(ratio: float, max_den: int = MAX_FRONTS) -> tuple[int, int]:
-    """The fraction ``k / m`` (``m <= max_den``) nearest ``ratio = T / T0^I``: the continuum's period of a family.
-
-    In the continuous bar a plastic impact sends a velocity jump into the bar that
-    nothing dissipates and that the clamp, the wall and the end mass reflect
-    whole; a periodic response must meet its jump again at an impact, after
-    ``m`` periods and ``k`` round trips ``2 L / c = T0^I``: ``T = (k / m) T0^I``.
-    A family's period range collapses onto such a period as N grows.
-    """
-    best = min(((round(ratio * m), m) for m in range(1, max_den + 1)), key=lambda f: (abs(ratio - f[0] / f[1]), f[1]))
-    k, m = best
-    g = math.gcd(k, m) or 1
-    return k // g, m // g
-
-
 def convergence_of(rows: list[dict], base: dict) -> dict:
     """Observed rates of one family's quantities (``rows`` coarse to fine): ``{quantity: Convergence}``.
 
-    Against exact limits where the continuum gives one: the fundamental periods
-    of a uniform bar, ``S / M_e -> 1``, the family's period range collapsing onto
-    ``(k / m) T0^I`` (:func:`front_period`: ``T_spread -> 0``, ``T_mid -> k / m``) and
-    ``xi_max -> 0`` (the denominator of Eq. (22) grows like ``ln N`` on the jump);
-    Richardson (limit unknown) for the rest.
+    Against exact limits where the continuum gives one (and, for the periods and
+    ``S / M_e``, also by Richardson from successive triples, whose limit must
+    agree): the fundamental periods of a uniform bar, ``S / M_e -> 1``, the
+    spread of the family's main stretch (``-> 0``, the paper's "could shrink to a
+    single point") and ``xi_max -> 0`` (the denominator of Eq. (22) grows like
+    ``ln N`` on the velocity jump an impact leaves in the bar); Richardson (limit
+    unknown) for the rest.
     """
     n = np.array([r["n"] for r in rows], int)
     h = 1.0 / n
@@ -152,17 +155,15 @@ def convergence_of(rows: list[dict], base: dict) -> dict:
     for q, L in zip(("T0_I_L", "T0_II_L"), continuum_periods(rows[-1], base)):
         out[q] = known_limit(q, h, col[q], L, _expected(base), n=n) if L is not None else \
             converge(q, h, col[q], _expected(base), n=n)
+        out[q + " (Richardson)"] = converge(q + " (Richardson)", h, col[q], _expected(base), n=n)
     me = np.array([r["end_mass"] for r in rows], float)
     if np.all(me > 0):
         S = np.array([r["impact_mass"] for r in rows], float) / me
         out["S/M_e"] = known_limit("S/M_e", h, S, 1.0, 1.0, n=n)
-    mid = col["T_mid_T0I"][np.isfinite(col["T_mid_T0I"])]
-    if mid.size:
-        k, m = front_period(float(mid[-1]))
-        out["T_mid_T0I"] = known_limit("T_mid_T0I", h, col["T_mid_T0I"], k / m, n=n)
-        out["T_spread_T0I"] = known_limit("T_spread_T0I", h, col["T_spread_T0I"], 0.0, n=n)
+        out["S/M_e (Richardson)"] = converge("S/M_e (Richardson)", h, S, 1.0, n=n)
+    out["T_spread_T0I"] = known_limit("T_spread_T0I", h, col["T_spread_T0I"], 0.0, n=n)
     out["xi_max"] = known_limit("xi_max", h, col["xi_max"], 0.0, n=n)
-    for q in ("T_min_L", "T_max_L", "v_c_at_max", "dPL_at_max"):
+    for q in ("T_mid_T0I", "T_min_L", "T_max_L", "v_c_at_max", "dPL_at_max"):
         out[q] = converge(q, h, col[q], n=n)
     return out
 

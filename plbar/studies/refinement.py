@@ -25,11 +25,11 @@ from ..util.check import show
 from ..util.files import write_json
 from ..util.outputs import clear_owned
 from ..util.progress import progress_bar
-from .anchors import parse_anchor, slug
+from .anchors import family_label, parse_anchor, slug
 from .executor import SerialExecutor
-from .refine_tables import convergence_of, decay_of, family_label, refine_rows, write_refine
+from .refine_tables import convergence_of, decay_of, refine_rows, write_refine
 from .study import Study, run_study
-from .track import TrackSettings, carry_level, seed_levels
+from .track import TrackSettings, carry_level, mark_merges, seed_levels
 
 __all__ = ["parse_series", "series_name", "refine_study", "refine_task", "track_family", "run_refine", "case_at",
            "REFINE_OWNED", "PLOTTED"]
@@ -170,6 +170,7 @@ def track_family(task: dict, progress: bool = False) -> list[list[dict]]:
                 case = case_at(task["base"], n)
                 got = seed_levels(case, anchor, st) if not chains else \
                     [carry_level(ch[-1], case, anchor, st) for ch in chains]
+                got = mark_merges(got, [family_label(task["family"], k, len(got)) for k in range(len(got))], st)
                 if path:
                     write_json(path, {"key": key, "n": n, "levels": got})
             chains = [[lv] for lv in got] if not chains else [ch + [lv] for ch, lv in zip(chains, got)]

@@ -35,7 +35,8 @@ from ..response import damping
 from ..util.check import show
 from .anchors import Anchor, window_band
 
-__all__ = ["TrackSettings", "PICKS", "seed_levels", "carry_level", "level_points", "admissible_runs_of"]
+__all__ = ["TrackSettings", "PICKS", "seed_levels", "carry_level", "level_points", "admissible_runs_of",
+           "mark_merges"]
 
 PICKS = ("longest", "xi", "nearest", "all")
 
@@ -59,7 +60,8 @@ class TrackSettings:
     reach : float
         How far (in steps) a mapped point may move onto the new curve.
     patience : int
-        Steps a walker may stay farther than ``reach`` from every carried point.
+        Steps a walker may stay farther than ``reach`` from every carried point on
+        responses that are not admissible (an admissible stretch is followed to its end).
     margin : int
         Points carried beyond each end of an admissible stretch.
     """
@@ -69,8 +71,8 @@ class TrackSettings:
     pick: str = "longest"
     step: float = 1.0 / 200
     reach: float = 6.0
-    patience: int = 20
-    margin: int = 10
+    patience: int = 10
+    margin: int = 5
 
     def __post_init__(self):
         if self.pick not in PICKS:
@@ -89,6 +91,15 @@ def _evaluated(prob, P: np.ndarray) -> dict:
     return {"T1": _finite(P[:, 0]), "T2": _finite(P[:, 1]), "phi": _finite(np.mod(ev.orbits.phi, 2 * np.pi)),
             "good": ev.good.astype(int).tolist(), "why": [str(w) for w in ev.why], "xi": _finite(d.xi),
             "dPL": _finite(d.dPL), "v_c": _finite(vc)}
+
+
+def _from_branch(b, run) -> dict:
+    """The points ``run`` of a branch of :func:`plbar.find_paths` as a piece (already evaluated there)."""
+    orb = b.orbits.take(run)
+    vc = orb.contact_velocity(orb.T2[:, None])[:, 0]
+    return {"T1": _finite(orb.T1), "T2": _finite(orb.T2), "phi": _finite(np.mod(orb.phi, 2 * np.pi)),
+            "good": [1] * len(run), "why": [""] * len(run), "xi": _finite(b.xi[run]), "dPL": _finite(b.dPL[run]),
+            "v_c": _finite(vc)}
 
 
 def _finite(a) -> list:
@@ -128,8 +139,7 @@ def seed_levels(case: Case, anchor: Anchor, st: TrackSettings, progress: bool = 
     picked = cands if st.pick == "all" else [min(cands, key=key[st.pick])]
     out = []
     for b, run in picked:
-        P = np.c_[b.T1[run], b.T2[run]]
-        piece = _evaluated(prob, P)
+        piece = _from_branch(b, run)
         piece["ends"] = [b.ends[0] if run[0] == 0 else "window edge",
                          b.ends[1] if run[-1] == len(b) - 1 else "window edge"]
         out.append({**_header(case, prob, anchor, band), "pieces": [piece], "status": "seed",
@@ -190,8 +200,9 @@ def _normals(U: np.ndarray) -> np.ndarray:
 def _pieces(prob, band: Band, curves, st: TrackSettings):
     """Follow the new zero curves near the carried ``curves`` (normalised): lazily, in curve order.
 
-    A carried point within ``reach`` of a curve already followed is skipped;
-    any other is moved onto the zero set along the carried curve's normal and
+    A carried point within one step of a curve already followed is skipped (it
+    lies on it); any other is moved onto the zero set along the carried curve's
+    normal (within ``reach``) and, unless it lands on a curve already followed,
     the curve through it is followed.  Returns the traces, the evaluations and
     the number of carried points that found no zero within reach.
     """
@@ -202,7 +213,7 @@ def _pieces(prob, band: Band, curves, st: TrackSettings):
         idx = _thin(U, st.step)
         nrm = _normals(U)
         for i in idx:
-            if any(np.linalg.norm(d - U[i], axis=1).min() < reach for d in done):
+            if any(np.linalg.norm(d - U[i], axis=1).min() < st.step for d in done):
                 continue
             V, k = correct_onto(prob, band, U[i:i + 1], nrm[i:i + 1], reach)
             nev += k
@@ -228,9 +239,11 @@ def carry_level(prev: dict, case: Case, anchor: Anchor, st: TrackSettings) -> di
     scale = np.array([T0I / prev["T0_I"], T0II / prev["T0_II"]])
     curves = [band.to_u(P * scale) for P in level_points(prev, st.margin)]
     head = _header(case, prob, anchor, band)
-    if not curves:
-        return {**head, "pieces": [], "status": "ended", "notes": ["nothing to carry: the family had ended"],
-                "evaluations": 0, "time": time.perf_counter() - t0}
+    if prev["status"] == "merged" or not curves:
+        why = "the family had merged with another (see the earlier notes)" if prev["status"] == "merged" else \
+            "nothing to carry: the family had ended"
+        return {**head, "pieces": [], "status": "ended", "notes": [why], "evaluations": 0,
+                "time": time.perf_counter() - t0}
     traces, nev, lost = _pieces(prob, band, curves, st)
     pieces = []
     for tr in traces:
@@ -258,3 +271,34 @@ def _status(prev: dict, pieces: list, ncarried: int, lost: int) -> dict:
         return {"status": "inadmissible", "notes": notes + ["no admissible point on the carried curve (every "
                                                             "response switches prematurely or is not periodic)"]}
     return {"status": "split" if now > max(before, 1) else "tracked", "notes": notes}
+
+
+def mark_merges(levels: list[dict], labels: list[str], st: TrackSettings, share: float = 0.5) -> list[dict]:
+    """Mark families of one mesh that run on another's curves (``pick = "all"``): status ``merged``.
+
+    Family ``j`` merges with an earlier family ``i`` when at least ``share`` of
+    ``j``'s admissible points lie within half a step of ``i``'s followed curves;
+    a merged family is not carried further (its levels end).
+    """
+    out = [dict(lv) for lv in levels]
+    live = [lv["status"] not in ("ended", "merged") and lv["pieces"] for lv in out]
+    for j, lv in enumerate(out):
+        if not live[j] or lv["status"] == "seed":
+            continue
+        band = Band(tuple(lv["band"]["T1"]), tuple(lv["band"]["T"]))
+        P = np.concatenate([np.c_[p["T1"], p["T2"]][np.asarray(p["good"], bool)] for p in lv["pieces"]])
+        if not len(P):
+            continue
+        U = band.to_u(P)
+        for i in range(j):
+            if not live[i]:
+                continue
+            V = band.to_u(np.concatenate([np.c_[p["T1"], p["T2"]] for p in out[i]["pieces"]]))
+            near = np.linalg.norm(U[:, None, :] - V[None], axis=2).min(axis=1) < 0.5 * st.step
+            if near.mean() >= share:
+                out[j] = {**lv, "status": "merged", "notes": lv["notes"] + [
+                    f"merged with {labels[i]}: {int(near.sum())} of its {len(U)} admissible points lie on "
+                    f"{labels[i]}'s curves; not carried further"]}
+                live[j] = False
+                break
+    return out

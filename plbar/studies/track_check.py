@@ -95,8 +95,11 @@ def compare_with_scan(level: dict, case: Case, grid=(200, 200), near: float = 0.
     -------
     dict
         ``tracked_on_scan``: largest distance (relative to the anchor period) of
-        a tracked admissible point to the scan's branches (inf if one lies off
-        them); ``branches``: the scan branches holding tracked points;
+        a tracked admissible point on the scan's branches to them;
+        ``tracked_off_scan``, ``tracked_off_points``, ``tracked_off_cells``: the
+        tracked admissible points on no scan branch (stretches the scan does not
+        resolve), and how far (in grid cells) they lie from the scan's points;
+        ``branches``: the scan branches holding tracked points;
         ``scan_on_tracked``: largest distance of those branches' points to the
         tracked curves; ``off``: how many of their points lie off the tracked
         curves (beyond ``tol``), and the period range of those; ``tracked``,
@@ -123,6 +126,7 @@ def compare_with_scan(level: dict, case: Case, grid=(200, 200), near: float = 0.
             "tracked_off_scan": int(miss.sum()),
             "tracked_off_range": [float(Pt[miss].sum(1).min()), float(Pt[miss].sum(1).max())] if miss.any() else None,
             "tracked_off_cells": _cells(band, Pt[miss], S, grid),
+            "tracked_off_points": Pt[miss].tolist(),
             "branches": held, "scan_points": int(len(S)),
             "scan_on_tracked": float(d2[~off].max()) if (~off).any() else None, "off": int(off.sum()),
             "off_range": [float(S[off].sum(1).min()), float(S[off].sum(1).max())] if off.any() else None,

@@ -14,6 +14,8 @@ from plbar.studies.anchors import parse_anchor, window_band
 from plbar.studies.convergence import known_limit
 from plbar.studies.refine_tables import continuum_periods
 from plbar.studies.track import TrackSettings, carry_level, seed_levels
+from plbar.check import IMPACT, OPEN
+from plbar.response import periodic_state
 from plbar.studies.track_check import compare_with_scan
 
 # -- anchors --------------------------------------------------------------------------------------------------------
@@ -125,17 +127,32 @@ def test_chain_family_is_the_full_solve_branch():
 
 @pytest.mark.slow
 def test_fe_family_at_N32_is_the_scan_branch():
-    """Acceptance: FE P1 lumped, end mass 0.5, T0_II/2 followed 8 -> 16 -> 32 equals the 200 x 200 scan's branch
-    of the window on the curve (1e-9), both ways; what one side has beyond the other is within 2 grid cells."""
+    """Acceptance: FE P1 lumped, end mass 0.5, T0_II/2 followed 8 -> 16 -> 32 against the 200 x 200 scan of the
+    same window: every point of the scan's branches of the family lies on the followed curves (1e-9), the followed
+    admissible points on those branches lie on them (1e-9), and what the walker has beyond the scan (stretches
+    shorter than a grid cell between grid lines) are exact admissible responses (find_response, independently)."""
     anchor = parse_anchor("T0_II/2")
     st = TrackSettings()
     cases = [plbar.Case(model="fe", n=n, end_mass=0.5) for n in (8, 16, 32)]
     lv = _levels(cases, anchor, st)[-1]
     r = compare_with_scan(lv, cases[-1], grid=(200, 200))
-    assert r["tracked"] > 50 and r["branches"]
-    assert r["tracked_on_scan"] < 1e-9 and r["scan_on_tracked"] < 1e-9, r
-    assert r["tracked_off_cells"] is None or r["tracked_off_cells"] < 2, r
-    assert r["off"] <= 0.1 * r["scan_points"], r
+    assert r["tracked"] > 50 and r["branches"] and r["scan_points"] > 50, r
+    assert r["tracked_on_scan"] < 1e-9 and r["scan_on_tracked"] < 1e-9 and r["off"] == 0, r
+    # what the walker has beyond the scan: each an exact admissible periodic response, checked by the independent
+    # event-driven simulator (one period from the closed-form state: back to it, switching only at T1 and at T)
+    prob = cases[-1].problem()
+    extra = {tuple(p) for p in r["tracked_off_points"]}
+    pts = [(p["T1"][k], p["T2"][k], p["phi"][k]) for p in lv["pieces"] for k in range(len(p["T1"]))
+           if (p["T1"][k], p["T2"][k]) in extra]
+    assert len(pts) == len(extra) > 0
+    for T1, T2, phi in pts:
+        orb = plbar.orbits(prob, np.array([T1]), np.array([T2]), np.array([phi]))
+        xr, vr = periodic_state(orb)
+        sim = plbar.simulate(prob, T1 + T2, phi, xr[0], vr[0], n_periods=1.0)
+        assert list(sim.event_kinds) == [OPEN, IMPACT]
+        assert np.abs(sim.event_times - [T1, T1 + T2]).max() < 1e-9 * (T1 + T2)
+        z0, z1 = np.r_[xr[0], vr[0]], np.r_[sim.x[:-1], sim.v[:-1]]
+        assert np.linalg.norm(z1 - z0) < 1e-8 * np.linalg.norm(z0)
 
 
 def test_refine_command_tables_rates_plots_and_resume(tmp_path, capsys):
@@ -187,3 +204,21 @@ def test_truncation_warns_for_xi_and_refine_refuses_it(tmp_path, capsys):
         plbar.solve(plbar.Case(model="fe", n=6, grid=(40, 40)))          # the full model: no warning
     assert main(["refine", "--model", "fe", "-N", "6", "8", "--modes", "4", "--out", str(tmp_path), "-q"]) == 2
     assert "full model" in capsys.readouterr().err
+
+
+def test_a_family_on_another_family_s_curves_is_merged_and_ends():
+    from plbar.studies.track import mark_merges
+
+    piece = {"T1": [0.1, 0.2, 0.3], "T2": [2.8, 2.75, 2.7], "good": [1, 1, 0], "xi": [0.01, 0.02, 0.0],
+             "dPL": [0.1, 0.2, 0.0], "v_c": [1.0, 1.1, 0.0], "phi": [1.0, 1.0, 1.0], "why": ["", "", "x"]}
+    other = {**piece, "T2": [2.5, 2.45, 2.4]}
+    base = {"band": {"T1": [0.0, 1.0], "T": [2.5, 3.4]}, "notes": [], "status": "tracked"}
+    st = TrackSettings()
+    out = mark_merges([{**base, "pieces": [piece]}, {**base, "pieces": [piece]}, {**base, "pieces": [other]}],
+                      ["A#1", "A#2", "A#3"], st)
+    assert [lv["status"] for lv in out] == ["tracked", "merged", "tracked"]
+    assert "merged with A#1" in out[1]["notes"][-1]
+    case = plbar.Case(model="chain", n=6)
+    head = {**out[1], "T0_I": 12.0, "T0_II": 26.0}
+    nxt = carry_level(head, case, parse_anchor("T0_II/2"), st)
+    assert nxt["status"] == "ended" and "merged" in nxt["notes"][0] and nxt["evaluations"] == 0

@@ -36,20 +36,9 @@ def test_writes_png_and_pdf_without_warnings(tmp_path):
 
 
 @pytest.fixture
-def figures(monkeypatch, tmp_path):
+def figures(keep_figures):
     """Keep the figures instead of writing and closing them."""
-    got = []
-
-    def keep(fig, out, name):
-        got.append(fig)
-        return [tmp_path / f"{name}.png"]
-
-    monkeypatch.setattr(vc, "_save", keep)
-    yield got
-    import matplotlib.pyplot as plt
-
-    for f in got:
-        plt.close(f)
+    return keep_figures(vc)
 
 
 def test_panels_say_what_they_show(figures):

@@ -18,20 +18,9 @@ def fe8():
 
 
 @pytest.fixture
-def figures(monkeypatch, tmp_path):
+def figures(keep_figures):
     """Keep the figures instead of writing and closing them."""
-    got = []
-
-    def keep(fig, out, name):
-        got.append(fig)
-        return [tmp_path / f"{name}.png"]
-
-    monkeypatch.setattr(plots, "_save", keep)
-    yield got
-    import matplotlib.pyplot as plt
-
-    for f in got:
-        plt.close(f)
+    return keep_figures(plots)
 
 
 def _kinds(res):
