@@ -67,9 +67,6 @@ def _refine_cases(a) -> list:
     from ..app import Case
     from ..studies.refinement import parse_series
 
-    if a.modes is not None:
-        raise InputError("refine follows each family with the full model (xi_eq needs all modes: a truncated "
-                         "impact loses the energy outside the kept modes); drop --modes")
     if a.T2_frac:
         raise InputError("--T2-frac is no longer used: refine follows each family inside its period window "
                          "(--family ANCHOR --window W)")

@@ -110,9 +110,7 @@ def refine_study(cases, ns, families=("T0_II/2",), settings: TrackSettings | Non
         raise InputError("give at least one family anchor (T0_I, T0_II/2, ...)")
     tasks = []
     for case in cases:
-        if case.modes is not None:
-            raise InputError(f"case {case.label or case.model!r} keeps {case.modes} modes; a refinement follows the "
-                             "full model (xi_eq needs all modes), so give cases without modes")
+        _refinable(case)
         base = _series(case)
         base["n0"] = case.n_eff
         for fam in fams:
@@ -123,6 +121,19 @@ def refine_study(cases, ns, families=("T0_II/2",), settings: TrackSettings | Non
             tasks.append(t)
     params = {"ns": ns, "families": fams, "series": [t["series"] for t in tasks[::len(fams)]]}
     return Study("refine", refine_task, tuple(tasks), params)
+
+
+def _refinable(case: Case) -> None:
+    """Refuse what a refinement cannot honour (one line each, saying what to do instead)."""
+    if case.modes is not None:
+        raise InputError(f"the case keeps {case.modes} modes; a refinement follows the full model (xi_eq needs all "
+                         "modes: a truncated impact loses the energy outside the kept modes); drop modes / --modes")
+    if case.mesh_file:
+        raise InputError(f"mesh_file = {case.mesh_file!r} fixes the mesh; a refinement builds its meshes from N "
+                         "(uniform, or --grading R); drop the mesh file")
+    if case.T1 is not None or case.T2 is not None or case.method != "continuation":
+        raise InputError("a refinement searches each family's period window (--family ANCHOR --window W) with "
+                         "continuation; drop T1/T2 (--T1/--T2) and method (--method)")
 
 
 def case_at(base: dict, n: int) -> Case:

@@ -191,6 +191,9 @@ def test_refine_refuses_bad_input(tmp_path, capsys):
     assert "anchor" in capsys.readouterr().err
     assert main(base + ["--window", "2"]) == 2
     assert main(base + ["--T2-frac", "0.5", "1"]) == 2
+    for bad in (["--T1", "0", "1"], ["--method", "grid"], ["--mesh-file", "meshes/bar_uniform_8.msh"]):
+        assert main(base + ["--model", "fe"] + bad) == 2, bad
+    assert "window" in capsys.readouterr().err
 
 
 def test_truncation_warns_for_xi_and_refine_refuses_it(tmp_path, capsys):
