@@ -84,6 +84,8 @@ def _refine_cases(a) -> list:
 
 
 def _refine_lines(r: dict) -> list[str]:
+    from ..studies.refinement import PLOTTED
+
     lines = []
     for key in dict.fromkeys((row["series"], row["family"]) for row in r["rows"]):
         lines.append(f"{key[0]}, family {key[1]}:")
@@ -94,7 +96,7 @@ def _refine_lines(r: dict) -> list[str]:
             sm = f"{row['impact_mass'] / row['end_mass']:.5f}" if row["end_mass"] > 0 else "-"
             lines.append(f"  {row['n']:5d}  {row['status']:12s} {row['admissible']:5d}  {rng} {xi}  {sm}")
         rates = r["rates"][key[0]][key[1]]
-        for q in ("T0_I_L", "T0_II_L", "S/M_e", "T_mid_T0I", "T_spread_T0I", "xi_max"):
+        for q in PLOTTED:
             if q in rates:
                 c = rates[q]
                 fit = f" (fitted over all N: {c['fitted']:.3f})" if c.get("fitted") is not None else ""

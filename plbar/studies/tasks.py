@@ -1,8 +1,7 @@
 """The task function of the studies: solve one case, return its branches as JSON.
 
 A task is ``{"case": {Case fields}, ...}``; extra keys (labels, positions)
-are carried along untouched.  ``"T2_frac": [lo, hi]`` restricts the ``T^II``
-search range to ``[lo, hi] * T0^II / 2`` (a cheaper scan for fine meshes).
+are carried along untouched.
 """
 
 from __future__ import annotations
@@ -10,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..app import Case
-from ..paths import Domain, find_paths
+from ..paths import find_paths
 
 __all__ = ["case_from_task", "solve_task", "branch_arrays"]
 
@@ -38,10 +37,6 @@ def solve_task(task: dict) -> dict:
     case = case_from_task(task)
     prob = case.problem()
     dom = case.domain(prob)
-    if task.get("T2_frac"):
-        lo, hi = task["T2_frac"]
-        half = prob.system.T0[1] / 2
-        dom = Domain(dom.T1, (lo * half, hi * half))
     paths = find_paths(prob, dom, case.grid)
     T0I, T0II = prob.system.T0
     return {
