@@ -26,7 +26,8 @@ __all__ = ["Result", "solve", "write_results", "read_paths", "check_output", "PA
 #: the columns of ``paths.csv`` (name, printf format): the one definition, for writers and readers
 PATHS_COLUMNS = (("branch", "%d"), ("T1", "%.17g"), ("T2", "%.17g"), ("phi", "%.17g"), ("T", "%.17g"),
                  ("dPL", "%.17g"), ("xi", "%.17g"), ("grazing", "%d"), ("stable", "%d"),
-                 ("max_abs_multiplier", "%.17g"), ("max_abs_xc", "%.17g"), ("omega", "%.17g"))
+                 ("max_abs_multiplier", "%.17g"), ("max_abs_xc", "%.17g"), ("omega", "%.17g"),
+                 ("xi_w", "%.17g"))
 CSV_HEADER = [c for c, _ in PATHS_COLUMNS]
 #: what ``plbar run`` owns in its folder besides paths.csv and summary.json (cleared before new results)
 RUN_OWNED = ("vtk", "render", "frequency_response.png", "frequency_response.pdf", "paths_T1_T2.png", "paths_T1_T2.pdf")
@@ -125,6 +126,7 @@ def _rows(res: Result):
         cols["max_abs_multiplier"].append(b.max_abs_multiplier)
         cols["max_abs_xc"].append(contact_amplitude(b.orbits))          # the amplitude the plot shows
         cols["omega"].append(2 * np.pi / b.T)
+        cols["xi_w"].append(b.xi_w)
     return [np.concatenate(cols[k]) if cols[k] else np.zeros(0) for k in CSV_HEADER]
 
 

@@ -70,7 +70,8 @@ def taylor(c, rq, w, f, eta, vel, W, t, phi, s, K: int):
     rem : ndarray, shape (B,)
         Bound of ``|g^(K+1)(t + u)| / Om^(K+1)`` for ``0 <= u <= s``.
     scale : ndarray, shape (K + 1, B)
-        ``sum_j |c_j| |eta_j^(k)| + |rq| W^k`` (scaled): the size of the terms of ``g^(k)``, for round-off tests.
+        The size of the terms that make ``g^(k)`` (scaled; through the recursion, so that a derivative that
+        cancels to round-off is seen as such), for round-off tests.
     Om : ndarray, shape (B,)
     """
     Om = np.maximum(w.max(axis=1), W)
@@ -80,17 +81,20 @@ def taylor(c, rq, w, f, eta, vel, W, t, phi, s, K: int):
     ac, af, arq = np.abs(c), np.abs(f), np.abs(rq)
     amp = np.hypot(w * eta, vel) + af * s[:, None]
     e = [eta, vel / Om[:, None]]
+    mag = [np.abs(eta), np.abs(vel) / Om[:, None]]       # size of the terms of each e[k]: its round-off level
     b = [amp / w, amp / Om[:, None]]
     load = f / (Om ** 2)[:, None]
     for k in range(2, K + 2):
         Wk = Wr ** (k - 2)
         if k <= K:
-            e.append(load * (Wk * np.cos(arg + 0.5 * np.pi * (k - 2)))[:, None] - wr2 * e[k - 2])
+            lk = load * (Wk * np.cos(arg + 0.5 * np.pi * (k - 2)))[:, None]
+            e.append(lk - wr2 * e[k - 2])
+            mag.append(np.abs(lk) + wr2 * mag[k - 2])
         b.append(np.abs(load) * Wk[:, None] + wr2 * b[k - 2])
     ks = np.arange(K + 1)[:, None]
     forced = rq * Wr ** ks * np.cos(arg + 0.5 * np.pi * ks)
-    E = np.stack(e[:K + 1])
-    d = np.einsum("bj,kbj->kb", c, E) + forced
-    scale = np.einsum("bj,kbj->kb", ac, np.abs(E)) + arq * Wr ** ks
+    d = np.einsum("bj,kbj->kb", c, np.stack(e))
+    scale = np.einsum("bj,kbj->kb", ac, np.stack(mag)) + np.abs(forced)
+    d = d + forced
     rem = np.einsum("bj,bj->b", ac, b[K + 1]) + arq * Wr ** (K + 1)
     return d, rem, scale, Om
