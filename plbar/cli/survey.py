@@ -66,8 +66,12 @@ def _cmd_survey(a) -> int:
     from ..studies.survey import run_survey
 
     case, _ = case_from_args(a)
+    if a.sizes and len(a.sizes) == 1:
+        case = _with_n(case, a.sizes[0])
     T = _periods(a, case)
     out = check_writable(a.out)
+    if a.sizes and len(a.sizes) > 1:
+        return _refine(a, case, T, out)
     plot = not a.no_plot and importlib.util.find_spec("matplotlib") is not None
     paths = None
     if plot and not a.no_paths and (a.paths or case.n_eff <= 12):
@@ -80,6 +84,36 @@ def _cmd_survey(a) -> int:
     payload = {"summary": s.summary, "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v)
                                                for k, v in s.files.items()}}
     report(a, payload, "\n".join(_lines(s, T)))
+    return 0
+
+
+def _with_n(case, n):
+    from dataclasses import replace
+
+    return replace(case, n=int(n))
+
+
+def _refine(a, case, T, out) -> int:
+    from ..studies import get_executor
+    from ..studies.survey import run_survey_refine
+
+    kind = "dask" if a.scheduler else a.executor
+    with get_executor(kind, a.scheduler, a.workers) as ex:
+        r = run_survey_refine(case, a.sizes, T, a.periods, a.record, out, ex, progress(a), a.overwrite,
+                              plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
+    lines = [f"plbar survey over N = {', '.join(str(n) for n in sorted(set(a.sizes)))}:"]
+    for key, d in r["rates"].items():
+        lines.append(f"  {key}: kinds {', '.join(d['kinds'])}")
+        for q in ("loss_per_T", "xi_eq", "xi_w"):
+            c = d[q]
+            vals = ", ".join(f"{v:.4g}" for v in c["values"])
+            rate = (f"-> {c['limit']:.4g}, rate {c['rate']:.2f} ({len(c['h'])} meshes)" if c["rate"] is not None
+                    and c["limit"] is not None else f"no rate: {c['why']}")
+            lines.append(f"    {q:10s} {vals}  {rate}")
+    lines.append("  wrote " + ", ".join(str(f) for v in r["files"].values() for f in (v if isinstance(v, list)
+                                                                                      else [v])))
+    report(a, {"rates": r["rates"], "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v)
+                                              for k, v in r["files"].items()}}, "\n".join(lines))
     return 0
 
 
@@ -114,7 +148,7 @@ def register(sub) -> None:
     s.add_argument("--no-paths", action="store_true", help="do not solve the exact branches under the figure")
     s.add_argument("--paths", action="store_true",
                    help="solve the exact branches under the figure even for a large model [only N <= 12]")
-    case_args(s, "the load")
+    case_args(s, "the load", sizes=())
     for act in list(s._actions):
         if act.dest in _SEARCH:
             act.help = "not used by a survey (it simulates; the branches under the figure use the defaults)"

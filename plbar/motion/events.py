@@ -29,7 +29,7 @@ from math import factorial
 
 import numpy as np
 
-__all__ = ["ZERO", "SIGNIFICANT", "LADDER", "first_order", "certified_step", "quadratic_step"]
+__all__ = ["ZERO", "SIGNIFICANT", "LADDER", "first_order", "certified_step", "quadratic_step", "decide_step"]
 
 ZERO = 1e-13          #: |g| below ZERO * (size of its terms) is round-off: the crossing is located to this
 SIGNIFICANT = 1e-9    #: a derivative counts when |g^(k)| > SIGNIFICANT * (size of its terms)
@@ -109,3 +109,34 @@ def quadratic_step(d, rem, v):
         up = np.divide(g1 + root, B2, out=np.full(g.shape, np.inf), where=B2 > 0)
         down = np.divide(2.0 * g, root - g1, out=np.full(g.shape, np.inf), where=root - g1 > 0)
     return np.where(g1 > 0, up, down)
+
+
+def decide_step(d, rem, scale, vmax):
+    """The decision at a point from its Taylor model: ``(event, step, found)`` (scaled step ``v = Om u``).
+
+    * ``event``: the first significant derivative is negative (the state ends here);
+    * ``step``: certified by :func:`certified_step` from that order, by :func:`quadratic_step` near a simple
+      crossing (``k = 0``, ``g' < 0``: quadratic convergence onto it from the left), and, where the margin is
+      round-off small but not crossing (``k > 0``), also for the margin shifted by its round-off level
+      ``ZERO * scale`` (no crossing below that level is missed): where the margin vanishes to a high order
+      (a bar at rest, loaded far from its contact) this certifies long steps instead of tiny ones;
+    * ``found``: some derivative up to the model's order is significant (elsewhere ``step`` is 0).
+    """
+    K = d.shape[0] - 1
+    k = first_order(d, scale)
+    rows = np.arange(d.shape[1])
+    found = k <= K
+    event = found & (d[np.minimum(k, K), rows] < 0)
+    go = found & ~event
+    v = np.where(go, certified_step(d, rem, k, vmax), 0.0)
+    flat = go & (k > 0)
+    if flat.any():
+        ds = d[:, flat].copy()
+        ds[0] = np.maximum(ds[0], 0.0) + ZERO * scale[0, flat]
+        v[flat] = np.maximum(v[flat], certified_step(ds, rem[flat], np.zeros(int(flat.sum()), int), vmax[flat]))
+    near = go & (k == 0) & (d[1] < 0) & (v < vmax)
+    if near.any():
+        sig = np.minimum(2.0 * v[near], vmax[near])
+        rho = quadratic_step(d[:, near], rem[near], sig)
+        v[near] = np.maximum(v[near], np.minimum(rho, sig) * (1 - 1e-15))
+    return event, v, found

@@ -27,7 +27,7 @@ import numpy as np
 
 from ..response import segment
 from .accounting import Pieces
-from .events import certified_step, first_order, quadratic_step
+from .events import decide_step
 from .margin import taylor
 from .model import FREE, STUCK, Padded
 
@@ -96,17 +96,7 @@ def _certify(b: Batch, idx, eta, vel, K: int):
     cap = np.minimum(CAP * b.T[idx], np.maximum(b.T[idx] - t, 0.0))
     d, rem, scale, Om = taylor(pad.c[st], pad.rq[st], pad.w[st], pad.f[st], eta, vel, b.W[idx], t, b.phi[idx],
                                cap, K)
-    k = first_order(d, scale)
-    rows = np.arange(idx.size)
-    found = k <= K
-    event = found & (d[np.minimum(k, K), rows] < 0)
-    vmax = Om * cap
-    v = np.where(found & ~event, certified_step(d, rem, k, vmax), 0.0)
-    near = (k == 0) & (d[1] < 0) & (v < vmax)
-    if near.any():
-        sig = np.minimum(2.0 * v[near], vmax[near])
-        rho = quadratic_step(d[:, near], rem[near], sig)
-        v[near] = np.maximum(v[near], np.minimum(rho, sig) * (1 - 1e-15))
+    event, v, found = decide_step(d, rem, scale, Om * cap)
     return event, np.where(found, v / Om, -1.0)
 
 

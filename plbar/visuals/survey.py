@@ -43,7 +43,7 @@ def _groups(table: dict):
         if np.any(sel & (kind == "irregular")):
             out.append((f"irregular{tag}", sel & (kind == "irregular"), "x" if s == "rest" else _START[s], "0.35"))
         if np.any(sel & (kind == "failed")):
-            out.append((f"failed (chattering){tag}", sel & (kind == "failed"), "!", "tab:red"))
+            out.append((f"failed (chattering contact){tag}", sel & (kind == "failed"), "X", "tab:red"))
     return out
 
 

@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 
 import plbar
 from plbar.motion import periodicity, run, steady
-from plbar.motion.events import certified_step, first_order, quadratic_step
+from plbar.motion.events import ZERO, decide_step
 from plbar.motion.margin import margin, taylor
 from plbar.motion.model import FREE, STUCK, padded
 from plbar.response import segment, work_closed_form
@@ -124,17 +124,13 @@ def test_certified_step_never_steps_over_a_crossing(seed):
         vel[:m] *= -1
     d, rem, scale, Om = taylor(pad.c[s][None], np.array([pad.rq[s]]), pad.w[s][None], pad.f[s][None], eta[None],
                                vel[None], np.array([W]), np.array([t]), np.array([phi]), np.array([cap]), 8)
-    k = first_order(d, scale)
-    if d[min(k[0], 8), 0] <= 0:
+    event, v, found = decide_step(d, rem, scale, Om * cap)
+    if event[0] or not found[0]:
         return
-    v = certified_step(d, rem, k, Om * cap)
     step = float(v[0] / Om[0])
-    if k[0] == 0 and d[1, 0] < 0:
-        rho = quadratic_step(d, rem, np.minimum(2 * v, Om * cap))
-        step = max(step, min(float(rho[0]), 2 * float(v[0])) / Om[0] * (1 - 1e-15))
     u = np.linspace(0.0, step, 4001)
     gs = _margin_samples(pad, s, eta, vel, W, t, phi, u)
-    assert gs.min() >= -1e-12 * max(scale[0, 0], 1e-300)
+    assert gs.min() >= -ZERO * scale[0, 0] - 1e-14 * max(scale[0, 0], 1e-300)
     assert 0 < step <= cap
 
 
@@ -169,6 +165,9 @@ def test_start_at_rest_with_a_load_far_from_the_contact():
     for n in (3, 6):
         r = run(plbar.Case(n=n).problem(), [9.0], periods=20, record=5)
         assert r.status[0] == 0 and r.rounds < 20 * 200
+    # FE bar loaded mid-span: the reaction is round-off small until the wave arrives (it stalled once)
+    r = run(plbar.Case(model="fe", n=32, end_mass=0.5).problem(), [3.5], periods=2, record=1)
+    assert r.status[0] == 0 and r.rounds < 2000
 
 
 def test_padded_model_matches_the_system():
