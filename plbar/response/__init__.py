@@ -13,7 +13,7 @@
 from .admissible import Admissibility, check, check_both
 from .energy import Damping, damping, impact_loss, psi_sums, work_quadrature
 from .find import NoResponseError, Response, find_response
-from .flow import free_flow, kernels, psi, segment
+from .flow import forced_coeffs, free_flow, kernels, psi, segment
 from .onemap import Coefficients, PeriodMap, coefficients, period_map, phase, scan_function, states
 from .onemap import G as scan_G
 from .orbit import Orbits, orbits
@@ -21,7 +21,7 @@ from .power import segment_work, work_closed_form
 from .stability import Stability, monodromy, monodromy_modal, multipliers, periodic_state, stability
 
 __all__ = ["Admissibility", "check", "check_both", "Damping", "damping", "impact_loss", "psi_sums",
-           "work_quadrature", "NoResponseError", "Response", "find_response", "free_flow", "kernels", "psi",
+           "work_quadrature", "NoResponseError", "Response", "find_response", "forced_coeffs", "free_flow", "kernels", "psi",
            "segment", "segment_work", "work_closed_form", "Coefficients", "PeriodMap", "coefficients", "period_map", "phase", "scan_function",
            "states", "scan_G", "Orbits", "orbits", "Stability", "monodromy", "monodromy_modal", "multipliers",
            "periodic_state", "stability"]
