@@ -32,7 +32,7 @@ from ..model import Problem
 from ..response import forced_coeffs, free_flow
 from .signature import Signature
 
-__all__ = ["Chain", "Segment", "evaluate", "layout", "flow_matrix", "vector_field"]
+__all__ = ["Chain", "Segment", "evaluate", "layout", "flow_matrix", "vector_field", "switch_maps"]
 
 
 @dataclass(frozen=True)
@@ -77,7 +77,13 @@ def layout(prob: Problem, sig: Signature) -> tuple[int, int, int]:
 def flow_matrix(w: np.ndarray, tau: float) -> np.ndarray:
     """The modal free flow over ``tau`` on ``(eta, etadot)``: ``(2m, 2m)``, 2 x 2 blocks per mode."""
     c, s_w, mws, _ = free_flow(w, tau)
-    return np.block([[np.diag(c), np.diag(s_w)], [np.diag(mws), np.diag(c)]])
+    m = w.size
+    A = np.zeros((2 * m, 2 * m))
+    i = np.arange(m)
+    A[i, i] = A[m + i, m + i] = c
+    A[i, m + i] = s_w
+    A[m + i, i] = mws
+    return A
 
 
 def vector_field(w, f, W, t, phi, z) -> np.ndarray:
@@ -93,7 +99,12 @@ def _state(prob: Problem, s: int):
     return sy.w2, np.asarray(prob.f2, float), -np.asarray(sy.gap_row, float), 0.0
 
 
-def _switch_maps(prob: Problem):
+def switch_maps(prob: Problem):
+    """The modal switch maps ``(E, G)``: opening ``diag(P12, P12)``, impact ``diag(P21, Q21)`` (cached)."""
+    return prob.cached("hybrid_switch_maps", _build_switch_maps)
+
+
+def _build_switch_maps(prob: Problem):
     sy = prob.system
     z12 = np.zeros_like(sy.P12)
     E = np.block([[sy.P12, z12], [z12, sy.P12]])
@@ -158,7 +169,7 @@ class _Walker:
 
 def evaluate(prob: Problem, sig: Signature, T: float, X, jac: bool = True) -> Chain:
     """Residuals ``F(X)`` (and the exact Jacobian) of the orbit of signature ``sig`` at period ``T``."""
-    E, G = _switch_maps(prob)
+    E, G = switch_maps(prob)
     wk = _Walker(prob, sig, T, X, jac)
     F, rows, segs, zero, scale = [], [], [], [], []
     col = 0

@@ -20,15 +20,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import Problem
-from .chain import Chain, flow_matrix, vector_field
+from .chain import Chain, flow_matrix, switch_maps, vector_field
 from .signature import Signature
 
 __all__ = ["monodromy", "multipliers"]
 
 
-def _maps(sy):
-    z12, z21 = np.zeros_like(sy.P12), np.zeros_like(sy.P21)
-    return np.block([[sy.P12, z12], [z12, sy.P12]]), np.block([[sy.P21, z21], [z21, sy.Q21]])
 
 
 def monodromy(prob: Problem, sig: Signature, T: float, phi: float, ch: Chain) -> np.ndarray:
@@ -41,7 +38,7 @@ def monodromy(prob: Problem, sig: Signature, T: float, phi: float, ch: Chain) ->
     """
     sy = prob.system
     W = 2 * np.pi / T
-    E, G = _maps(sy)
+    E, G = switch_maps(prob)
     m1, m2 = sy.w1.size, sy.w2.size
     f1, f2 = np.asarray(prob.f1, float), np.asarray(prob.f2, float)
     Phi = np.eye(2 * (m1 if sig.dwell[0] else m2))

@@ -23,13 +23,15 @@ from .chain import evaluate, layout
 from .signature import Signature
 from .solve import ACCEPT, HybridOrbit, orbit_at
 
-__all__ = ["FollowSettings", "follow", "END_WINDOW", "END_DWELL", "END_FREE", "END_FAILED", "END_POINTS"]
+__all__ = ["FollowSettings", "follow", "END_WINDOW", "END_DWELL", "END_FREE", "END_FAILED", "END_POINTS", "END_INADMISSIBLE",
+           "plausible", "correct", "scale_of"]
 
 END_WINDOW = "window"          #: left the period window
 END_DWELL = "dwell->0"         #: a stuck phase shrank to zero (the signature changes)
 END_FREE = "free->0"           #: a free phase shrank to zero
 END_FAILED = "no convergence"  #: Newton failed at the smallest step
 END_POINTS = "max points"
+END_INADMISSIBLE = "inadmissible"   #: :attr:`FollowSettings.patience` points in a row fail the necessary conditions
 
 
 @dataclass(frozen=True)
@@ -39,11 +41,12 @@ class FollowSettings:
     h0: float = 0.01
     h_min: float = 1e-6
     h_max: float = 0.02
-    max_points: int = 2000
+    max_points: int = 600
     newton: int = 8
+    patience: int = 25        #: stop after this many points in a row that fail the necessary conditions
 
 
-def _scale(prob: Problem, sig: Signature, X: np.ndarray, T: float) -> np.ndarray:
+def scale_of(prob: Problem, sig: Signature, X: np.ndarray, T: float) -> np.ndarray:
     nz, q, _ = layout(prob, sig)
     zs = max(float(np.abs(X[:nz]).max(initial=0.0)), 1e-12)
     return np.concatenate([np.full(nz, zs), np.full(q, T), [1.0], [T]])
@@ -66,7 +69,7 @@ def _tangent(Ja: np.ndarray, S: np.ndarray, prev: np.ndarray | None, direction: 
     return t if ref >= 0 else -t
 
 
-def _correct(prob, sig, Yp, t, S, newton: int):
+def correct(prob, sig, Yp, t, S, newton: int = 8):
     """Newton on ``F = 0`` and ``t . (Y - Yp) = 0`` (scaled); the orbit or None."""
     Y = Yp.copy()
     nz, q, _ = layout(prob, sig)
@@ -89,6 +92,12 @@ def _correct(prob, sig, Yp, t, S, newton: int):
     return orb if orb.residual <= ACCEPT else None
 
 
+def plausible(orb: HybridOrbit) -> bool:
+    """The necessary conditions of admissibility that cost nothing: every impact comes in (``v_c > 0``) and the
+    reaction pulls after every impact followed by a zero dwell."""
+    return bool(np.all(orb.v_impact > 0) and np.all(orb.zero_margins < 0))
+
+
 def follow(prob: Problem, sig: Signature, start: HybridOrbit, window: tuple[float, float], direction: float = 1.0,
            settings: FollowSettings | None = None) -> tuple[list[HybridOrbit], str]:
     """The curve of responses of signature ``sig`` through ``start``, in one direction of ``T``, inside ``window``.
@@ -101,14 +110,15 @@ def follow(prob: Problem, sig: Signature, start: HybridOrbit, window: tuple[floa
     nz, q, _ = layout(prob, sig)
     h = st.h0
     prev = None
+    bad = 0
     while len(out) < st.max_points:
-        S = _scale(prob, sig, Y[:-1], Y[-1])
+        S = scale_of(prob, sig, Y[:-1], Y[-1])
         _, Ja = _jac(prob, sig, Y)
         t = _tangent(Ja, S, prev, direction)
         orb = None
         while h >= st.h_min:
             Yp = Y + h * t * S
-            orb = _correct(prob, sig, Yp, t, S, st.newton)
+            orb = correct(prob, sig, Yp, t, S, st.newton)
             if orb is not None and abs(orb.T - Y[-1]) <= 0.2 * Y[-1]:
                 break
             orb = None
@@ -122,6 +132,9 @@ def follow(prob: Problem, sig: Signature, start: HybridOrbit, window: tuple[floa
             return out, END_WINDOW
         Y = np.concatenate([orb.X, [orb.T]])
         out.append(orb)
+        bad = 0 if plausible(orb) else bad + 1
+        if bad >= st.patience:
+            return out, END_INADMISSIBLE
         prev = t
         h = min(1.5 * h, st.h_max)
     return out, END_POINTS

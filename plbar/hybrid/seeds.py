@@ -8,8 +8,8 @@
 * :func:`doubled` -- at a period doubling (a multiplier through ``-1``) the orbit
   seen over two periods is a solution of the doubled signature where its
   Jacobian is singular; the branch of ``m = 2`` leaves along the null vector;
-* :func:`from_events` -- a periodic motion of a simulation (its switches over ``m``
-  periods and the state at an impact) as a guess for Newton.
+* :func:`from_motion` -- a periodic motion of a simulation (a boundary state, its switches
+  over ``m`` periods) as a guess for Newton.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from .chain import evaluate, layout
 from .signature import ZERO_DWELL, Signature
 from .solve import HybridOrbit, NotConverged, orbit_at, polish
 
-__all__ = ["zero_dwell", "doubled", "from_events"]
+__all__ = ["zero_dwell", "doubled", "from_motion"]
 
 
 def zero_dwell(prob: Problem, T: float) -> list[HybridOrbit]:
@@ -53,43 +53,98 @@ def zero_dwell(prob: Problem, T: float) -> list[HybridOrbit]:
     return out
 
 
-def doubled(prob: Problem, orb: HybridOrbit, eps=(1e-3, 1e-2, 3e-2)) -> list[HybridOrbit]:
-    """Orbits of the doubled signature near ``orb`` (at its ``T``) that are not ``orb`` itself."""
+def doubled(prob: Problem, orb: HybridOrbit, steps=(1e-3, 3e-3, 1e-2, 3e-2)) -> list[HybridOrbit]:
+    """Orbits of the doubled signature that branch off near ``orb`` (a period doubling), not ``orb`` itself.
+
+    The orbit seen over two periods solves the doubled equations; at the doubling their Jacobian
+    in ``X`` is singular and the new branch leaves along its null vector: a step along it, then Newton
+    on the equations and the plane through the predicted point normal to the step (branch switching).
+    """
+    from .follow import correct, scale_of
+
     sig2 = orb.sig.repeated(2)
     nz, q, _ = layout(prob, orb.sig)
     X1 = orb.X
     X2 = np.concatenate([X1[:nz], np.tile(X1[nz:nz + q], 2), [X1[-1]]])
+    Y0 = np.concatenate([X2, [orb.T]])
+    S = scale_of(prob, sig2, X2, orb.T)
     ch = evaluate(prob, sig2, orb.T, X2)
-    _, sv, vt = np.linalg.svd(ch.J)
-    n = vt[-1]
-    scale = np.concatenate([np.full(nz, max(np.abs(X1[:nz]).max(), 1e-12)), np.full(2 * q, orb.T), [1.0]])
+    _, _, vt = np.linalg.svd(ch.J * S[None, :-1])
+    t = np.concatenate([vt[-1], [0.0]])
     out = []
-    for e in eps:
+    for h in steps:
         for sgn in (1.0, -1.0):
-            try:
-                o = polish(prob, sig2, orb.T, X2 + sgn * e * n * scale / np.linalg.norm(n * scale))
-            except NotConverged:
+            o = correct(prob, sig2, Y0 + sgn * h * t * S, sgn * t, S)
+            if o is None:
                 continue
             d = o.durations
-            if np.max(np.abs(d[:d.size // 2] - d[d.size // 2:])) > 1e-6 * orb.T:
+            if np.max(np.abs(d[:d.size // 2] - d[d.size // 2:])) > 1e-6 * o.T:
                 out.append(o)
         if out:
             break
     return out
 
 
-def from_events(prob: Problem, sig: Signature, T: float, t_impact: float, z_after: np.ndarray, durations,
-                phi_sim: float = 0.0) -> HybridOrbit:
-    """Polish a simulated periodic motion: ``z_after`` (state I modal, just after the impact at ``t_impact``) and the
-    ``2k`` durations that follow it; the orbit's ``t = 0`` is that impact, so ``phi = phi_sim - W t_impact``."""
-    nz, q, _ = layout(prob, sig)
-    d = np.asarray(durations, float)
-    taus = [d[2 * i] for i, positive in enumerate(sig.dwell) if positive]
+def from_motion(prob: Problem, T: float, m: int, t_b: float, x_b, v_b, state_b: int, times, kinds,
+                phi: float = 0.0) -> HybridOrbit:
+    """Polish a periodic motion of a simulation into an exact orbit.
+
+    ``x_b, v_b`` (physical, contact DOF last) and ``state_b`` (0 stuck, 1 free) are the state at ``t_b``
+    (a period boundary); ``times, kinds`` the switches after it (1 opening, 2 impact), covering the first
+    impact after ``t_b`` and ``m`` periods beyond.  The state is carried by the exact flows to that
+    impact, the orbit's ``t = 0``; the switches of the next ``m`` periods give the signature and the
+    durations; Newton polishes (:func:`polish`).  Raises :class:`NotConverged` or ``ValueError``.
+    """
+    sy = prob.system
+    M = np.asarray(sy.M, float)
+    W = 2 * np.pi / T
+    times, kinds = np.asarray(times, float), np.asarray(kinds, int)
+    if state_b == 0:
+        z = np.concatenate([sy.V1.T @ M[:-1, :-1] @ x_b[:-1], sy.V1.T @ M[:-1, :-1] @ v_b[:-1]])
+    else:
+        z = np.concatenate([sy.V2.T @ M @ x_b, sy.V2.T @ M @ v_b])
+    s, t = (1 if state_b == 0 else 2), float(t_b)
+    imp = np.flatnonzero(kinds == 2)
+    if not imp.size:
+        raise ValueError("no impact after the boundary state")
+    for te, ke in zip(times[:imp[0] + 1], kinds[:imp[0] + 1]):
+        z = _carry(prob, s, z, W, t, te - t, phi)
+        t = te
+        z, s = _switch(prob, z, ke)
+    t_imp = t
+    after = times[imp[0] + 1:]
+    kinds_after = kinds[imp[0] + 1:]
+    end = t_imp + m * T
+    n = int(np.sum(after <= end + 1e-4 * T))         # a simulated motion repeats to its tolerance only
+    while n and kinds_after[n - 1] == 1:           # an opening at the end belongs to the next orbit
+        n -= 1
+    seq_t, seq_k = np.concatenate([[t_imp], after[:n]]), kinds_after[:n]
+    if not n or seq_k[-1] != 2 or np.any(seq_k[0::2] != 1) or np.any(seq_k[1::2] != 2):
+        raise ValueError("the switches after the impact are not opening/impact pairs over m periods")
+    d = np.diff(seq_t)
+    dwell = tuple(bool(x > 1e-9 * T) for x in d[0::2])
+    sig = Signature(int(m), dwell)
     var = []
-    for i, positive in enumerate(sig.dwell):
+    for i, positive in enumerate(dwell):
         if positive:
             var.append(d[2 * i])
         var.append(d[2 * i + 1])
-    phi = np.mod(phi_sim - 2 * np.pi / T * t_impact, 2 * np.pi)
-    del taus
-    return polish(prob, sig, T, np.concatenate([z_after, var, [phi]]))
+    var[-1] += end - seq_t[-1]                    # the sum is m T exactly
+    return polish(prob, sig, T, np.concatenate([z, var, [np.mod(phi - W * t_imp, 2 * np.pi)]]))
+
+
+def _carry(prob, s, z, W, t, tau, phi):
+    from ..response import segment
+
+    sy = prob.system
+    w, f = (sy.w1, prob.f1) if s == 1 else (sy.w2, prob.f2)
+    m = w.size
+    e, v = segment(w, f, W, t, tau, z[:m], z[m:], np.cos(phi), np.sin(phi))
+    return np.concatenate([e, v])
+
+
+def _switch(prob, z, kind):
+    from .chain import switch_maps
+
+    E, G = switch_maps(prob)
+    return (E @ z, 2) if kind == 1 else (G @ z, 1)

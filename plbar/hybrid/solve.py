@@ -105,7 +105,7 @@ def _energy(prob: Problem, ch: Chain, T: float, phi: float):
     sy = prob.system
     W = 2 * np.pi / T
     dpl, den, kin, vimp = 0.0, 0.0, 0.0, []
-    S = sy.impact_mass
+    S = prob.cached("impact_mass", lambda p: p.system.impact_mass)
     for seg in ch.segments:
         w, f = (sy.w1, prob.f1) if seg.state == 1 else (sy.w2, prob.f2)
         m = w.size

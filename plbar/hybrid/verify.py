@@ -48,7 +48,7 @@ def admissible(orbits, tol: float = 1e-9) -> np.ndarray:
     mmax = max(o.sig.m for o in orbits)
     T = np.array([o.T for o in orbits])
     phi = np.array([o.phi for o in orbits])
-    r = run(pad, T, phi, mmax + 1, mmax + 1, Start(np.full(B, STUCK), eta, vel))
+    r = run(pad, T, phi, mmax + 1, mmax + 1, Start(np.full(B, STUCK), eta, vel), accounts=False)
     ok = np.zeros(B, bool)
     for b, o in enumerate(orbits):
         sel = r.events["traj"] == b

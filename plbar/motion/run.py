@@ -105,8 +105,9 @@ class Run:
 class _Recorder:
     """Collects pieces, events and period boundaries while the batch runs (internal)."""
 
-    def __init__(self, pad: Padded, b: Batch, record: int):
+    def __init__(self, pad: Padded, b: Batch, record: int, accounts: bool = True):
         B, R, n = b.T.size, record, pad.n
+        self.accounts = accounts
         self.pad, self.b, self.R, self.first = pad, b, R, b.periods - R
         self.pieces: list[Pieces] = []
         self.size = 0
@@ -140,6 +141,8 @@ class _Recorder:
             self.ev.append((i, time[sel], kind[sel], loss[sel]))
 
     def add(self, pcs: Pieces):
+        if not self.accounts:
+            return
         self.pieces.append(pcs)
         self.size += len(pcs)
         if self.size >= _FLUSH:
@@ -176,7 +179,7 @@ def _check(T, phi, periods, record):
 
 
 def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 100, start: Start | None = None,
-        progress=None) -> Run:
+        progress=None, accounts: bool = True) -> Run:
     """Simulate a batch of forcing periods from ``start`` (default: at rest against the wall) and record the end.
 
     Parameters
@@ -193,6 +196,9 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
     start : Start, optional
     progress : callable, optional
         Called with the number of periods completed by the slowest trajectory.
+    accounts : bool
+        Account the pieces (work, ``Psi`` sums, amplitude); without, only events and boundary states are
+        recorded (a replay that checks the switches) and the energy budget is not closed (``work`` is 0).
 
     Returns
     -------
@@ -202,7 +208,7 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
     T, phi, periods, record = _check(T, phi, periods, record)
     s0 = start or rest(pad, T.size)
     b = Batch(pad, T, phi, periods, s0.state.copy(), s0.eta.copy(), s0.vel.copy())
-    rec = _Recorder(pad, b, record)
+    rec = _Recorder(pad, b, record, accounts)
     e0 = energy(pad, b.state, b.eta, b.vel)
     all_idx = np.arange(T.size)
     rec.boundary(all_idx, np.zeros(T.size, int), b.state, b.eta, b.vel)

@@ -7,7 +7,8 @@ From the recorded periods of a :class:`plbar.motion.Run`:
   (relative distance below ``tol``), the smallest such ``m``; otherwise
   ``irregular``; ``failed`` when the simulation stopped (a chattering contact).
   A motion that does not repeat is never forced into a periodic label.
-* **impacts and loss per forcing period**: mean, min, max, standard deviation.
+* **impacts and loss per forcing period**: mean, min, max, standard deviation (of a periodic
+  motion over whole orbits: the last ``m floor(R / m)`` recorded periods).
 * **xi_eq of the motion** (FORMULATION §8): the mean impact loss per period over
   ``2 x`` the mean per period of ``sum_alpha sum_j w_j^alpha int etadot_j^2`` over the
   segments of each state; for the paper's class this is Eq. (22).  Its spread
@@ -96,8 +97,10 @@ def periodicity(x, v, m_max: int = M_MAX, tol: float = PERIODIC_TOL):
     return best_m, best_d
 
 
-def _spread(a):
-    return a.mean(axis=1), a.min(axis=1), a.max(axis=1), a.std(axis=1)
+def _spread(a, use):
+    """Mean, min, max and standard deviation of each row over its ``use``d periods."""
+    rows = [a[b][use[b]] for b in range(a.shape[0])]
+    return tuple(np.array([f(x) for x in rows]) for f in (np.mean, np.min, np.max, np.std))
 
 
 def steady(r: Run, m_max: int = M_MAX, tol: float = PERIODIC_TOL) -> Steady:
@@ -107,15 +110,23 @@ def steady(r: Run, m_max: int = M_MAX, tol: float = PERIODIC_TOL) -> Steady:
     m, dist = periodicity(r.strobe_x, r.strobe_v, m_max, tol)
     kind = np.where(r.status != 0, 2, np.where(m > 0, 0, 1))
     m = np.where(kind == 0, m, 0)
-    loss, l_min, l_max, l_std = _spread(r.loss)
+    # a periodic motion is averaged over whole orbits: the last m floor(R / m) periods
+    R = r.record
+    use = np.ones(r.loss.shape, bool)
+    for b in np.flatnonzero(m > 1):
+        use[b, :R - m[b] * (R // m[b])] = False
+    per_T = lambda a: np.array([a[b][use[b]].mean() for b in range(a.shape[0])])  # noqa: E731
+    loss = per_T(r.loss)
+    _, l_min, l_max, l_std = _spread(r.loss, use)
     with np.errstate(divide="ignore", invalid="ignore"):
         per = np.where(r.d_eq > 0, r.loss / (2 * r.d_eq), 0.0)
-        den = r.d_eq.mean(axis=1)
+        den = per_T(r.d_eq)
         xi = np.where(den > 0, loss / (2 * den), 0.0)
         W = 2 * np.pi / r.T
-        dw = r.d_w.mean(axis=1)
+        dw = per_T(r.d_w)
         xi_w = np.where(dw > 0, loss / (2 * W * dw), 0.0)
-    _, x_min, x_max, x_std = _spread(per)
-    return Steady(r.T, kind, m, dist, r.impacts.mean(axis=1), loss, l_min, l_max, l_std, xi, x_min, x_max, x_std,
-                  xi_w, r.amp.mean(axis=1), r.amp.max(axis=1), r.stuck.sum(axis=1) / (r.record * r.T),
-                  r.work_rec.mean(axis=1), r.energy_residual)
+    _, x_min, x_max, x_std = _spread(per, use)
+    stuck = np.array([r.stuck[b][use[b]].sum() / (use[b].sum() * r.T[b]) for b in range(r.T.size)])
+    amp_max = np.array([r.amp[b][use[b]].max() for b in range(r.T.size)])
+    return Steady(r.T, kind, m, dist, per_T(r.impacts.astype(float)), loss, l_min, l_max, l_std, xi, x_min, x_max,
+                  x_std, xi_w, per_T(r.amp), amp_max, stuck, per_T(r.work_rec), r.energy_residual)

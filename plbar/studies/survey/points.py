@@ -2,10 +2,11 @@
 
 The result of a chunk is JSON-able (one dict per forcing period, the columns of
 ``survey.csv``), so a study task can return it and a checkpoint can hold it.
-Where the motion is periodic with ``m = 1``, one impact and a stuck phase of
-positive length (the paper's class), the exact response at that period is
-polished from the simulation (:func:`plbar.find_response`, the stuck time as the
-guess) and its loss and ``xi_eq`` are reported beside the simulated ones.
+Where the motion is periodic, its exact periodic response is polished from the
+simulation (:func:`plbar.hybrid.from_motion`: the state at the start of the last
+``m`` periods carried to an impact, the switches of ``m`` periods as the guess,
+Newton): its signature (``1P`` is the paper's class, ``1Z`` one impact without a
+stuck phase, ``2PZ`` ...), loss and ``xi_eq`` are reported beside the simulated ones.
 """
 
 from __future__ import annotations
@@ -14,14 +15,15 @@ import numpy as np
 
 from ...app import Case
 from ...motion import KINDS, Padded, Start, padded, run, steady
-from ...response import NoResponseError, find_response
+from ...errors import PlbarError
+from ...hybrid import from_motion
 
 __all__ = ["COLUMNS", "survey_chunk", "start_of", "start_json"]
 
 #: the columns of survey.csv, in order (the first thirteen are the issue's minimum)
 COLUMNS = ("T", "kind", "m", "impacts_per_T", "loss_per_T", "loss_min", "loss_max", "xi_eq", "xi_min", "xi_max",
            "xi_w", "amp_c", "stuck_fraction", "loss_std", "xi_std", "amp_c_max", "work_per_T", "distance",
-           "energy_residual", "exact_loss", "exact_xi", "exact_T1", "status")
+           "energy_residual", "exact_loss", "exact_xi", "signature", "status")
 
 
 def start_json(s: Start, i: int) -> dict:
@@ -35,15 +37,22 @@ def start_of(rows: list[dict]) -> Start:
                  np.array([r["vel"] for r in rows], float))
 
 
-def _polish(prob, T: float, stuck: float, loss: float) -> dict:
-    """The exact response of the paper's class at ``T`` nearest the simulated stuck time (or empty fields)."""
+def _polish(prob, r, b: int, m: int, loss: float) -> dict:
+    """The exact orbit of trajectory ``b``'s periodic motion (or no fields if Newton does not get there)."""
+    first = r.periods - r.record
+    sel = r.events["traj"] == b
+    te, ke = r.events["time"][sel], r.events["kind"][sel]
+    T = float(r.T[b])
+    t_b = first * T
+    after = te >= t_b
     try:
-        r = find_response(prob, T, stuck)
-    except (NoResponseError, ValueError, ArithmeticError):
+        o = from_motion(prob, T, m, t_b, r.strobe_x[b, 0], r.strobe_v[b, 0], int(r.strobe_state[b, 0]), te[after],
+                        ke[after], float(r.phi[b]))
+    except (PlbarError, ValueError, np.linalg.LinAlgError):
         return {}
-    if not abs(r.dPL - loss) <= 1e-3 * max(loss, 1e-300):
-        return {}                          # another response of the class: not the one simulated
-    return {"exact_loss": float(r.dPL), "exact_xi": float(r.xi), "exact_T1": float(r.T1)}
+    if not abs(o.loss_per_T - loss) <= 1e-5 * max(loss, 1e-300):
+        return {}                                 # Newton went to another orbit: not the motion simulated
+    return {"exact_loss": float(o.loss_per_T), "exact_xi": float(o.xi), "signature": str(o.sig.canonical())}
 
 
 def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None = None, pad: Padded | None = None,
@@ -67,8 +76,8 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
     rows = []
     for i in range(T.size):
         row = {c: float(getattr(s, c)[i]) for c in COLUMNS if hasattr(s, c) and c not in ("kind", "m")}
-        row.update(kind=KINDS[int(s.kind[i])], m=int(s.m[i]), status=int(r.status[i]))
-        if row["kind"] == "periodic" and row["m"] == 1 and row["impacts_per_T"] == 1 and row["stuck_fraction"] > 0:
-            row.update(_polish(prob, float(T[i]), row["stuck_fraction"] * float(T[i]), row["loss_per_T"]))
+        row.update(kind=KINDS[int(s.kind[i])], m=int(s.m[i]), status=int(r.status[i]), signature="")
+        if row["kind"] == "periodic":
+            row.update(_polish(prob, r, i, row["m"], row["loss_per_T"]))
         rows.append(row)
     return rows, r.final

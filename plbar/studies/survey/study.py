@@ -26,7 +26,7 @@ __all__ = ["Survey", "survey", "run_survey", "survey_study", "SURVEY_OWNED", "ch
 SURVEY_OWNED = ("survey.csv", "summary.json", "survey.png", "survey.pdf", "study.json", "tasks", "sweeps")
 
 _INT = ("m", "status")
-_TEXT = ("kind", "start")
+_TEXT = ("kind", "start", "signature")
 
 
 @dataclass(frozen=True)
