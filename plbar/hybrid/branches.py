@@ -7,6 +7,8 @@
    signature (``m = 2``, then ``m = 4``), on the branches of the paper's class (their events,
    :func:`plbar.find_paths`) and on the branches found here;
 4. a stuck phase shrinking to zero continues in the signature with that pair of zero dwell;
+   where a branch stops being admissible (a premature switch), the switches the bar makes
+   instead seed the neighbouring signature (:func:`.seeds.split`), on the paper's branches too;
 5. any extra seeds (a survey's periodic motions: :func:`.seeds.from_events`).
 
 Every curve is followed both ways in ``T`` (:func:`.follow.follow`), each point is
@@ -27,7 +29,7 @@ from ..paths import FOLD_T, NEIMARK_SACKER, PERIOD_DOUBLING
 from ..util.reprs import build, count, rng
 from .floquet import monodromy, multipliers
 from .follow import END_DWELL, FollowSettings, follow
-from .seeds import doubled, zero_dwell
+from .seeds import doubled, split, zero_dwell
 from .signature import PAPER, Signature
 from .solve import HybridOrbit, NotConverged, orbit_at, polish
 from .verify import admissible
@@ -129,17 +131,21 @@ def _events(orbs, mus) -> list[dict]:
 
 
 def _known(curves, orb: HybridOrbit) -> bool:
-    """Is ``orb`` on a curve already followed (same canonical signature, same loss at a nearby T)?"""
+    """Is ``orb`` on a curve already followed (same canonical signature; its loss on the curve's piecewise
+    linear interpolation at its ``T``, between two neighbouring points)?"""
     lab = str(orb.sig.canonical())
     for sig, orbs in curves:
-        if str(sig.canonical()) != lab:
+        if str(sig.canonical()) != lab or len(orbs) < 2:
             continue
         T = np.array([o.T for o in orbs])
         L = np.array([o.loss_per_T for o in orbs])
-        j = np.argsort(np.abs(T - orb.T))[:2]
-        if np.any((np.abs(T[j] - orb.T) < 0.02 * orb.T) & (np.abs(L[j] - orb.loss_per_T) <= 1e-3 * max(
-                orb.loss_per_T, 1e-12) + 1e-6 * np.abs(L).max())):
-            return True
+        a, b = T[:-1], T[1:]
+        inside = (np.minimum(a, b) <= orb.T) & (orb.T <= np.maximum(a, b))
+        for i in np.flatnonzero(inside):
+            w = 0.0 if b[i] == a[i] else (orb.T - a[i]) / (b[i] - a[i])
+            Li = L[i] + w * (L[i + 1] - L[i])
+            if abs(Li - orb.loss_per_T) <= 1e-2 * abs(L[i + 1] - L[i]) + 1e-6 * max(abs(orb.loss_per_T), 1e-12):
+                return True
     return False
 
 
@@ -200,21 +206,40 @@ def _paper_doublings(prob, paper_branches) -> list[HybridOrbit]:
     return out
 
 
+def _paper_ends(prob, paper_branches, window, st) -> list[HybridOrbit]:
+    """Seeds beyond the ends of the paper's branches: a few continuation steps out, then :func:`.seeds.split`."""
+    out = []
+    short = FollowSettings(h0=st.h0, h_min=st.h_min, h_max=st.h_max, max_points=4, newton=st.newton)
+    for b in paper_branches:
+        o = b.orbits
+        for i in {0, len(b) - 1}:
+            X = np.concatenate([o.eta0[i], o.v0[i], [o.T1[i], o.T2[i], o.phi[i]]])
+            orb = orbit_at(prob, PAPER, float(o.T[i]), X)
+            for direction in (1.0, -1.0):
+                orbs, _ = follow(prob, PAPER, orb, window, direction, short)
+                ok = admissible(orbs[1:])
+                bad = [x for x, a in zip(orbs[1:], ok) if not a]
+                if bad:
+                    out.extend(split(prob, bad[0]))
+    return out
+
+
 def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), extra_seeds=(),
                 kinds: str = "default", grid: int = 400, settings: FollowSettings | None = None) -> list[HybridBranch]:
     """Branches of every signature but the paper's class reachable from the seeds (see the module docstring).
 
-    ``paper_branches`` are the branches of :func:`plbar.find_paths` (their period doublings seed ``m = 2``),
-    ``extra_seeds`` any other orbits.  ``kinds = "paper"`` returns nothing.
+    ``paper_branches`` are the branches of :func:`plbar.find_paths` (their period doublings and ends seed
+    other signatures), ``extra_seeds`` any other orbits.  ``kinds = "paper"`` returns nothing.
     """
     if kinds == "paper":
         return []
     st = settings or FollowSettings()
-    queue = list(_zero_dwell_seeds(prob, window, grid)) + _paper_doublings(prob, paper_branches) + list(extra_seeds)
+    queue = list(_zero_dwell_seeds(prob, window, grid)) + _paper_doublings(prob, paper_branches) + \
+        _paper_ends(prob, paper_branches, window, st) + list(extra_seeds)
     curves, branches = [], []
     while queue:
         orb = queue.pop(0)
-        if orb.sig == PAPER or _known(curves, orb):
+        if orb.sig == PAPER or orb.sig.m > M_MAX or _known(curves, orb):
             continue
         orbs, ends = _curve(prob, orb, window, st)
         curves.append((orb.sig, orbs))
@@ -229,6 +254,9 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
         for end, o in zip(ends, (orbs[0], orbs[-1])):
             if end == END_DWELL:
                 queue.extend(_dwell_transition(prob, o))
+        for j in np.flatnonzero(ok[1:] != ok[:-1]):          # the first inadmissible point past each run
+            k = j + 1 if ok[j] else j
+            queue.extend(split(prob, orbs[k]))
         branches.extend(_admissible_runs(orbs, ok, mus, ev, len(branches)))
     return branches
 

@@ -38,12 +38,12 @@ END_INADMISSIBLE = "inadmissible"   #: :attr:`FollowSettings.patience` points in
 class FollowSettings:
     """Step control of :func:`follow` (scaled arclength; ``h`` relative to the period)."""
 
-    h0: float = 0.01
+    h0: float = 0.02
     h_min: float = 1e-6
-    h_max: float = 0.02
+    h_max: float = 0.15
     max_points: int = 600
     newton: int = 8
-    patience: int = 25        #: stop after this many points in a row that fail the necessary conditions
+    patience: int = 8        #: stop after this many points in a row that fail the necessary conditions
 
 
 def scale_of(prob: Problem, sig: Signature, X: np.ndarray, T: float) -> np.ndarray:
@@ -55,8 +55,8 @@ def scale_of(prob: Problem, sig: Signature, X: np.ndarray, T: float) -> np.ndarr
 def _jac(prob, sig, Y):
     X, T = Y[:-1], Y[-1]
     ch = evaluate(prob, sig, T, X)
-    h = 1e-6 * T
-    dT = (evaluate(prob, sig, T + h, X, jac=False).F - evaluate(prob, sig, T - h, X, jac=False).F) / (2 * h)
+    h = 1e-7 * T
+    dT = (evaluate(prob, sig, T + h, X, jac=False).F - ch.F) / h
     return ch, np.hstack([ch.J, dT[:, None]])
 
 
@@ -69,22 +69,46 @@ def _tangent(Ja: np.ndarray, S: np.ndarray, prev: np.ndarray | None, direction: 
     return t if ref >= 0 else -t
 
 
-def correct(prob, sig, Yp, t, S, newton: int = 8):
-    """Newton on ``F = 0`` and ``t . (Y - Yp) = 0`` (scaled); the orbit or None."""
+def correct(prob, sig, Yp, t, S, newton: int = 8, Ja: np.ndarray | None = None):
+    """Newton on ``F = 0`` and ``t . (Y - Yp) = 0`` (scaled); the orbit or None.
+
+    With ``Ja`` (the augmented Jacobian at the last point) the corrector is a chord method: that
+    matrix is factorised once and every iteration evaluates only the residuals.
+    """
+    from scipy.linalg import lu_factor, lu_solve
+
     Y = Yp.copy()
     nz, q, _ = layout(prob, sig)
-    for _ in range(newton):
+    lu = None
+    ch = None
+    last = np.inf
+    for it in range(2 * newton if Ja is not None else newton):
         if np.any(Y[nz:nz + q] <= 0) or Y[-1] <= 0:
             return None
-        ch, Ja = _jac(prob, sig, Y)
+        if Ja is None or lu is None and it > 0:
+            ch, J = _jac(prob, sig, Y)
+            A = np.vstack([J, (t / S)[None, :]])
+            lu = lu_factor(A, check_finite=False)
+        elif lu is None:
+            lu = lu_factor(np.vstack([Ja, (t / S)[None, :]]), check_finite=False)
+            ch = evaluate(prob, sig, Y[-1], Y[:-1], jac=False)
+        else:
+            ch = evaluate(prob, sig, Y[-1], Y[:-1], jac=False)
         G = np.concatenate([ch.F, [t @ ((Y - Yp) / S)]])
-        A = np.vstack([Ja, (t / S)[None, :]])
-        try:
-            dY = np.linalg.solve(A, -G)
-        except np.linalg.LinAlgError:
+        dY = lu_solve(lu, -G, check_finite=False)
+        if not np.all(np.isfinite(dY)):
             return None
+        size = np.max(np.abs(dY) / S)
+        if Ja is not None and size > 0.5 * last:                  # the chord stalls: a fresh Jacobian
+            lu = None
+            if it > newton:
+                return None
+        last = size
+        if size < 1e-13 and ch.J is None:              # converged at Y, whose residuals are in hand
+            orb = orbit_at(prob, sig, Y[-1], Y[:-1], ch)
+            return orb if orb.residual <= ACCEPT else None
         Y = Y + dY
-        if np.max(np.abs(dY) / S) < 1e-13:
+        if size < 1e-13:
             break
     if np.any(Y[nz:nz + q] <= 0) or Y[-1] <= 0:
         return None
@@ -118,7 +142,7 @@ def follow(prob: Problem, sig: Signature, start: HybridOrbit, window: tuple[floa
         orb = None
         while h >= st.h_min:
             Yp = Y + h * t * S
-            orb = correct(prob, sig, Yp, t, S, st.newton)
+            orb = correct(prob, sig, Yp, t, S, st.newton, Ja)
             if orb is not None and abs(orb.T - Y[-1]) <= 0.2 * Y[-1]:
                 break
             orb = None

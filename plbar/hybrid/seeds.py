@@ -8,6 +8,9 @@
 * :func:`doubled` -- at a period doubling (a multiplier through ``-1``) the orbit
   seen over two periods is a solution of the doubled signature where its
   Jacobian is singular; the branch of ``m = 2`` leaves along the null vector;
+* :func:`split` -- where an orbit stops being admissible (a premature switch: the free flight
+  grazes the wall, the reaction touches zero), the switches that the bar makes instead,
+  replayed from its state, give the neighbouring signature (one more pair) and its guess;
 * :func:`from_motion` -- a periodic motion of a simulation (a boundary state, its switches
   over ``m`` periods) as a guess for Newton.
 """
@@ -21,7 +24,7 @@ from .chain import evaluate, layout
 from .signature import ZERO_DWELL, Signature
 from .solve import HybridOrbit, NotConverged, orbit_at, polish
 
-__all__ = ["zero_dwell", "doubled", "from_motion"]
+__all__ = ["zero_dwell", "doubled", "from_motion", "split"]
 
 
 def zero_dwell(prob: Problem, T: float) -> list[HybridOrbit]:
@@ -148,3 +151,43 @@ def _switch(prob, z, kind):
 
     E, G = switch_maps(prob)
     return (E @ z, 2) if kind == 1 else (G @ z, 1)
+
+
+def split(prob: Problem, orb: HybridOrbit) -> list[HybridOrbit]:
+    """The orbit of the signature the bar follows from ``orb``'s state when ``orb`` is not admissible.
+
+    Replays ``orb`` (its state just after its last impact, its load phase) with the certified simulator
+    for ``m`` periods; the switches met, one more pair where the orbit switched prematurely, are the
+    guess; Newton polishes.  Empty if the replay does not end with an impact near ``m T``, or Newton fails.
+    """
+    from ..motion import STUCK, Start, padded, run
+
+    pad = padded(prob)
+    m1 = prob.system.w1.size
+    eta, vel = np.zeros((1, pad.m)), np.zeros((1, pad.m))
+    eta[0, :m1], vel[0, :m1] = orb.z0[:m1], orb.z0[m1:]
+    m = orb.sig.m
+    r = run(pad, [orb.T], [orb.phi], m + 1, m + 1, Start(np.array([STUCK]), eta, vel), accounts=False)
+    te, ke = r.events["time"], r.events["kind"]
+    end = m * orb.T
+    n = int(np.sum(te <= end * (1 + 1e-3)))
+    while n and ke[n - 1] == 1:
+        n -= 1
+    if n < 2 or ke[n - 1] != 2 or abs(te[n - 1] - end) > 0.05 * orb.T or np.any(ke[:n][0::2] != 1) or \
+            np.any(ke[:n][1::2] != 2):
+        return []
+    d = np.diff(np.concatenate([[0.0], te[:n]]))
+    dwell = tuple(bool(x > 1e-9 * orb.T) for x in d[0::2])
+    sig = Signature(m, dwell)
+    if sig == orb.sig:
+        return []
+    var = []
+    for i, positive in enumerate(dwell):
+        if positive:
+            var.append(d[2 * i])
+        var.append(d[2 * i + 1])
+    var[-1] += end - te[n - 1]
+    try:
+        return [polish(prob, sig, orb.T, np.concatenate([orb.z0, var, [orb.phi]]))]
+    except NotConverged:
+        return []

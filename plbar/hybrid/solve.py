@@ -12,6 +12,7 @@ period (``loss_per_T``); ``xi_eq`` of Eq. (22) over all its segments
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -45,15 +46,15 @@ class HybridOrbit:
         ``tau^I_1, tau^II_1, ..., tau^I_k, tau^II_k`` (zero for a zero dwell); they sum to ``m T``.
     residual : float
         Largest relative residual recomputed from the flow.
-    dPL : float
-        Impact loss over the orbit (``m`` periods), the sum of ``S v_c^2 / 2`` over its impacts.
-    loss_per_T, xi, xi_w : float
-        ``dPL / m``; ``xi_eq`` (Eq. (22) over all segments); ``xi_w`` (one frequency, the forcing's).
     v_impact : ndarray, shape (k,)
         Contact velocity just before each impact (> 0).
     zero_margins : ndarray
         ``-R`` just after each impact followed by a zero dwell (< 0).
     chain : Chain
+
+    ``dPL`` (impact loss over the orbit, ``m`` periods: the sum of ``S v_c^2 / 2`` over its impacts,
+    Eq. (14)), ``loss_per_T = dPL / m``, ``xi`` (``xi_eq``, Eq. (22) over all segments) and ``xi_w``
+    (one frequency, the forcing's) are computed on first access.
     """
 
     prob: Problem
@@ -63,10 +64,6 @@ class HybridOrbit:
     X: np.ndarray
     durations: np.ndarray
     residual: float
-    dPL: float
-    loss_per_T: float
-    xi: float
-    xi_w: float
     v_impact: np.ndarray
     zero_margins: np.ndarray
     chain: Chain
@@ -74,6 +71,29 @@ class HybridOrbit:
     @property
     def z0(self) -> np.ndarray:
         return self.X[:2 * self.prob.system.w1.size]
+
+    @property
+    def dPL(self) -> float:
+        S = self.prob.cached("impact_mass", lambda p: p.system.impact_mass)
+        return float(0.5 * S * np.sum(self.v_impact ** 2))
+
+    @property
+    def loss_per_T(self) -> float:
+        return self.dPL / self.sig.m
+
+    @cached_property
+    def _psi(self) -> tuple[float, float]:
+        return _psi_sums(self.prob, self.chain, self.T, float(self.X[-1]))
+
+    @property
+    def xi(self) -> float:
+        den = self._psi[0]
+        return self.dPL / (2 * den) if den > 0 else 0.0
+
+    @property
+    def xi_w(self) -> float:
+        kin = self._psi[1]
+        return self.dPL / (2 * (2 * np.pi / self.T) * kin) if kin > 0 else 0.0
 
     def __repr__(self) -> str:
         return build("HybridOrbit", {"sig": str(self.sig), "T": self.T, "phi": self.phi,
@@ -100,36 +120,31 @@ def durations_of(sig: Signature, X: np.ndarray, nz: int) -> np.ndarray:
     return np.array(out, float)
 
 
-def _energy(prob: Problem, ch: Chain, T: float, phi: float):
-    """``dPL``, ``sum w Psi``, ``sum Psi`` and the impact velocities of an evaluated chain."""
+def _psi_sums(prob: Problem, ch: Chain, T: float, phi: float) -> tuple[float, float]:
+    """``sum_j w_j Psi_j`` and ``sum_j Psi_j`` over every segment of an evaluated chain (Eqs. (20)-(21))."""
     sy = prob.system
     W = 2 * np.pi / T
-    dpl, den, kin, vimp = 0.0, 0.0, 0.0, []
-    S = prob.cached("impact_mass", lambda p: p.system.impact_mass)
+    den, kin = 0.0, 0.0
     for seg in ch.segments:
         w, f = (sy.w1, prob.f1) if seg.state == 1 else (sy.w2, prob.f2)
         m = w.size
         p, _ = psi(w, f, W, seg.t0, seg.tau, seg.z0[:m], seg.z0[m:], np.cos(phi), np.sin(phi))
         den += float(p @ w)
         kin += float(np.sum(p))
-        if seg.state == 2:
-            vc = float(sy.gap_row @ seg.z1[m:])
-            vimp.append(vc)
-            dpl += 0.5 * S * vc * vc
-    return dpl, den, kin, np.array(vimp)
+    return den, kin
 
 
 def orbit_at(prob: Problem, sig: Signature, T: float, X, ch: Chain | None = None) -> HybridOrbit:
-    """The :class:`HybridOrbit` of unknowns ``X`` (residuals recomputed here, not trusted)."""
+    """The :class:`HybridOrbit` of unknowns ``X`` (residuals recomputed from the flow, or taken from ``ch``,
+    an evaluation of the same ``X`` without Jacobian)."""
     X = np.asarray(X, float)
     ch = ch if ch is not None and ch.J is None else evaluate(prob, sig, T, X, jac=False)
     nz, q, _ = layout(prob, sig)
     res = float(np.max(np.abs(ch.F) / _scales(prob, ch, X, nz, q, T)))
-    dpl, den, kin, vimp = _energy(prob, ch, T, float(X[-1]))
-    W = 2 * np.pi / T
+    m2 = prob.system.w2.size
+    vimp = np.array([float(prob.system.gap_row @ seg.z1[m2:]) for seg in ch.segments if seg.state == 2])
     return HybridOrbit(prob, sig, float(T), float(np.mod(X[-1], 2 * np.pi)), X, durations_of(sig, X, nz), res,
-                       dpl, dpl / sig.m, dpl / (2 * den) if den > 0 else 0.0,
-                       dpl / (2 * W * kin) if kin > 0 else 0.0, vimp, ch.zero_margins, ch)
+                       vimp, ch.zero_margins, ch)
 
 
 def polish(prob: Problem, sig: Signature, T: float, X0, maxit: int = 30) -> HybridOrbit:

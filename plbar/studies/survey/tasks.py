@@ -38,7 +38,7 @@ def case_fields(case: Case) -> dict:
         d.pop("n", None)
         d.pop("length", None)
         d.pop("grading", None)
-    for k in ("grid", "T1", "T2", "method"):
+    for k in ("grid", "T1", "T2", "method", "signatures"):
         d.pop(k, None)
     return d
 
