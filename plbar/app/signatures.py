@@ -17,10 +17,8 @@ import numpy as np
 from ..hybrid import NotConverged, find_hybrid, from_motion
 from ..motion import padded, run, steady
 from ..paths import Paths
-from ..response import segment
 
-__all__ = ["hybrid_branches", "hybrid_window", "hybrid_rows", "hybrid_summary", "orbit_amplitude",
-           "simulated_seeds", "SEED_PERIODS"]
+__all__ = ["hybrid_branches", "hybrid_window", "hybrid_rows", "hybrid_summary", "simulated_seeds", "SEED_PERIODS"]
 
 SEED_PERIODS = (41, 300, 30)   #: forcing periods, periods simulated, periods recorded of the seeding simulation
 
@@ -61,23 +59,6 @@ def hybrid_branches(paths: Paths, kinds: str) -> list:
     return find_hybrid(paths.prob, window, paths.branches, extra, kinds=kinds)
 
 
-def orbit_amplitude(orb, samples: int = 200) -> float:
-    """``max |x_c|`` over the orbit (sampled on every free phase, as :func:`plbar.visuals.contact_amplitude`)."""
-    prob = orb.prob
-    sy = prob.system
-    m = sy.w2.size
-    W = 2 * np.pi / orb.T
-    best = 0.0
-    for seg in orb.chain.segments:
-        if seg.state != 2:
-            continue
-        u = np.linspace(0.0, seg.tau, samples)
-        e, _ = segment(sy.w2, prob.f2, W, seg.t0, u[:, None], seg.z0[:m], seg.z0[m:], np.cos(orb.phi),
-                       np.sin(orb.phi))
-        best = max(best, float(np.abs(e @ sy.gap_row).max()))
-    return best
-
-
 def hybrid_rows(branches, first_id: int) -> dict:
     """The ``paths.csv`` columns of the hybrid branches (ids from ``first_id``)."""
     cols: dict = {}
@@ -87,7 +68,7 @@ def hybrid_rows(branches, first_id: int) -> dict:
             row = {"branch": first_id + j, "T1": float(d[0::2].sum()), "T2": float(d[1::2].sum()),
                    "phi": o.phi, "T": o.T, "dPL": o.dPL, "xi": o.xi, "grazing": 0, "omega": 2 * np.pi / o.T,
                    "xi_w": o.xi_w, "m": o.sig.m, "k": o.sig.k, "signature": b.label, "loss_per_T": o.loss_per_T,
-                   "durations": ";".join(f"{x:.17g}" for x in d), "max_abs_xc": orbit_amplitude(o)}
+                   "durations": ";".join(f"{x:.17g}" for x in d), "max_abs_xc": o.amplitude}
             for k, v in row.items():
                 cols.setdefault(k, []).append(v)
         for k, v in (("stable", b.stable.astype(int)), ("max_abs_multiplier", b.max_abs_multiplier)):

@@ -21,7 +21,7 @@ import numpy as np
 from ..model import Problem
 from .chain import evaluate, layout
 from .signature import Signature
-from .solve import ACCEPT, HybridOrbit, orbit_at
+from .solve import ACCEPT, ROUNDOFF, HybridOrbit, NotConverged, orbit_at, polish
 
 __all__ = ["FollowSettings", "follow", "END_WINDOW", "END_DWELL", "END_FREE", "END_FAILED", "END_POINTS", "END_INADMISSIBLE",
            "plausible", "correct", "scale_of"]
@@ -105,15 +105,25 @@ def correct(prob, sig, Yp, t, S, newton: int = 8, Ja: np.ndarray | None = None):
                 return None
         last = size
         if size < 1e-13 and ch.J is None:              # converged at Y, whose residuals are in hand
-            orb = orbit_at(prob, sig, Y[-1], Y[:-1], ch)
-            return orb if orb.residual <= ACCEPT else None
+            return _final(prob, sig, orbit_at(prob, sig, Y[-1], Y[:-1], ch))
         Y = Y + dY
         if size < 1e-13:
             break
     if np.any(Y[nz:nz + q] <= 0) or Y[-1] <= 0:
         return None
-    orb = orbit_at(prob, sig, Y[-1], Y[:-1])
-    return orb if orb.residual <= ACCEPT else None
+    return _final(prob, sig, orbit_at(prob, sig, Y[-1], Y[:-1]))
+
+
+def _final(prob, sig, orb: HybridOrbit):
+    """``orb`` if its residual is at round-off (after a Newton polish at its T if need be), else None."""
+    if orb.residual <= ROUNDOFF:
+        return orb
+    if orb.residual > ACCEPT:
+        return None
+    try:
+        return polish(prob, sig, orb.T, orb.X)
+    except NotConverged:
+        return None
 
 
 def plausible(orb: HybridOrbit) -> bool:

@@ -18,14 +18,15 @@ import numpy as np
 
 from ..errors import PlbarError
 from ..model import Problem
-from ..response import psi
+from ..response import psi, segment
 from ..util.reprs import build
 from .chain import Chain, evaluate, layout
 from .signature import Signature
 
-__all__ = ["HybridOrbit", "NotConverged", "polish", "orbit_at", "ACCEPT"]
+__all__ = ["HybridOrbit", "NotConverged", "polish", "orbit_at", "ACCEPT", "ROUNDOFF"]
 
-ACCEPT = 1e-11     #: largest relative residual of an accepted orbit
+ACCEPT = 1e-11     #: largest relative residual Newton accepts as converged
+ROUNDOFF = 1e-13   #: the residual every reported orbit reaches (polish tightens to it)
 
 
 class NotConverged(PlbarError):
@@ -95,6 +96,22 @@ class HybridOrbit:
         kin = self._psi[1]
         return self.dPL / (2 * (2 * np.pi / self.T) * kin) if kin > 0 else 0.0
 
+    @cached_property
+    def amplitude(self) -> float:
+        """``max |x_c|`` over the orbit, sampled on every free phase (200 points each, as the paper's class)."""
+        prob = self.prob
+        sy = prob.system
+        m = sy.w2.size
+        W = 2 * np.pi / self.T
+        best = 0.0
+        for seg in self.chain.segments:
+            if seg.state == 2:
+                u = np.linspace(0.0, seg.tau, 200)
+                e, _ = segment(sy.w2, prob.f2, W, seg.t0, u[:, None], seg.z0[:m], seg.z0[m:], np.cos(self.phi),
+                               np.sin(self.phi))
+                best = max(best, float(np.abs(e @ sy.gap_row).max()))
+        return best
+
     def __repr__(self) -> str:
         return build("HybridOrbit", {"sig": str(self.sig), "T": self.T, "phi": self.phi,
                                      "durations": np.array2string(self.durations, precision=5),
@@ -162,7 +179,7 @@ def polish(prob: Problem, sig: Signature, T: float, X0, maxit: int = 30) -> Hybr
         ch = evaluate(prob, sig, T, X)
         sc = _scales(prob, ch, X, nz, q, T)
         r = np.max(np.abs(ch.F) / sc)
-        if r <= ACCEPT * 1e-2:
+        if r <= ROUNDOFF:
             break
         try:
             dX = np.linalg.solve(ch.J, -ch.F)
@@ -178,6 +195,6 @@ def polish(prob: Problem, sig: Signature, T: float, X0, maxit: int = 30) -> Hybr
             lam *= 0.5
         X = Xn
     orb = orbit_at(prob, sig, T, X)
-    if not orb.residual <= ACCEPT or np.any(X[nz:nz + q] <= 0):
+    if not orb.residual <= 10 * ROUNDOFF or np.any(X[nz:nz + q] <= 0):
         raise NotConverged(f"{sig} at T = {T:.12g}: residual {orb.residual:.2e} after Newton")
     return orb
