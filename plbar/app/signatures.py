@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..hybrid import NotConverged, find_hybrid, from_motion
+from ..hybrid import NotConverged, canonical, find_hybrid, from_motion
 from ..motion import padded, run, steady
 from ..paths import Paths
 
@@ -64,9 +64,9 @@ def hybrid_rows(branches, first_id: int) -> dict:
     cols: dict = {}
     for j, b in enumerate(branches):
         for o in b.orbits:
-            d = o.durations
+            _, d, phi = canonical(o)                 # the durations and phase of the canonical rotation
             row = {"branch": first_id + j, "T1": float(d[0::2].sum()), "T2": float(d[1::2].sum()),
-                   "phi": o.phi, "T": o.T, "dPL": o.dPL, "xi": o.xi, "grazing": 0, "omega": 2 * np.pi / o.T,
+                   "phi": phi, "T": o.T, "dPL": o.dPL, "xi": o.xi, "grazing": 0, "omega": 2 * np.pi / o.T,
                    "xi_w": o.xi_w, "m": o.sig.m, "k": o.sig.k, "signature": b.label, "loss_per_T": o.loss_per_T,
                    "durations": ";".join(f"{x:.17g}" for x in d), "max_abs_xc": o.amplitude}
             for k, v in row.items():

@@ -5,7 +5,7 @@ For every forcing period of a survey where the motion from rest is periodic with
 result of a solve with the default signatures, and polish that branch's nearest point to the survey's
 ``T``: covered if its loss per period equals the survey's exact loss (1e-6) and it is stable.
 
-    python tests/bench/coverage.py [survey.csv of the same case] [--fe]
+    plbar survey --out SURVEY && python tests/bench/coverage.py SURVEY/survey.csv [--all]
 """
 
 from __future__ import annotations
@@ -56,12 +56,13 @@ def covered(res, T: float, label: str, loss: float):
 def main(argv):
     import csv
 
-    rows = list(csv.DictReader(open(argv[0]))) if argv else None
+    rows = list(csv.DictReader(open(argv[0])))
     import time
 
     t0 = time.perf_counter()
-    res = plbar.solve(plbar.Case(), signatures="default")
-    print(f"solve with the default signatures: {time.perf_counter() - t0:.1f} s")
+    kinds = "all" if "--all" in argv else "default"
+    res = plbar.solve(plbar.Case(signatures=kinds))
+    print(f"solve with the {kinds} signatures: {time.perf_counter() - t0:.1f} s")
     tot, hit, table = 0, 0, []
     for r in rows:
         if r["kind"] != "periodic" or int(r["m"]) > 4 or not r["signature"]:
