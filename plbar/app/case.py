@@ -68,10 +68,12 @@ class Case:
         How branches are built from the scan (:func:`plbar.find_paths`).
     signatures : {"paper", "default", "all"}
         Which periodic responses to find: the paper's class only (one stuck phase, one impact per
-        period; the default, as fast as before); ``"default"``: also every signature reached from it without a simulation (the
-        zero-dwell class, period doublings up to ``m = 4``, the neighbouring signatures where a
-        branch stops being admissible: :func:`plbar.hybrid.find_hybrid`); ``"all"``: also the
-        periodic motions of a short simulation from rest at 41 forcing periods, polished and followed.
+        period; the default, as fast as before); ``"default"``: every signature found without the
+        user (the zero-dwell class, period doublings up to ``m = 4``, the neighbouring signatures
+        where a branch stops being admissible, and the periodic motions of a simulation from rest at
+        81 forcing periods, 600 periods each: :func:`plbar.hybrid.find_hybrid`), about 30x the
+        time; ``"all"``: the same with the survey's simulation (161 periods, 1,000 each) and orbits
+        up to ``m = 8``.
     modes : int, optional
         Keep only the lowest ``modes`` modes of each state (modal truncation,
         for fine meshes; check it with :func:`plbar.system.truncation_check`).
