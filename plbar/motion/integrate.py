@@ -39,6 +39,7 @@ MAX_ZERO = 50       #: consecutive zero-length segments before a trajectory is s
 MAX_STALL = 5000    #: rounds without an event or a period boundary before a trajectory is stopped as stalled
 CAP = 0.25          #: longest step, in forcing periods (the remainder bound is taken over it)
 ORDER = 8           #: order of the Taylor model of the margin
+DEEP_MAX = 40       #: highest order of the deep model (where no derivative up to ORDER is significant)
 
 
 @dataclass
@@ -96,7 +97,7 @@ def _certify(b: Batch, idx, eta, vel, K: int):
     cap = np.minimum(CAP * b.T[idx], np.maximum(b.T[idx] - t, 0.0))
     d, rem, scale, Om = taylor(pad.c[st], pad.rq[st], pad.w[st], pad.f[st], eta, vel, b.W[idx], t, b.phi[idx],
                                cap, K)
-    event, v, found = decide_step(d, rem, scale, Om * cap)
+    event, v, found = decide_step(d, rem, scale, Om * cap, pad.size[st])
     return event, np.where(found, v / Om, -1.0)
 
 
@@ -105,13 +106,13 @@ def decide(b: Batch, idx):
 
     A Taylor model of order :data:`ORDER` decides; where no derivative up to it
     is significant (a bar started at rest, loaded far from its contact) one of
-    order ``2 m + 4`` does; where that fails too, a tiny step.
+    order ``min(2 m + 4, DEEP_MAX)`` does; where that fails too, a tiny step.
     """
     eta, vel = b.flow(idx, b.p[idx])
     event, step = _certify(b, idx, eta, vel, ORDER)
     deep = np.flatnonzero(step < 0)
     if deep.size:
-        ev, stp = _certify(b, idx[deep], eta[deep], vel[deep], 2 * b.pad.m + 4)
+        ev, stp = _certify(b, idx[deep], eta[deep], vel[deep], min(2 * b.pad.m + 4, DEEP_MAX))
         event[deep], step[deep] = ev, stp
     step = np.where(step > 0, step, TINY * b.T[idx])
     new_p = b.p[idx] + step

@@ -49,6 +49,9 @@ class Padded:
     truncated : bool
         True for a modally truncated system (the loss is then the modal one, see
         :class:`plbar.errors.TruncationWarning`).
+    size : ndarray, shape (2,)
+        The margin's own size in each state, ``sum_j |c_j f_j| / w_j^2 + |rq|`` (the static response to
+        the load's amplitude): the floor of its round-off level (a bar at rest has no size of its own).
     """
 
     w: np.ndarray
@@ -62,6 +65,7 @@ class Padded:
     S: float
     V: np.ndarray
     truncated: bool
+    size: np.ndarray
 
     @property
     def m(self) -> int:
@@ -93,5 +97,6 @@ def padded(prob: Problem) -> Padded:
     V[0, :-1, :m1] = s.V1
     V[1, :, :m2] = s.V2
     S = float("nan") if s.truncated else s.impact_mass
+    size = np.sum(np.abs(c * f) / (w * w), axis=1) + np.abs(rq)
     return Padded(w, f, c, rq, _pad(s.P12, (m, m)), _pad(s.P21, (m, m)), _pad(s.Q21, (m, m)), _pad(s.gap_row, (m,)),
-                  S, V, bool(s.truncated))
+                  S, V, bool(s.truncated), size)
