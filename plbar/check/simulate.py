@@ -12,7 +12,11 @@ Between events the motion is exact: every mode of the active state is a
 forced undamped oscillator, ``eta'' + w^2 eta = f cos(W t - phi)`` (paper
 Eqs. (1)-(3)), integrated in closed form (homogeneous part plus a Duhamel
 particular part, factorised with ``sinc`` so that it stays exact at and near
-resonance ``W = w``, where it tends to ``tau sin(w tau) / (2 w)``).
+resonance ``W = w``, where it tends to ``tau sin(w tau) / (2 w)``).  With
+Rayleigh damping (``prob.system.alpha, beta``; FORMULATION §8) each mode is a
+damped oscillator, integrated as steady state plus free decay
+(:mod:`plbar.check.viscous`), the reaction has its damper part, and the energy
+budget includes the energy the dampers dissipate (``Simulation.viscous``).
 
 Events (paper Sec. 2.2, FORMULATION §3):
 
@@ -43,7 +47,7 @@ import numpy as np
 from ..errors import InputError, PlbarError
 from ..util.reprs import build, rng
 from .segments import (IMPACT, OPEN, SAMPLES_PER_RAD, _at, _energy, _Model, _model, _next_event, _physical, _Seg,
-                       _switch, _work)
+                       _switch, _viscous, _work)
 
 __all__ = ["Simulation", "History", "SimulationError", "simulate", "period_map", "OPEN", "IMPACT",
            "SNAP", "SAMPLES_PER_RAD"]
@@ -121,6 +125,9 @@ class Simulation:
         Mechanical energy at ``t0`` and at ``t_end``.
     history : History or None
         The recorded time history, if a grid was given.
+    viscous : float
+        Energy dissipated by the Rayleigh dampers over ``[t0, t_end]`` (Gauss
+        quadrature per segment of ``v^T C v``); 0 without damping.
     """
 
     T: float
@@ -141,6 +148,7 @@ class Simulation:
     energy0: float
     energy: float
     history: History | None = None
+    viscous: float = 0.0
 
     def __repr__(self) -> str:
         return build("Simulation", {"T": self.T, "phi": self.phi, "t": f"[{self.t0:.6g}, {self.t_end:.6g}]",
@@ -160,8 +168,8 @@ class Simulation:
 
     @property
     def energy_residual(self) -> float:
-        """Energy budget ``work - sum(event losses) - (energy - energy0)``; zero up to round-off."""
-        return self.work - float(np.sum(self.event_losses)) - (self.energy - self.energy0)
+        """Energy budget ``work - sum(event losses) - viscous - (energy - energy0)``; zero up to round-off."""
+        return self.work - float(np.sum(self.event_losses)) - self.viscous - (self.energy - self.energy0)
 
 
 def _check_state(mod: _Model, x0, v0, state):
@@ -320,9 +328,10 @@ def _simulation(mod: _Model, T, phi, seg0: _Seg, t_end: float, n_periods: float,
     # work: each segment up to the next start; the last one up to t_end (backwards if it started after t_end)
     ends = np.append(starts[1:], t_end)
     work = sum(_work(mod, W, phi, s, float(te - s.ts)) for s, te in zip(segs, ends))
+    visc = sum(_viscous(mod, W, phi, s, float(te - s.ts)) for s, te in zip(segs, ends))
     hist = None if rec is None else _history(mod, W, phi, segs, starts, rec)
     return Simulation(T, phi, seg0.ts, t_end, times, kinds, losses, xe, ve, se, st, sx, sv, ss, float(work), E0,
-                      Ee, hist)
+                      Ee, hist, float(visc))
 
 
 def _history(mod: _Model, W, phi, segs, starts, rec) -> History:

@@ -3,7 +3,9 @@
 An :class:`Orbits` holds ``P`` periodic responses of one :class:`Problem`
 (each a triplet ``(T^I, T^II, phi)`` with its periodic initial state) and
 evaluates, at any times, the modal and physical displacements and velocities,
-the state I contact reaction and the state II gap, and the impact.
+the state I contact reaction and the state II gap, and the impact.  With
+Rayleigh damping (``prob.system.damped``) every flow is the damped one and the
+reaction has its damper part (FORMULATION §8).
 """
 
 from __future__ import annotations
@@ -70,7 +72,7 @@ class Orbits(Batch):
         c, sn = self._cs()
         tau = np.asarray(tau, float)[..., None]
         return segment(s.w1, self.prob.f1, self.W[:, None, None], 0.0, tau,
-                       self.eta0[:, None, :], self.v0[:, None, :], c, sn)
+                       self.eta0[:, None, :], self.v0[:, None, :], c, sn, s.zeta[0])
 
     def state_II(self, tau):
         """Modal ``eta^II, etadot^II`` at ``t = T^I + tau``, tau in ``[0, T^II]``; (P, K) -> (P, K, n)."""
@@ -78,7 +80,7 @@ class Orbits(Batch):
         c, sn = self._cs()
         tau = np.asarray(tau, float)[..., None]
         return segment(s.w2, self.prob.f2, self.W[:, None, None], self.T1[:, None, None], tau,
-                       self.eta_s[:, None, :], self.v_s[:, None, :], c, sn)
+                       self.eta_s[:, None, :], self.v_s[:, None, :], c, sn, s.zeta[1])
 
     def _signal(self, tau, state: int, c: np.ndarray):
         """``sum_j c_j eta_j`` and ``sum_j c_j etadot_j`` in one state at times ``tau`` (P, K).
@@ -87,9 +89,13 @@ class Orbits(Batch):
         plus its particular part, and the particular parts of all modes sum
         into one harmonic (one ``cos``/``sin`` per sample instead of a kernel
         per mode).  Modes within ``|w - W| tau_max < 0.05`` of resonance use
-        the exact kernels of :mod:`plbar.flow` (no cancellation).
+        the exact kernels of :mod:`plbar.flow` (no cancellation).  Damped modes
+        take the damped flow of every mode (:func:`plbar.response.flow.segment`).
         """
         s, p = self.prob.system, self.prob
+        if s.damped:
+            e, v = (self.state_I if state == 1 else self.state_II)(tau)
+            return e @ c, v @ c
         if state == 1:
             w, f, ts, e0, v0 = s.w1, p.f1, np.zeros_like(self.T1), self.eta0, self.v0
             span = self.T1
@@ -124,9 +130,17 @@ class Orbits(Batch):
         return x, v
 
     def reaction_margin(self, tau):
-        """``-R`` in state I at ``t = tau`` (``>= 0`` while in compression, Eq. (4)); (P, K)."""
+        """``-R`` in state I at ``t = tau`` (``>= 0`` while in compression, Eq. (4)); (P, K).
+
+        With damping ``R = r_eta . eta + r_v . eta' + r_q cos(W t - phi)`` (FORMULATION §8).
+        """
         tau = np.asarray(tau, float)
-        x, _ = self._signal(tau, 1, self.prob.system.r_eta)
+        s = self.prob.system
+        if s.damped:
+            e, v = self.state_I(tau)
+            x = e @ s.r_eta + v @ s.r_v
+        else:
+            x, _ = self._signal(tau, 1, s.r_eta)
         cosf = np.cos(self.W[:, None] * tau - self.phi[:, None])
         return -(x + self.prob.r_q * cosf)
 
@@ -208,5 +222,5 @@ def orbits(prob: Problem, T1, T2, phi, co=None) -> Orbits:
     s = prob.system
     W = 2 * np.pi / (T1 + T2)
     e, v = segment(s.w1, prob.f1, W[:, None], 0.0, T1[:, None], eta0, v0,
-                   np.cos(phi)[:, None], np.sin(phi)[:, None])
+                   np.cos(phi)[:, None], np.sin(phi)[:, None], s.zeta[0])
     return Orbits(prob, T1, T2, phi, eta0, v0, e @ s.P12.T, v @ s.P12.T)
