@@ -220,27 +220,42 @@ def gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
 def psi_quadrature(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None, zeta=None):
     """``int_0^tau etadot^2`` by Gauss-Legendre on the exact velocity.
 
-    The integrand is a sum of exponentials ``e^{m u}`` with ``|m| <= 2 max(|lambda|, W)``
-    (``|lambda| = w`` undamped or under-damped, the fast root of an over-damped
-    mode); mapped to ``[-1, 1]`` each has ``|c| <= k / 2``, ``k = 2 max(|lambda|, W) tau``,
-    and the ``n``-point rule errs by at most ``|c|^{2n} 2^{2n+1} (n!)^4 / ((2n+1) ((2n)!)^3)``
-    times its size, about ``(e |c| / (4 n))^{2n}``: with ``n >= 0.6 k + 40`` that is
-    below ``0.57^{80}``, i.e. the rule is exact to round-off.
+    Undamped, the integrand is a trigonometric polynomial of frequency at most
+    ``2 max(w, W)``; ``n`` nodes are chosen so the rule is exact to round-off.
+
+    With ``zeta`` the integrand is a sum of exponentials ``e^{m u}`` with
+    ``|m| <= 2 max(|lambda|, W)`` (``|lambda| = w`` under-damped, the fast root of an
+    over-damped mode).  The interval is cut into ``p`` equal pieces with
+    ``k = 2 max(|lambda|, W) tau / p <= 100``; mapped to ``[-1, 1]`` each exponential
+    of a piece has ``|c| <= k / 2``, and the ``n``-point rule errs by at most
+    ``|c|^{2n} 2^{2n+1} (n!)^4 / ((2n+1) ((2n)!)^3)``, about ``(e |c| / (4 n))^{2n}``,
+    times the integrand's size on the piece: with ``n >= 0.6 k + 40`` that is below
+    ``0.57^{80}`` (exact to round-off), and no piece needs more than 100 nodes.
     """
     w, f, W, ts, tau, eta0, v0, cphi, sphi = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi)
     if zeta is not None:
-        zeta = np.broadcast_to(zeta, w.shape)
+        return _psi_pieces(w, f, W, ts, tau, eta0, v0, cphi, sphi, np.broadcast_to(zeta, w.shape))
     if n is None:
-        lam = w if zeta is None else _damped.rate(w, zeta)
-        k = float(np.max(2 * np.maximum(lam, W) * tau)) if w.size else 0.0
+        k = float(np.max(2 * np.maximum(w, W) * tau)) if w.size else 0.0
         n = int(np.ceil(0.6 * k)) + 40
         n = 20 * int(np.ceil(n / 20))
     x, wt = gauss(n)
     u = 0.5 * tau[..., None] * (x + 1)
     _, v = segment(w[..., None], f[..., None], W[..., None], ts[..., None], u,
-                   eta0[..., None], v0[..., None], cphi[..., None], sphi[..., None],
-                   None if zeta is None else zeta[..., None])
+                   eta0[..., None], v0[..., None], cphi[..., None], sphi[..., None])
     return 0.5 * tau * np.sum(wt * v * v, axis=-1)
+
+
+def _psi_pieces(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
+    """Composite Gauss-Legendre of the damped ``int_0^tau etadot^2`` (see :func:`psi_quadrature`)."""
+    k = float(np.max(2 * np.maximum(_damped.rate(w, zeta), W) * tau)) if w.size else 0.0
+    p = max(1, int(np.ceil(k / 100.0)))
+    n = 20 * int(np.ceil((int(np.ceil(0.6 * k / p)) + 40) / 20))
+    x, wt = gauss(n)
+    u = tau[..., None] / p * (np.arange(p)[:, None] + 0.5 * (x + 1)).ravel()    # p pieces of n nodes
+    e = lambda a: a[..., None]  # noqa: E731
+    _, v = segment(e(w), e(f), e(W), e(ts), u, e(eta0), e(v0), e(cphi), e(sphi), e(zeta))
+    return 0.5 * tau / p * np.sum(np.tile(wt, p) * v * v, axis=-1)
 
 
 CANCEL_LIMIT = 1e4   #: cancellation factor above which Psi is taken by quadrature (here and in .scalar)
