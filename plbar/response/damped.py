@@ -93,26 +93,35 @@ def rate(w, zeta):
 
 
 def _cs(w, zeta, tau):
-    """``cc = (e^{l1 tau} + e^{l2 tau}) / 2``, ``ss = e[l1, l2]`` and the over-damped ``p11, p22`` (stable forms)."""
+    """``ss = e[l1, l2]`` and the diagonal entries ``p11, p22`` of the free flow (stable forms), and the roots."""
     y, z, a, d = roots(w, zeta)
     tau = np.asarray(tau, float)
     q = np.sqrt(np.abs(d))
+    if np.all(d > 0):                    # every mode under-damped (the usual case): one branch
+        x = q * tau
+        ea = np.exp(-a * tau)
+        cc = ea * np.cos(x)
+        ss = ea * tau * np.sinc(x / np.pi)
+        return ss, cc + a * ss, cc - a * ss, y, z
+    tau, a, q, d, r1, r2 = np.broadcast_arrays(tau, a, q, d, -y.real, -z.real)
     x = q * tau
     ea = np.exp(-a * tau)
+    cc, ss = np.empty(x.shape), np.empty(x.shape)
     under = d > 0
-    near = ~under & (x < 1.0)            # critical neighbourhood: e^{-a tau} cosh, sinh(x)/x
-    xn = np.where(near, x, 0.0)
-    shc = np.where(xn > 0, np.sinh(xn) / np.where(xn > 0, xn, 1.0), 1.0)
-    cc = np.where(under, ea * np.cos(x), ea * np.cosh(xn))
-    ss = np.where(under, ea * tau * np.sinc(x / np.pi), ea * tau * shc)
-    far = ~under & ~near                 # over-damped, k tau >= 1: two real exponentials
-    e1, e2 = np.exp(y.real * tau), np.exp(z.real * tau)
-    k2 = np.where(far, 2.0 * q, 1.0)
-    r1, r2 = -y.real, -z.real
-    cc = np.where(far, 0.5 * (e1 + e2), cc)
-    ss = np.where(far, (e1 - e2) / k2, ss)
-    p11 = np.where(far, (r2 * e1 - r1 * e2) / k2, cc + a * ss)
-    p22 = np.where(far, (r2 * e2 - r1 * e1) / k2, cc - a * ss)
+    cc[under] = ea[under] * np.cos(x[under])
+    ss[under] = ea[under] * tau[under] * np.sinc(x[under] / np.pi)
+    near = ~under & (x < 1.0)            # critical neighbourhood: e^{-a tau} cosh(x), e^{-a tau} tau sinh(x)/x
+    xn = x[near]
+    cc[near] = ea[near] * np.cosh(xn)
+    ss[near] = ea[near] * tau[near] * np.where(xn > 0, np.sinh(xn) / np.where(xn > 0, xn, 1.0), 1.0)
+    p11, p22 = np.asarray(cc + a * ss), np.asarray(cc - a * ss)
+    far = ~under & ~near                 # over-damped, k tau >= 1: two real exponentials, no cancellation
+    if np.any(far):
+        t, k2, s1, s2 = tau[far], 2.0 * q[far], r1[far], r2[far]
+        e1, e2 = np.exp(-s1 * t), np.exp(-s2 * t)
+        ss[far] = (e1 - e2) / k2
+        p11[far] = (s2 * e1 - s1 * e2) / k2
+        p22[far] = (s2 * e2 - s1 * e1) / k2
     return ss, p11, p22, y, z
 
 
@@ -158,18 +167,21 @@ def kernels(w, W, tau, zeta):
     -------
     C, S, Cp : ndarray
     """
-    w, W, tau, zeta = np.broadcast_arrays(*(np.asarray(v, float) for v in (w, W, tau, zeta)))
     ss, _, _, y, z = _cs(w, zeta, tau)
+    W, tau, y, z, ss = np.broadcast_arrays(np.asarray(W, float), np.asarray(tau, float), y, z, ss)
     p = 1j * W
     # e[p, y] = (e^{p tau} - e^{y tau}) / (p - y), as tau e^{y tau} phi1((p - y) tau) where (p - y) tau is small
     x = (p - y) * tau
     near = np.abs(x) < 1.0
-    dpy = np.where(near, tau * np.exp(y * tau) * phi1(np.where(near, x, 0.0)),
-                   (np.exp(p * tau) - np.exp(y * tau)) / np.where(near, 1.0, p - y))
-    K = (dpy - ss) / (p - z)                       # |p - z| >= max(W, |y|, |z|) > 0
+    dpy = np.empty(x.shape, complex)
+    far = ~near
+    dpy[far] = (np.exp(p[far] * tau[far]) - np.exp(y[far] * tau[far])) / (p[far] - y[far])
+    if np.any(near):
+        dpy[near] = tau[near] * np.exp(y[near] * tau[near]) * phi1(x[near])
+    K = np.asarray((dpy - ss) / (p - z))           # |p - z| >= max(W, |y|, |z|) > 0
     short = np.maximum(np.maximum(W, np.abs(y)), np.abs(z)) * tau < 0.5
     if np.any(short):
-        K = np.where(short, _kernel_series(p, y, z, np.where(short, tau, 0.0)), K)
+        K[short] = _kernel_series(p[short], y[short], z[short], tau[short])
     S = K.imag
     return K.real, S, ss - W * S
 
