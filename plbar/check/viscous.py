@@ -25,6 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InputError
+
 __all__ = ["damped_flow", "modal_ratios", "flow_rate"]
 
 
@@ -78,7 +80,11 @@ def damped_flow(w, zeta, f, W, theta, tau, eta, v):
     tau = np.asarray(tau, float)
     u = tau[..., None] if tau.ndim else tau
     a = zeta * w
-    P = f / (w * w - W * W + 2j * a * W)            # steady state: eta_p(u) = Re(P e^{i(W u + theta)})
+    den = w * w - W * W + 2j * a * W
+    if np.any(den == 0):
+        raise InputError(f"an undamped mode (zeta = 0) is forced at its resonance W = {W!r}: the steady state does "
+                         "not exist; integrate it without damping (zeta=None)")
+    P = f / den                                     # steady state: eta_p(u) = Re(P e^{i(W u + theta)})
     ph0 = np.exp(1j * theta)
     ph = ph0 * np.exp(1j * W * u)
     e0, d0 = eta - (P * ph0).real, v - (1j * W * P * ph0).real
