@@ -13,10 +13,8 @@ forced undamped oscillator, ``eta'' + w^2 eta = f cos(W t - phi)`` (paper
 Eqs. (1)-(3)), integrated in closed form (homogeneous part plus a Duhamel
 particular part, factorised with ``sinc`` so that it stays exact at and near
 resonance ``W = w``, where it tends to ``tau sin(w tau) / (2 w)``).  With
-Rayleigh damping (``prob.system.alpha, beta``; FORMULATION §8) each mode is a
-damped oscillator, integrated as steady state plus free decay
-(:mod:`plbar.check.viscous`), the reaction has its damper part, and the energy
-budget includes the energy the dampers dissipate (``Simulation.viscous``).
+Rayleigh damping (FORMULATION §8) each mode is damped (:mod:`plbar.check.viscous`), the
+reaction has its damper part and the budget the dampers' loss (``Simulation.viscous``).
 
 Events (paper Sec. 2.2, FORMULATION §3):
 
@@ -126,8 +124,7 @@ class Simulation:
     history : History or None
         The recorded time history, if a grid was given.
     viscous : float
-        Energy dissipated by the Rayleigh dampers over ``[t0, t_end]`` (Gauss
-        quadrature per segment of ``v^T C v``); 0 without damping.
+        Energy the Rayleigh dampers dissipate over ``[t0, t_end]`` (quadrature of ``v^T C v``); 0 undamped.
     """
 
     T: float
