@@ -5,7 +5,7 @@ and so is the contact response ``h(q) = (H q)_c``.  Split the motion as ``x = x_
 steady state ``x_p = Re(H q e^{i(W t - phi)})`` of the free bar: ``y`` obeys the unforced equations
 with the reaction as its only force, the contact constraint ``y_c = -x_p,c`` in state I, the gap
 ``x_p,c + y_c`` and the same impact law, so it depends on the load only through
-``x_p,c = |h| cos(W t - phi + arg h)`` (``docs/load_structure.md`` §8).  Hence, for every load with
+``x_p,c = |h| cos(W t - phi + arg h)`` (``docs/load_structure.md`` §9).  Hence, for every load with
 ``h(q) != 0``:
 
 * the paths in ``(T^I, T^II)`` are those of the reference load (and so are admissibility and

@@ -168,7 +168,7 @@ def _summary(lf, fam, wcols, pairs_rows, positions, no_path, times) -> dict:
                      if not hasattr(lf, "dPL_ref") else
                      "with Rayleigh damping every load with h(q) != 0 has the reference paths at the phase "
                      "phi + arg(h(q) / h_ref); xi_worst is the largest xi_eq over every in-phase load distribution "
-                     "(a phase scan, docs/load_structure.md section 8); loads with h(q) = 0 have no periodic path")}
+                     "(a phase scan, docs/load_structure.md section 9); loads with h(q) = 0 have no periodic path")}
 
 
 def _blank(col):

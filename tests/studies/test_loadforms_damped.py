@@ -4,7 +4,7 @@ Finding: the paths in (T^I, T^II) survive damping.  The load enters the switch c
 through the complex contact response h(q) = ((K - W^2 M + i W C)^-1 q)_c, so every load with
 h(q) != 0 has the reference paths, at the phase phi_ref + arg(h(q) / h_ref) (no longer just
 phi mod pi: the shift is continuous), with Delta_PL scaled by |h(q) / h_ref|^2
-(docs/load_structure.md section 8, plbar.studies.loaddamped).
+(docs/load_structure.md section 9, plbar.studies.loaddamped).
 """
 
 import numpy as np
