@@ -4,10 +4,11 @@ matplotlib and pyvista are imported inside the drawing functions.
 """
 
 from .convergence import convergence_plot
+from .damping import xi_rayleigh_plot
 from .paper import GREEN, RED, nearest_point
 from .plots import contact_amplitude, frequency_response, paths_plane, xi_load_map
 from .refinement import refine_family_plot
 from .render import RenderFiles, render
 
 __all__ = ["GREEN", "RED", "nearest_point", "contact_amplitude", "frequency_response", "paths_plane", "xi_load_map",
-           "RenderFiles", "render", "convergence_plot", "refine_family_plot"]
+           "RenderFiles", "render", "convergence_plot", "refine_family_plot", "xi_rayleigh_plot"]
