@@ -27,6 +27,7 @@ __all__ = ["Result", "solve", "write_results", "read_paths", "check_output", "PA
 PATHS_COLUMNS = (("branch", "%d"), ("T1", "%.17g"), ("T2", "%.17g"), ("phi", "%.17g"), ("T", "%.17g"),
                  ("dPL", "%.17g"), ("xi", "%.17g"), ("grazing", "%d"), ("stable", "%d"),
                  ("max_abs_multiplier", "%.17g"), ("max_abs_xc", "%.17g"), ("omega", "%.17g"),
+                 ("xi_w", "%.17g"),
                  ("viscous_loss", "%.17g"), ("zeta_rayleigh", "%.17g"), ("xi_total", "%.17g"))
 CSV_HEADER = [c for c, _ in PATHS_COLUMNS]
 #: what ``plbar run`` owns in its folder besides paths.csv and summary.json (cleared before new results)
@@ -129,6 +130,7 @@ def _rows(res: Result):
         cols["max_abs_multiplier"].append(b.max_abs_multiplier)
         cols["max_abs_xc"].append(contact_amplitude(b.orbits))          # the amplitude the plot shows
         cols["omega"].append(2 * np.pi / b.T)
+        cols["xi_w"].append(b.xi_w)
         cols["viscous_loss"].append(b.viscous)
         cols["zeta_rayleigh"].append(b.damping.zeta_rayleigh)
         cols["xi_total"].append(b.xi_total)

@@ -56,7 +56,7 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
     else:
         g.add_argument("--elements", "-N", "--n", dest="sizes", type=int, nargs="+", default=list(sizes),
                        metavar="N", help="masses of the chain / elements of the FE bar, coarse to fine "
-                                         f"[{' '.join(str(n) for n in sizes)}]")
+                                         f"[{' '.join(str(n) for n in sizes) or 'the case: 5 / 8'}]")
     g.add_argument("--element", choices=("P1", "P2"), default=None, help="FE element [P1]")
     g.add_argument("--mass", choices=("lumped", "consistent"), default=None, help="FE mass matrix [lumped]")
     g.add_argument("--mesh-file", default=None, help="meshio-readable 1D line mesh for --model fe")

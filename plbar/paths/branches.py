@@ -108,6 +108,11 @@ class Branch:
         return self.damping.xi
 
     @property
+    def xi_w(self):
+        """``xi_w``: the damping ratio with one frequency, the forcing's (see :class:`plbar.response.Damping`)."""
+        return self.damping.xi_w
+
+    @property
     def viscous(self):
         """Energy the Rayleigh dampers dissipate per period (0 without damping)."""
         return self.damping.viscous

@@ -47,6 +47,15 @@ class Damping(Batch):
     closed_form : ndarray of bool
         True where every ``Psi_j`` came from the closed form (False near
         resonance, where Gauss quadrature of the exact velocity is used).
+    kinetic : ndarray
+        ``sum_alpha sum_j Psi_j^alpha = int v^T M v dt`` over the period (mass-normalised modes).
+    xi_w : ndarray
+        ``xi_w = Delta_PL / (2 W int v^T M v dt)``: the same energy balance with one
+        frequency for all modes, the forcing's (viscous damping ``c = 2 xi W M``,
+        FORMULATION §8).  Eq. (22) weights mode ``j`` by ``w_j``, a half-derivative
+        norm of the velocity that grows like ``ln N`` for the velocity jump an
+        impact leaves; ``xi_w``'s denominator is the time integral of twice the
+        kinetic energy, finite in the continuum.
     viscous : ndarray
         Energy dissipated by the Rayleigh dampers over the period,
         ``sum_alpha sum_j 2 zeta_j^alpha w_j^alpha Psi_j^alpha`` (0 without damping).
@@ -63,12 +72,15 @@ class Damping(Batch):
     denom: np.ndarray
     xi: np.ndarray
     closed_form: np.ndarray
+    kinetic: np.ndarray
+    xi_w: np.ndarray
     viscous: np.ndarray
     zeta_rayleigh: np.ndarray
     xi_total: np.ndarray
 
     def __repr__(self) -> str:
-        items = {"P": self.xi.size, "xi": rng(self.xi), "dPL": rng(self.dPL), "closed_form": count(self.closed_form)}
+        items = {"P": self.xi.size, "xi": rng(self.xi), "xi_w": rng(self.xi_w), "dPL": rng(self.dPL),
+                 "closed_form": count(self.closed_form)}
         if np.any(self.viscous):
             items.update(viscous=rng(self.viscous), zeta_rayleigh=rng(self.zeta_rayleigh))
         return build("Damping", items)
@@ -92,11 +104,15 @@ def psi_modes(orb: Orbits) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return psi1, psi2, ok1.all(axis=1) & ok2.all(axis=1)
 
 
-def psi_sums(orb: Orbits) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``sum_j Psi_j^alpha w_j^alpha`` for both states and the closed-form flag."""
+def psi_sums(orb: Orbits, weighted: bool = True):
+    """``sum_j Psi_j^alpha w_j^alpha`` for both states and the closed-form flag (``weighted=False``: plain sums too).
+
+    Returns ``(s1, s2, ok)``, or ``(s1, s2, ok, k1, k2)`` with the plain sums ``sum_j Psi_j^alpha``.
+    """
     s = orb.prob.system
     psi1, psi2, ok = psi_modes(orb)
-    return psi1 @ s.w1, psi2 @ s.w2, ok
+    out = (psi1 @ s.w1, psi2 @ s.w2, ok)
+    return out if weighted else out + (psi1.sum(axis=1), psi2.sum(axis=1))
 
 
 def damping(orb: Orbits) -> Damping:
@@ -118,12 +134,14 @@ def damping(orb: Orbits) -> Damping:
     psi1, psi2, ok = psi_modes(orb)
     denom = psi1 @ s.w1 + psi2 @ s.w2
     xi = np.divide(dpl, 2 * denom, out=np.zeros_like(dpl), where=denom > 0)
+    kin = psi1.sum(axis=1) + psi2.sum(axis=1)
+    xi_w = np.divide(dpl, 2 * orb.W * kin, out=np.zeros_like(dpl), where=kin > 0)
     if s.damped:
         viscous = 2 * (psi1 @ (s.zeta1 * s.w1) + psi2 @ (s.zeta2 * s.w2))
         zr = s.rayleigh_ratio(orb.W)
     else:
         viscous, zr = np.zeros_like(dpl), np.zeros_like(dpl)
-    return Damping(dpl, denom, xi, ok, viscous, zr, zr + xi)
+    return Damping(dpl, denom, xi, ok, kin, xi_w, viscous, zr, zr + xi)
 
 
 def work_quadrature(orb: Orbits, n: int | None = None) -> np.ndarray:

@@ -19,7 +19,7 @@ def test_run_default_writes_exact_header_and_summary(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "branch" in out and "T0_I = 10.1664" in out and str(tmp_path) in out
     header, rows = _csv(tmp_path / "paths.csv")
-    assert header == ("branch,T1,T2,phi,T,dPL,xi,grazing,stable,max_abs_multiplier,max_abs_xc,omega,"
+    assert header == ("branch,T1,T2,phi,T,dPL,xi,grazing,stable,max_abs_multiplier,max_abs_xc,omega,xi_w,"
                       "viscous_loss,zeta_rayleigh,xi_total")          # issue 21: three columns at the end
     assert header.split(",")[:8] == "branch,T1,T2,phi,T,dPL,xi,grazing".split(",")
     assert header.split(",") == CSV_HEADER
