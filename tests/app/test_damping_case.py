@@ -101,3 +101,16 @@ def test_sweep_loads_takes_damping_at(tmp_path):
                  "--per-element", "4", "--no-pairs", "--no-plot", "--out", str(out), "--quiet"]) == 0
     s = json.loads((out / "summary.json").read_text())
     assert "phase" in s["note"] and s["case"]["rayleigh"] == pytest.approx(list(plbar.rayleigh_from_ratio(0.02, 8, 12)))
+
+
+def test_batched_simulator_and_chain_refuse_damping_until_they_take_zeta():
+    """No silent undamped run of a damped case (issue 21): the survey's simulator and the chain say so."""
+    from plbar.hybrid import Signature, evaluate
+    from plbar.motion import padded
+
+    prob = plbar.Case(rayleigh=(0.01, 0.02)).problem()
+    with pytest.raises(InputError, match="damping"):
+        padded(prob)
+    with pytest.raises(InputError, match="damping"):
+        evaluate(prob, Signature(1, (True,)), 10.0, np.zeros(11))
+    assert padded(plbar.Case().problem()) is not None
