@@ -13,7 +13,7 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from ..errors import InputError
-from ..model import ELEMENTS, MASSES, Bar, Load, Problem, chain, graded_nodes, problem
+from ..model import ELEMENTS, MASSES, Bar, Load, Problem, chain, check_rayleigh, graded_nodes, problem
 from ..paths import Domain, default_domain
 from ..util.check import choice, integer, interval, number, pairs, positive, show
 from ..util.check import grid as check_grid
@@ -78,6 +78,11 @@ class Case:
         Keep only the lowest ``modes`` modes of each state (modal truncation,
         for fine meshes; check it with :func:`plbar.system.truncation_check`).
         Default: all.
+    rayleigh : (float, float), optional
+        Inherent Rayleigh damping ``(alpha, beta)`` of the whole bar, ``C = alpha M
+        + beta K`` (FORMULATION §8; :func:`plbar.rayleigh_from_ratio` gives it from
+        one ratio at two periods).  Default None: undamped, the paper;
+        ``(0, 0)`` is taken as None.
     """
 
     model: str = "chain"
@@ -103,6 +108,7 @@ class Case:
     signatures: str = "paper"
     modes: int | None = None
     label: str = field(default="", compare=False)
+    rayleigh: tuple[float, float] | None = None
 
     def __post_init__(self):
         choice("model", self.model, MODELS)
@@ -114,6 +120,7 @@ class Case:
             raise InputError("model = 'chain' is always P1 lumped; use model = 'fe' for element/mass choices")
         if self.modes is not None:
             object.__setattr__(self, "modes", integer("modes", self.modes, 1))
+        object.__setattr__(self, "rayleigh", check_rayleigh(self.rayleigh))
         if self.n is not None:
             object.__setattr__(self, "n", integer("n" if self.model == "fe" else "chain size N", self.n, 2))
         for nm in ("length", "EA", "rhoA", "m", "k", "grading"):
@@ -200,7 +207,7 @@ class Case:
 
     def problem(self) -> Problem:
         """Assemble the bar, solve both eigenproblems and attach the load (the expensive step: call once)."""
-        return problem(self.bar(), self.load(), modes=self.modes)
+        return problem(self.bar(), self.load(), modes=self.modes, rayleigh=self.rayleigh)
 
     def domain(self, prob: Problem) -> Domain:
         """The search domain: ``T1``, ``T2`` if given, else the paper's ``(0, T0^alpha / 2]``."""
@@ -208,9 +215,17 @@ class Case:
         return Domain(self.T1 or d.T1, self.T2 or d.T2)
 
     def to_dict(self) -> dict:
-        """The fields as plain data (``n`` filled in; ``length`` is the bar's, ``N`` for the chain)."""
+        """The fields as plain data (``n`` filled in; ``length`` is the bar's, ``N`` for the chain).
+
+        ``rayleigh`` appears only for a damped case (an undamped case's dict is that of
+        earlier releases, so their result folders still match).
+        """
         d = asdict(self)
         d["n"] = self.n_eff
         d["length"] = self.bar().length
         d.pop("label")
+        if d["rayleigh"] is None:
+            d.pop("rayleigh")
+        else:
+            d["rayleigh"] = list(d["rayleigh"])
         return d

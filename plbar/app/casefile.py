@@ -23,7 +23,10 @@ A case file::
 mesh_file`` (relative to the TOML file), ``point_masses = [[x, m], ...]``,
 ``end_mass`` (a point mass on the contact node, as a fraction of the bar's mass;
 ``end_mass_absolute = true`` for the mass itself; both models),
-``modes`` (modal truncation: the lowest modes of each state).
+``modes`` (modal truncation: the lowest modes of each state),
+``rayleigh = [alpha, beta]`` (inherent damping ``C = alpha M + beta K``; default none)
+or ``damping_ratio = XI`` with ``damping_at = [T_A, T_B]`` (the same from one ratio at
+two periods, :func:`plbar.rayleigh_from_ratio`).
 Every mistake raises :class:`plbar.errors.CaseFileError` with one line naming
 the file, the section and the key.
 """
@@ -36,6 +39,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import CaseFileError, InputError
+from ..model import rayleigh_from_ratio
 
 __all__ = ["OutputSettings", "load_case", "loads_case", "dump_case", "SCHEMA"]
 
@@ -55,7 +59,8 @@ SCHEMA = {
     "bar": {"model": ("choice", ("chain", "fe")), "n": "int", "element": ("choice", ("P1", "P2")),
             "mass": ("choice", ("lumped", "consistent")), "length": "float", "EA": "float", "rhoA": "float",
             "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs",
-            "end_mass": "float", "end_mass_absolute": "bool", "modes": "int"},
+            "end_mass": "float", "end_mass_absolute": "bool", "modes": "int", "rayleigh": "pair",
+            "damping_ratio": "float", "damping_at": "pair"},
     "load": {"node": "int", "at": "float", "amplitude": "float"},
     "search": {"grid": "grid", "T1": "pair", "T2": "pair", "method": ("choice", ("continuation", "grid")),
                "signatures": ("choice", ("paper", "default", "all"))},
@@ -245,6 +250,21 @@ def _mesh_path(ctx: _Ctx, name: str, base: Path | None) -> str:
     return str(mf)
 
 
+def _damping_keys(ctx: _Ctx, bar: dict) -> None:
+    """``damping_ratio`` + ``damping_at`` -> ``rayleigh`` (in place); the two ways exclude each other."""
+    if "damping_ratio" not in bar and "damping_at" not in bar:
+        return
+    if "rayleigh" in bar:
+        raise ctx.err("bar", "give rayleigh = [alpha, beta] or damping_ratio with damping_at, not both")
+    if "damping_ratio" not in bar or "damping_at" not in bar:
+        raise ctx.err("bar", "damping_ratio = XI needs damping_at = [T_A, T_B] (the two periods where the "
+                             "Rayleigh damping has the ratio XI), and the other way round")
+    try:
+        bar["rayleigh"] = rayleigh_from_ratio(bar.pop("damping_ratio"), *bar.pop("damping_at"))
+    except InputError as exc:
+        raise ctx.err("bar", str(exc)) from None
+
+
 def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
     """Parse case-file text; see :func:`load_case`.  ``base`` resolves ``mesh_file``."""
     from .case import Case
@@ -272,6 +292,7 @@ def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
     out = _table(ctx, data, "output")
     if "mesh_file" in bar:
         bar["mesh_file"] = _mesh_path(ctx, bar["mesh_file"], base)
+    _damping_keys(ctx, bar)
     if bar["model"] == "chain":
         extra = sorted(set(bar) & {"element", "mass", "length", "EA", "rhoA", "grading", "mesh_file",
                                    "point_masses"})
@@ -345,6 +366,8 @@ def dump_case(case, output: OutputSettings | None = None) -> str:
         lines.append(f"end_mass_absolute = {_fmt(bool(case.end_mass_absolute))}")
     if case.modes is not None:
         lines.append(f"modes = {int(case.modes)}")
+    if case.rayleigh is not None:
+        lines.append(f"rayleigh = {_fmt([float(x) for x in case.rayleigh])}")
     for k, a in case.load_nodes:
         lines += ["", "[[load]]", f"node = {int(k)}", f"amplitude = {_fmt(float(a))}"]
     for s, a in case.load_points:

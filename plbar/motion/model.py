@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
 from ..model import Problem
 
 __all__ = ["Padded", "padded", "STUCK", "FREE"]
@@ -87,6 +88,9 @@ def _pad(a: np.ndarray, shape, fill: float = 0.0) -> np.ndarray:
 def padded(prob: Problem) -> Padded:
     """The padded per-state data of ``prob`` (modes, margins, switch maps)."""
     s = prob.system
+    if getattr(s, "damped", False):     # until the batched flows take zeta (issue 21): never a silent undamped run
+        raise InputError("the batched simulator does not take inherent (Rayleigh) damping yet; drop rayleigh= / "
+                         "--rayleigh, or use plbar.simulate, which does")
     m1, m2, n = s.w1.size, s.w2.size, s.n
     m = max(m1, m2)
     w = np.vstack([_pad(s.w1, (m,), 1.0), _pad(s.w2, (m,), 1.0)])
