@@ -32,9 +32,8 @@ An event is found by sampling the closed-form margin of the current segment
 densely (``SAMPLES_PER_RAD`` samples per radian of the fastest of the
 state's modal frequencies and the forcing frequency), bracketing the first
 sign change and refining it with :func:`scipy.optimize.brentq` to round-off.
-A double crossing between two samples (a near-grazing excursion shorter than
-about a sixteenth of the fastest period) is not seen; this is the usual
-limit of event detection by sampling.
+A double crossing between two samples (a near-grazing excursion shorter than about a sixteenth of
+the fastest period) is not seen: the usual limit of sampling (:mod:`plbar.motion` certifies instead).
 """
 
 from __future__ import annotations
