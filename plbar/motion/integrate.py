@@ -80,8 +80,9 @@ class Batch:
         """Modal ``eta, etadot`` of trajectories ``idx`` at local times ``u`` of their current segments."""
         st = self.state[idx]
         ph = self.phi[idx][:, None]
+        zeta = None if self.pad.zeta is None else self.pad.zeta[st]
         return segment(self.pad.w[st], self.pad.f[st], self.W[idx][:, None], self.tp[idx][:, None], u[:, None],
-                       self.eta[idx], self.vel[idx], np.cos(ph), np.sin(ph))
+                       self.eta[idx], self.vel[idx], np.cos(ph), np.sin(ph), zeta=zeta)
 
     def pieces(self, idx, tau) -> Pieces:
         """The current segments of ``idx`` up to ``tau``, as pieces."""
@@ -95,8 +96,9 @@ def _certify(b: Batch, idx, eta, vel, K: int):
     st = b.state[idx]
     t = b.tp[idx] + b.p[idx]
     cap = np.minimum(CAP * b.T[idx], np.maximum(b.T[idx] - t, 0.0))
+    zeta, cv = (None, None) if pad.zeta is None else (pad.zeta[st], pad.cv[st])
     d, rem, scale, Om = taylor(pad.c[st], pad.rq[st], pad.w[st], pad.f[st], eta, vel, b.W[idx], t, b.phi[idx],
-                               cap, K)
+                               cap, K, zeta, cv)
     event, v, found = decide_step(d, rem, scale, Om * cap, pad.size[st])
     return event, np.where(found, v / Om, -1.0)
 

@@ -180,3 +180,29 @@ def test_padded_model_matches_the_system():
     assert pad.m == s.n and np.array_equal(pad.w[FREE], s.w2) and np.array_equal(pad.w[STUCK, :-1], s.w1)
     assert pad.S == pytest.approx(s.impact_mass, rel=1e-15)
     assert np.all(pad.c[STUCK, -1] == 0) and np.all(pad.f[STUCK, -1] == 0)
+
+
+@pytest.mark.parametrize("model", ["chain", "fe"])
+def test_damped_batch_against_the_independent_simulator(model):
+    """Inherent Rayleigh damping (2 %): the batched simulator's events against plbar.simulate's own damped flow,
+    and the energy budget with the viscous loss (work = impacts + viscous + change of energy)."""
+    from plbar.model import rayleigh_from_ratio
+
+    if model == "chain":
+        case, Ts = plbar.Case(rayleigh=rayleigh_from_ratio(0.02, 8.0, 12.0)), [8.5, 10.0, 12.9]
+    else:
+        case, Ts = plbar.Case(model="fe", n=8, end_mass=0.5, rayleigh=rayleigh_from_ratio(0.02, 2.0, 4.0)), [2.0, 3.1]
+    prob = case.problem()
+    n = prob.system.n
+    r = run(prob, Ts, periods=60, record=60)
+    assert np.all(np.abs(r.energy_residual) <= 1e-9) and np.all(r.viscous > 0)
+    for b, T in enumerate(Ts):
+        sim = plbar.simulate(prob, T, 0.0, np.zeros(n), np.zeros(n), n_periods=60)
+        sel = r.events["traj"] == b
+        te, ke = r.events["time"][sel], r.events["kind"][sel]
+        m = min(te.size, sim.event_times.size)
+        ts = sim.event_times[:m].copy()
+        ts[(te[:m] == 0.0) & (ts < 1e-3 * T)] = 0.0
+        assert np.array_equal(ke[:m], sim.event_kinds[:m]) and te.size == sim.event_times.size
+        assert np.max(np.abs(te[:m] - ts)) <= 1e-9 * T
+        assert r.viscous[b] == pytest.approx(sim.viscous, rel=1e-9)
