@@ -28,12 +28,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
 from ..model import Problem
-from ..response import forced_coeffs, free_flow
+from ..response import forced_coeffs
+from ..response import flow_matrix as modal_flow
 from .signature import Signature
 
-__all__ = ["Chain", "Segment", "evaluate", "layout", "flow_matrix", "vector_field", "switch_maps"]
+__all__ = ["Chain", "Segment", "evaluate", "layout", "flow_matrix", "vector_field", "switch_maps", "state_data"]
 
 
 @dataclass(frozen=True)
@@ -70,37 +70,41 @@ class Chain:
 
 def layout(prob: Problem, sig: Signature) -> tuple[int, int, int]:
     """``(nz, q, nX)``: state I size ``2 m1``, unknown durations, unknowns."""
-    if getattr(prob.system, "damped", False):   # the chain's flows are undamped (issue 21): never silently
-        raise InputError("periodic responses of other signatures do not take inherent (Rayleigh) damping yet; drop "
-                         "rayleigh= / --rayleigh, or use plbar.solve for the paper's class, which does")
     nz = 2 * prob.system.w1.size
     q = sig.durations
     return nz, q, nz + q + 1
 
 
-def flow_matrix(w: np.ndarray, tau: float) -> np.ndarray:
-    """The modal free flow over ``tau`` on ``(eta, etadot)``: ``(2m, 2m)``, 2 x 2 blocks per mode."""
-    c, s_w, mws, _ = free_flow(w, tau)
+def flow_matrix(w: np.ndarray, tau: float, zeta=None) -> np.ndarray:
+    """The modal free flow over ``tau`` on ``(eta, etadot)``: ``(2m, 2m)``, 2 x 2 blocks per mode (damped with
+    ``zeta``)."""
+    p11, p12, p21, p22 = modal_flow(w, tau, zeta)
     m = w.size
     A = np.zeros((2 * m, 2 * m))
     i = np.arange(m)
-    A[i, i] = A[m + i, m + i] = c
-    A[i, m + i] = s_w
-    A[m + i, i] = mws
+    A[i, i], A[i, m + i], A[m + i, i], A[m + i, m + i] = p11, p12, p21, p22
     return A
 
 
-def vector_field(w, f, W, t, phi, z) -> np.ndarray:
-    """``dz/dt = (etadot, f cos(W t - phi) - w^2 eta)`` (Eq. (1) in modal form)."""
+def vector_field(w, f, W, t, phi, z, zeta=None) -> np.ndarray:
+    """``dz/dt = (etadot, f cos(W t - phi) - w^2 eta - 2 zeta w etadot)`` (Eq. (1) in modal form)."""
     m = w.size
-    return np.concatenate([z[m:], f * np.cos(W * t - phi) - w * w * z[:m]])
+    acc = f * np.cos(W * t - phi) - w * w * z[:m]
+    if zeta is not None:
+        acc = acc - 2.0 * zeta * w * z[m:]
+    return np.concatenate([z[m:], acc])
 
 
-def _state(prob: Problem, s: int):
+def state_data(prob: Problem, s: int):
+    """``(w, f, c, rq, zeta, cv)`` of state ``s`` (1 or 2): the margin is ``c . eta + cv . etadot + rq cos``
+    (``-R`` in state I, with the damper's share ``-r_v``; ``-x_c`` in state II); ``zeta, cv`` None undamped."""
     sy = prob.system
+    damped = bool(getattr(sy, "damped", False))
     if s == 1:
-        return sy.w1, np.asarray(prob.f1, float), -np.asarray(sy.r_eta, float), -float(prob.r_q)
-    return sy.w2, np.asarray(prob.f2, float), -np.asarray(sy.gap_row, float), 0.0
+        return (sy.w1, np.asarray(prob.f1, float), -np.asarray(sy.r_eta, float), -float(prob.r_q),
+                sy.zeta1 if damped else None, -np.asarray(sy.r_v, float) if damped else None)
+    return (sy.w2, np.asarray(prob.f2, float), -np.asarray(sy.gap_row, float), 0.0, sy.zeta2 if damped else None,
+            None)
 
 
 def switch_maps(prob: Problem):
@@ -132,11 +136,11 @@ class _Walker:
         self.jac = jac
 
     def flow(self, s: int, col: int) -> Segment:
-        w, f, _, _ = _state(self.prob, s)
+        w, f, _, _, zeta, _ = state_data(self.prob, s)
         tau = float(self.X[self.nz + col])
         z0 = self.z
-        Phi = flow_matrix(w, tau)
-        ec, es, vc, vs = forced_coeffs(w, f, self.W, self.t, tau)
+        Phi = flow_matrix(w, tau, zeta)
+        ec, es, vc, vs = forced_coeffs(w, f, self.W, self.t, tau, zeta=zeta)
         Fc, Fs = np.concatenate([ec, vc]), np.concatenate([es, vs])
         cp, sp = np.cos(self.phi), np.sin(self.phi)
         z1 = Phi @ z0 + Fc * cp + Fs * sp
@@ -145,7 +149,7 @@ class _Walker:
             D = Phi @ self.D
             D[:, -1] += dphi
             D += np.outer(-self.W * dphi, self.tcol)             # a later start shifts the load's phase
-            D[:, self.nz + col] += vector_field(w, f, self.W, self.t + tau, self.phi, z1)
+            D[:, self.nz + col] += vector_field(w, f, self.W, self.t + tau, self.phi, z1, zeta)
             self.D = D
         seg = Segment(s, self.t, tau, z0, z1, col, "open" if s == 1 else "impact")
         self.z = z1
@@ -155,14 +159,19 @@ class _Walker:
 
     def margin(self, s: int):
         """``(g, dg/dX, size)`` of the state's margin at the current point (``-R`` in I, ``-x_c`` in II)."""
-        w, _, c, rq = _state(self.prob, s)
+        w, _, c, rq, _, cv = state_data(self.prob, s)
         m = w.size
         arg = self.W * self.t - self.phi
         g = c @ self.z[:m] + rq * np.cos(arg)
         size = np.abs(c) @ np.abs(self.z[:m]) + abs(rq)
+        if cv is not None:
+            g += cv @ self.z[m:]
+            size += np.abs(cv) @ np.abs(self.z[m:])
         if not self.jac:
             return g, None, size
         dg = c @ self.D[:m] - rq * np.sin(arg) * (self.W * self.tcol - np.eye(1, self.nX, self.nX - 1)[0])
+        if cv is not None:
+            dg = dg + cv @ self.D[m:]
         return g, dg, size
 
     def switch(self, M: np.ndarray) -> None:

@@ -139,10 +139,11 @@ def from_motion(prob: Problem, T: float, m: int, t_b: float, x_b, v_b, state_b: 
 def _carry(prob, s, z, W, t, tau, phi):
     from ..response import segment
 
-    sy = prob.system
-    w, f = (sy.w1, prob.f1) if s == 1 else (sy.w2, prob.f2)
+    from .chain import state_data
+
+    w, f, _, _, zeta, _ = state_data(prob, s)
     m = w.size
-    e, v = segment(w, f, W, t, tau, z[:m], z[m:], np.cos(phi), np.sin(phi))
+    e, v = segment(w, f, W, t, tau, z[:m], z[m:], np.cos(phi), np.sin(phi), zeta=zeta)
     return np.concatenate([e, v])
 
 

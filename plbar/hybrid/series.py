@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..response import segment
+from .chain import state_data
 from .signature import Signature
 from .solve import HybridOrbit, polish
 
@@ -78,9 +79,10 @@ class OrbitSeries:
         out = []
         for ti, ji in zip(t, j):
             s = self._segs[ji]
-            w, f = (sy.w1, prob.f1) if s.state == 1 else (sy.w2, prob.f2)
+            w, f, _, _, zeta, _ = state_data(prob, s.state)
             m = w.size
-            e, v = segment(w, f, W, s.t0, ti - s.t0, s.z0[:m], s.z0[m:], np.cos(orb.phi), np.sin(orb.phi))
+            e, v = segment(w, f, W, s.t0, ti - s.t0, s.z0[:m], s.z0[m:], np.cos(orb.phi), np.sin(orb.phi),
+                           zeta=zeta)
             out.append((s.state, e, v, ti))
         return out
 
@@ -102,8 +104,9 @@ class OrbitSeries:
         """``-R`` in state I at times ``t`` (0 in state II); (1, K)."""
         sy, prob, orb = self.prob.system, self.prob, self.orb
         W = 2 * np.pi / orb.T
-        out = [-(sy.r_eta @ e + prob.r_q * np.cos(W * ti - orb.phi)) if s == 1 else 0.0
-               for s, e, _, ti in self._modal(t)]
+        rv = np.asarray(sy.r_v, float) if getattr(sy, "damped", False) else np.zeros(sy.w1.size)
+        out = [-(sy.r_eta @ e + rv @ v + prob.r_q * np.cos(W * ti - orb.phi)) if s == 1 else 0.0
+               for s, e, v, ti in self._modal(t)]
         return np.array(out)[None]
 
     def energies(self, t):

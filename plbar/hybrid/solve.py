@@ -20,7 +20,7 @@ from ..errors import PlbarError
 from ..model import Problem
 from ..response import psi, segment
 from ..util.reprs import build
-from .chain import Chain, evaluate, layout
+from .chain import Chain, evaluate, layout, state_data
 from .signature import Signature
 
 __all__ = ["HybridOrbit", "NotConverged", "polish", "orbit_at", "ACCEPT", "ROUNDOFF"]
@@ -83,7 +83,7 @@ class HybridOrbit:
         return self.dPL / self.sig.m
 
     @cached_property
-    def _psi(self) -> tuple[float, float]:
+    def _psi(self) -> tuple[float, float, float]:
         return _psi_sums(self.prob, self.chain, self.T, float(self.X[-1]))
 
     @property
@@ -95,6 +95,17 @@ class HybridOrbit:
     def xi_w(self) -> float:
         kin = self._psi[1]
         return self.dPL / (2 * (2 * np.pi / self.T) * kin) if kin > 0 else 0.0
+
+    @property
+    def viscous(self) -> float:
+        """Energy taken by inherent damping over the orbit (0 undamped); the work of the load is ``dPL + viscous``."""
+        return self._psi[2]
+
+    @property
+    def xi_total(self) -> float:
+        """The Rayleigh ratio at the forcing frequency plus ``xi_eq`` (the total equivalent ratio)."""
+        sy = self.prob.system
+        return (float(sy.rayleigh_ratio(2 * np.pi / self.T)) if getattr(sy, "damped", False) else 0.0) + self.xi
 
     @cached_property
     def amplitude(self) -> float:
@@ -108,7 +119,7 @@ class HybridOrbit:
             if seg.state == 2:
                 u = np.linspace(0.0, seg.tau, 200)
                 e, _ = segment(sy.w2, prob.f2, W, seg.t0, u[:, None], seg.z0[:m], seg.z0[m:], np.cos(self.phi),
-                               np.sin(self.phi))
+                               np.sin(self.phi), zeta=state_data(prob, 2)[4])
                 best = max(best, float(np.abs(e @ sy.gap_row).max()))
         return best
 
@@ -137,18 +148,20 @@ def durations_of(sig: Signature, X: np.ndarray, nz: int) -> np.ndarray:
     return np.array(out, float)
 
 
-def _psi_sums(prob: Problem, ch: Chain, T: float, phi: float) -> tuple[float, float]:
-    """``sum_j w_j Psi_j`` and ``sum_j Psi_j`` over every segment of an evaluated chain (Eqs. (20)-(21))."""
-    sy = prob.system
+def _psi_sums(prob: Problem, ch: Chain, T: float, phi: float) -> tuple[float, float, float]:
+    """``sum_j w_j Psi_j``, ``sum_j Psi_j`` and the viscous loss ``sum_j 2 zeta_j w_j Psi_j`` over every segment of
+    an evaluated chain (Eqs. (20)-(21); damped velocities with inherent damping)."""
     W = 2 * np.pi / T
-    den, kin = 0.0, 0.0
+    den, kin, visc = 0.0, 0.0, 0.0
     for seg in ch.segments:
-        w, f = (sy.w1, prob.f1) if seg.state == 1 else (sy.w2, prob.f2)
+        w, f, _, _, zeta, _ = state_data(prob, seg.state)
         m = w.size
-        p, _ = psi(w, f, W, seg.t0, seg.tau, seg.z0[:m], seg.z0[m:], np.cos(phi), np.sin(phi))
+        p, _ = psi(w, f, W, seg.t0, seg.tau, seg.z0[:m], seg.z0[m:], np.cos(phi), np.sin(phi), zeta=zeta)
         den += float(p @ w)
         kin += float(np.sum(p))
-    return den, kin
+        if zeta is not None:
+            visc += float(p @ (2.0 * zeta * w))
+    return den, kin, visc
 
 
 def orbit_at(prob: Problem, sig: Signature, T: float, X, ch: Chain | None = None) -> HybridOrbit:

@@ -199,3 +199,50 @@ def test_signature_strings():
     assert signature("1P") == PAPER and str(ZERO_DWELL) == "1Z"
     with pytest.raises(plbar.InputError):
         signature("2PX")
+
+
+def test_damped_responses_of_every_signature(monkeypatch):
+    """Rayleigh damping 2 %: the chain's Jacobian stays exact, the paper's class is reproduced, and every new
+    response (a sample) meets the independent damped simulator's events, returns to its start and balances
+    work = impact losses + viscous loss."""
+    import plbar.check.segments as seg
+    from plbar.model import rayleigh_from_ratio
+    from plbar.response import find_response
+
+    monkeypatch.setattr(seg, "SAMPLES_PER_RAD", 50.0)
+    case = plbar.Case(rayleigh=rayleigh_from_ratio(0.02, 6.0, 14.0))
+    res = plbar.solve(case)
+    prob = res.paths.prob
+    b = res.branches[0]
+    o = b.orbits
+    i = len(b) // 2
+    X = np.concatenate([o.eta0[i], o.v0[i], [o.T1[i], o.T2[i], o.phi[i]]])
+    h = orbit_at(prob, PAPER, o.T[i], X)
+    assert h.residual <= 1e-11 and h.dPL == pytest.approx(b.dPL[i], rel=1e-9)
+    assert h.viscous == pytest.approx(b.viscous[i], rel=1e-9) and h.xi == pytest.approx(b.xi[i], rel=1e-8)
+    hy = find_hybrid(prob, (6.0, 14.0), res.branches)
+    assert hy
+    checked = 0
+    for br in hy:
+        for orb in br.orbits[::max(1, len(br) // 3)]:
+            if not _resolvable(orb, 50.0):
+                continue
+            x0, v0 = _physical(prob, orb.z0)
+            sim = simulate(prob, orb.T, orb.phi, x0, v0, state=1, n_periods=orb.sig.m)
+            et, ek = expected_events(orb)
+            n = et.size
+            assert np.array_equal(sim.event_kinds[:n], ek)
+            assert np.max(np.abs(sim.event_times[:n] - et)) <= 1e-9 * orb.sig.m * orb.T
+            scale = max(abs(sim.work), sim.energy0)
+            assert abs(sim.work - orb.dPL - orb.viscous) <= 1e-9 * scale
+            assert abs(sim.viscous - orb.viscous) <= 1e-9 * scale
+            checked += 1
+    assert checked >= 10
+    ch = evaluate(prob, hy[0].sig, hy[0].orbits[0].T, hy[0].orbits[0].X)
+    Xp = hy[0].orbits[0].X
+    e = np.zeros(Xp.size)
+    e[0] = 1e-6
+    fd = (evaluate(prob, hy[0].sig, hy[0].orbits[0].T, Xp + e, jac=False).F -
+          evaluate(prob, hy[0].sig, hy[0].orbits[0].T, Xp - e, jac=False).F) / 2e-6
+    assert np.max(np.abs(fd - ch.J[:, 0])) <= 1e-7 * np.abs(ch.J).max()
+    del find_response
