@@ -9,8 +9,8 @@ closed forms of the periodic solver:
 * ``sum_j w_j Psi_j`` (Eq. (21) without ``2 xi``: the denominator of ``xi_eq``, Eq. (22)) and
   ``sum_j Psi_j = int v^T M v dt`` (mass-normalised modes: the denominator of ``xi_w``);
 * with inherent damping, the viscous loss ``sum_j 2 zeta_j w_j Psi_j`` (modal damping of the Rayleigh ``C``);
-* the work of the load (:func:`plbar.response.segment_work`, independent of the energies; with damping,
-  Gauss-Legendre on the exact damped velocity);
+* the work of the load (:func:`plbar.response.segment_work`: products of the exact velocity and the load
+  integrated in closed form, damped modes too; independent of the energies);
 * the time spent in state I;
 * the largest ``-x_c`` of each state II piece (sampled, then refined by Newton on ``v_c = 0``).
 """
@@ -22,14 +22,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..response import psi, segment, segment_work
-from ..response.power import work_quadrature_segment
 from .margin import taylor
 from .model import FREE, STUCK, Padded
 
 __all__ = ["Pieces", "Accounts", "account", "piece_amplitude"]
 
 AMP_SAMPLES = 48   #: samples per state II piece before the Newton refinement of its largest gap
-_CHUNK = 500       #: pieces per damped work quadrature (memory)
 
 
 @dataclass(frozen=True)
@@ -90,8 +88,7 @@ def account(pad: Padded, pcs: Pieces, W: np.ndarray, phi: np.ndarray, full: np.n
             d_eq[sel], d_w[sel] = np.einsum("pj,pj->p", ps, w[sel]), ps.sum(axis=1)
     else:
         zeta = pad.zeta[pcs.state]
-        work = np.concatenate([work_quadrature_segment(*(a[i:i + _CHUNK] for a in args), zeta=zeta[i:i + _CHUNK])
-                               .sum(axis=1) for i in range(0, n, _CHUNK)]) if n else np.zeros(0)
+        work = segment_work(*args, zeta=zeta).sum(axis=1)
         ps, _ = psi(*args, zeta=zeta)
         visc = np.einsum("pj,pj->p", ps, 2.0 * zeta * w)
         d_eq[full], d_w[full] = np.einsum("pj,pj->p", ps, w)[full], ps.sum(axis=1)[full]

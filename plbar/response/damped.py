@@ -191,18 +191,12 @@ def _F(m, tau):
     return tau * phi1(m * tau)
 
 
-def psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
-    """``Psi = int_0^tau eta'^2`` of damped modes in closed form, and its cancellation factor.
+def velocity_terms(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
+    """The damped modal velocity over a segment as exponentials: ``v(u) = A1 e^{y u} + A2 e^{z u} + B e^{iWu} + cc``.
 
-    Same arguments as :func:`plbar.response.flow.psi_closed_form`, plus ``zeta``.
-
-    Returns
-    -------
-    psi : ndarray
-    cancel : ndarray
-        ``sum |terms| / psi`` (``inf`` where the roots or the resonance make the
-        closed form singular); :func:`plbar.response.flow.psi` takes quadrature
-        where it is large.
+    Returns ``(w, W, tau, y, z, A1, A2, B, th, sing)`` broadcast: the roots ``y, z`` (:func:`roots`), their
+    amplitudes, the steady part's ``B``, ``th = e^{i (W ts - phi)}`` (the load is ``Re(th e^{iWu})``) and where
+    the form is singular (exact resonance without damping, a double root).
     """
     args = np.broadcast_arrays(*(np.asarray(v, float) for v in (w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta)))
     w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta = args
@@ -219,6 +213,39 @@ def psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
     dl = np.where(sing, 1.0, y - z)
     A1 = (hd0 - z * hv0) / dl
     A2 = (y * hv0 - hd0) / dl
+    return w, W, tau, y, z, A1, A2, B, th, sing
+
+
+def work_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
+    """The work of the load ``f int_0^tau cos(W (ts + u) - phi) eta'(u) du`` of damped modes in closed form, and its
+    cancellation factor (``inf`` where singular; quadrature takes over where it is large)."""
+    f = np.asarray(f, float)
+    w, W, tau, y, z, A1, A2, B, th, sing = velocity_terms(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta)
+    iW = 1j * W
+    terms = [th * A1 * _F(y + iW, tau), th * A2 * _F(z + iW, tau), th * B * _F(2 * iW, tau), th * B.conj() * tau,
+             th.conj() * A1 * _F(y - iW, tau), th.conj() * A2 * _F(z - iW, tau), th.conj() * B * tau,
+             th.conj() * B.conj() * _F(-2 * iW, tau)]
+    work = 0.5 * f * sum(t.real for t in terms)
+    size = 0.5 * np.abs(f) * sum(np.abs(t) for t in terms)
+    scale = np.abs(f) * (np.abs(v0) + np.abs(w * eta0) + np.abs(f) * tau) * tau
+    cancel = np.divide(size, scale, out=np.where(size > 0, np.inf, 0.0), where=scale > 0)
+    return np.where(sing, 0.0, work), np.where(sing, np.inf, cancel)
+
+
+def psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
+    """``Psi = int_0^tau eta'^2`` of damped modes in closed form, and its cancellation factor.
+
+    Same arguments as :func:`plbar.response.flow.psi_closed_form`, plus ``zeta``.
+
+    Returns
+    -------
+    psi : ndarray
+    cancel : ndarray
+        ``sum |terms| / psi`` (``inf`` where the roots or the resonance make the
+        closed form singular); :func:`plbar.response.flow.psi` takes quadrature
+        where it is large.
+    """
+    w, W, tau, y, z, A1, A2, B, _, sing = velocity_terms(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta)
     iW = 1j * W
     terms = [A1 * A1 * _F(2 * y, tau), 2 * A1 * A2 * _F(y + z, tau), A2 * A2 * _F(2 * z, tau),
              2 * A1 * B * _F(y + iW, tau), 2 * A1 * B.conj() * _F(y - iW, tau),

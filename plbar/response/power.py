@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import damped as _damped
 from .flow import CANCEL_LIMIT, gauss, segment, sinc
 
 __all__ = ["work_closed_form", "work_quadrature_segment", "segment_work"]
@@ -102,12 +103,16 @@ def work_quadrature_segment(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None, zeta
     return tau * np.sum(wts * f[..., None] * force * v, axis=-1)
 
 
-def segment_work(w, f, W, ts, tau, eta0, v0, cphi, sphi):
-    """Work per mode over ``[ts, ts + tau]``: closed form, or quadrature where it would cancel."""
-    p, cancel = work_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi)
+def segment_work(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta=None):
+    """Work per mode over ``[ts, ts + tau]``: closed form, or quadrature where it would cancel (damped modes with
+    ``zeta``: the exponential form of :func:`plbar.response.damped.work_closed_form`)."""
+    if zeta is None:
+        p, cancel = work_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi)
+    else:
+        p, cancel = _damped.work_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta)
     bad = ~(cancel < CANCEL_LIMIT)
     if np.any(bad):
-        b = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi)
+        b = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi, 0.0 if zeta is None else zeta)
         p = np.array(p, copy=True)
-        p[bad] = work_quadrature_segment(*[a[bad] for a in b])
+        p[bad] = work_quadrature_segment(*[a[bad] for a in b[:9]], zeta=None if zeta is None else b[9][bad])
     return p

@@ -6,6 +6,8 @@ result of a solve with the default signatures, and polish that branch's nearest 
 ``T``: covered if its loss per period equals the survey's exact loss (1e-6) and it is stable.
 
     plbar survey --out SURVEY && python tests/bench/coverage.py SURVEY/survey.csv [--all]
+    plbar survey --model fe -N 16 --end-mass 0.5 --damping-ratio 0.01 --at 1.5 4.5 --T 1.5 3.9 --num 81 --out S16
+    python tests/bench/coverage.py S16/survey.csv --fe
 """
 
 from __future__ import annotations
@@ -53,6 +55,17 @@ def covered(res, T: float, label: str, loss: float):
     return False, None
 
 
+def case_of(argv, kinds="paper"):
+    """The default case, or with ``--fe`` the FE bar of issue 20 (P1 lumped, N = 16, end mass 0.5, Rayleigh 1 %
+    at T = 1.5 and 4.5)."""
+    if "--fe" in argv:
+        from plbar.model import rayleigh_from_ratio
+
+        return plbar.Case(model="fe", n=16, end_mass=0.5, rayleigh=rayleigh_from_ratio(0.01, 1.5, 4.5),
+                          signatures=kinds)
+    return plbar.Case(signatures=kinds)
+
+
 def main(argv):
     import csv
 
@@ -61,7 +74,7 @@ def main(argv):
 
     t0 = time.perf_counter()
     kinds = "all" if "--all" in argv else "default"
-    res = plbar.solve(plbar.Case(signatures=kinds))
+    res = plbar.solve(case_of(argv, kinds))
     print(f"solve with the {kinds} signatures: {time.perf_counter() - t0:.1f} s")
     tot, hit, table = 0, 0, []
     for r in rows:

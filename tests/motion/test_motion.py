@@ -206,3 +206,18 @@ def test_damped_batch_against_the_independent_simulator(model):
         assert np.array_equal(ke[:m], sim.event_kinds[:m]) and te.size == sim.event_times.size
         assert np.max(np.abs(te[:m] - ts)) <= 1e-9 * T
         assert r.viscous[b] == pytest.approx(sim.viscous, rel=1e-9)
+
+
+@pytest.mark.parametrize("zeta", [0.01, 0.3, 1.0, 1.0 + 1e-9, 3.0, 30.0])
+def test_damped_work_closed_form(zeta):
+    """The work of the load on damped modes in closed form (exponentials) against Gauss quadrature of the exact
+    damped velocity; critical damping (a double root) falls back to the quadrature."""
+    from plbar.response import segment_work
+    from plbar.response.power import work_quadrature_segment
+
+    w, f = np.array([0.5, 1.3, 4.0]), RNG.normal(size=3)
+    e0, v0 = RNG.normal(size=3), RNG.normal(size=3)
+    for W in (0.7, 1.3, 4.0):
+        a = segment_work(w, f, W, 1.1, 3.7, e0, v0, np.cos(0.3), np.sin(0.3), zeta=zeta)
+        b = work_quadrature_segment(w, f, W, 1.1, 3.7, e0, v0, np.cos(0.3), np.sin(0.3), n=200, zeta=zeta)
+        assert np.allclose(a, b, rtol=0, atol=1e-10 * np.abs(b).max())
