@@ -16,7 +16,7 @@ import json
 from ..app import Case, load_case
 from ..errors import InputError
 
-__all__ = ["output_args", "case_args", "case_from_args", "progress", "report", "hidden"]
+__all__ = ["output_args", "case_args", "case_from_args", "progress", "report", "hidden", "plural"]
 
 hidden = argparse.SUPPRESS
 
@@ -36,10 +36,11 @@ def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None
     g.add_argument("--json", action="store_true", help="print the result as JSON (no progress bars)")
 
 
-def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", sizes=None) -> None:
+def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", sizes=None, refused=()) -> None:
     """The model, load and search options (all default to None: given ones are known) and ``--case``.
 
     ``sizes`` (a default list) makes ``-N/--elements`` a list of sizes (``a.sizes``; ``plbar refine``).
+    ``refused`` (dest names): options the command refuses (with a line saying what to do); left out of its help.
     """
     g = p.add_argument_group("model")
     g.add_argument("--case", default=None, metavar="FILE.toml",
@@ -78,6 +79,9 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
     g.add_argument("--method", choices=("continuation", "grid"), default=None,
                    help="branches by pseudo-arclength continuation seeded by the scan, or by linking the "
                         "scan's crossings only (faster, may fragment) [continuation]")
+    for act in p._actions:                   # refused options: still parsed (to say why), not offered
+        if act.dest in refused:
+            act.help = hidden
 
 
 def case_from_args(a):
@@ -108,3 +112,10 @@ def report(a, payload: dict, text: str) -> None:
         print(json.dumps(payload, default=str))
     elif not a.quiet:
         print(text)
+
+
+def plural(n: int, word: str, width: int = 0) -> str:
+    """``"1 point"``, ``"2 points"``, ``"3 branches"`` (``n`` right-aligned in ``width``)."""
+    if n != 1:
+        word += "es" if word.endswith(("ch", "sh", "s", "x")) else "s"
+    return f"{n:{width}d} {word}"

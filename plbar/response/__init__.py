@@ -10,7 +10,7 @@
 """
 
 from .admissible import Admissibility, check, check_both
-from .energy import Damping, damping, impact_loss, psi_sums, work_quadrature
+from .energy import Damping, damping, impact_loss, kinetic_energy_loss, psi_sums, work_quadrature
 from .find import NoResponseError, Response, find_response
 from .flow import free_flow, kernels, psi, segment
 from .onemap import Coefficients, PeriodMap, coefficients, period_map, phase, scan_function, states
@@ -18,7 +18,7 @@ from .onemap import G as scan_G
 from .orbit import Orbits, orbits
 from .stability import Stability, monodromy, monodromy_modal, multipliers, periodic_state, stability
 
-__all__ = ["Admissibility", "check", "check_both", "Damping", "damping", "impact_loss", "psi_sums",
+__all__ = ["Admissibility", "check", "check_both", "Damping", "damping", "impact_loss", "kinetic_energy_loss", "psi_sums",
            "work_quadrature", "NoResponseError", "Response", "find_response", "free_flow", "kernels", "psi",
            "segment", "Coefficients", "PeriodMap", "coefficients", "period_map", "phase", "scan_function",
            "states", "scan_G", "Orbits", "orbits", "Stability", "monodromy", "monodromy_modal", "multipliers",

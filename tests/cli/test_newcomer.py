@@ -71,7 +71,7 @@ def test_many_branches_print_a_short_summary(tmp_path, capsys):
     code, out, _ = _run(capsys, argv)
     n = json.loads((tmp_path / "f" / "summary.json").read_text())["n_branches"]
     assert code == 0 and n > 10
-    assert out.count("\n") <= 12 and "--verbose lists all" in out and f"{n - 5} more branch(es)" in out
+    assert out.count("\n") <= 12 and "--verbose lists all" in out and f"{n - 5} more branches" in out
     code, out, _ = _run(capsys, argv + ["--verbose", "--overwrite"])
     assert out.count("  branch ") == n
 
@@ -174,12 +174,15 @@ def test_refine_rates_say_why_and_write_no_nan(tmp_path, capsys):
 
 # 10. one overwrite policy for every command ---------------------------------------------------------------------
 
-def test_mesh_refuses_to_overwrite(tmp_path, capsys):
+def test_mesh_keeps_existing_files_unless_overwrite(tmp_path, capsys):
+    """README: 'plbar mesh keeps existing files unless --overwrite' (it used to exit 2): missing ones are written."""
     assert _run(capsys, ["mesh", "--out", tmp_path, "-q"])[0] == 0
-    f = next(tmp_path.glob("*.msh"))
+    f, g = sorted(tmp_path.glob("*.msh"))[:2]
     f.write_text("edited")
-    code, _, err = _run(capsys, ["mesh", "--out", tmp_path])
-    assert code == 2 and "--overwrite" in err and f.read_text() == "edited"
+    g.unlink()
+    code, out, err = _run(capsys, ["mesh", "--out", tmp_path])
+    assert code == 0 and err == "" and f.read_text() == "edited" and g.is_file()
+    assert "kept" in out and "--overwrite replaces them" in out and str(g) in out
     assert _run(capsys, ["mesh", "--out", tmp_path, "--overwrite", "-q"])[0] == 0 and f.read_text() != "edited"
 
 
