@@ -5,8 +5,7 @@ from __future__ import annotations
 import importlib.util
 from pathlib import Path
 
-from ..app import check_output, run_case_file, solve, write_results
-from ..app.cost import cost_note
+from ..app import check_output, cost_note, run_case_file, solve, write_results
 from ..errors import InputError
 from ..io import SHIPPED, write_shipped
 from ..util.outputs import claim_folder, fingerprint

@@ -22,7 +22,7 @@ __all__ = ["register"]
 FIGURES_OWNED = ("fig[0-9]*.png", "fig[0-9]*.pdf", ".*.part.*")
 
 def _cmd_sweep(a) -> int:
-    from ..app.cost import cost_note
+    from ..app import cost_note
     from ..studies.loads import sweep_loads
 
     case, _ = case_from_args(a)
@@ -164,7 +164,7 @@ def register(sub) -> None:
     s.add_argument("--per-element", type=int, default=50, metavar="K", help="default positions per element [50]")
     s.add_argument("--positions-csv", action="store_true",
                    help="also write the positions table as CSV (xi_positions.csv: one row per path point and "
-                        "position; large: about 110 bytes a row)")
+                        "position; large: about 85 bytes a row)")
     s.add_argument("--no-pairs", action="store_true", help="skip the node-pair table")
     s.add_argument("--pairs", action="store_true", help=hidden)
     s.add_argument("--no-plot", action="store_true", help="skip xi_T_s.png")

@@ -9,7 +9,7 @@ quadratic forms of :mod:`plbar.loadforms` and writes into ``out``:
     position ``s`` (default: ``per_element`` positions per element, the element
     ends included, the clamp ``s = 0`` excluded: a force there does nothing),
     with ``s`` and, per path point, ``branch, point, T``: 8 bytes a number,
-    against about 110 characters a row of the tidy CSV, which repeats the
+    against about 85 characters a row of the tidy CSV, which repeats the
     path point on every row (``positions_csv=True`` writes that too:
     ``xi_positions.csv``, ``branch, point, T, s, xi, dPL``).
 ``worst_load.csv``
@@ -61,8 +61,8 @@ G17 = "%.17g"
 SWEEP_OWNED = ("xi_positions.npz", "xi_positions.csv", "worst_load.csv", "worst_load_shapes.npz", "xi_along_mesh.vtu",
                "load_pairs.csv", "xi_T_s.png", "summary.json", "sweep.csv", "sweep_max.csv", "sweep_summary.json",
                ".*.part.*")
-WARN_BYTES = 100e6      #: a positions table larger than this is announced (a warning that names the switches)
-CSV_ROW_BYTES = 110     #: about the size of one row of the tidy xi_positions.csv
+WARN_BYTES = 50e6       #: a positions table larger than this is announced (a warning that names the switches)
+CSV_ROW_BYTES = 85      #: about the size of one row of the tidy xi_positions.csv (measured: 81)
 
 
 def check_positions(case, positions=None, per_element: int = 50) -> None:
@@ -224,7 +224,7 @@ def _write_positions(out: Path, pos: dict, csv: bool) -> dict:
                       "--positions S ...", LargeOutputWarning, stacklevel=3)
     files = {}
     with atomic_path(out / "xi_positions.npz") as tmp:
-        np.savez_compressed(tmp, **{k: pos[k] for k in ("branch", "point", "T", "s", "xi", "dPL")})
+        np.savez(tmp, **{k: pos[k] for k in ("branch", "point", "T", "s", "xi", "dPL")})
     files["xi_positions"] = out / "xi_positions.npz"
     if csv:
         t = tidy_positions(pos)

@@ -111,6 +111,7 @@ class Claim:
             prev = None
         if prev is not None:          # the same owner, or one this command joins: keep its name, add the patterns
             new = Owner(prev.command, prev.fingerprint, tuple(dict.fromkeys(prev.owned + new.owned)))
+        clear_owned(self.folder, (".plbar-owner.*.part.json",))          # of a marker write that was killed
         write_json(self.folder / MARKER, new.as_dict())
         self.taken = True
         return self

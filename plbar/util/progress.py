@@ -11,12 +11,15 @@ Every message of the command line (warnings, notes, errors) goes through :func:`
 
 from __future__ import annotations
 
+import contextlib
+import os
 import sys
 import time
 
 __all__ = ["progress_bar", "message", "EVERY"]
 
 EVERY = 10.0        #: seconds between two progress lines when stderr is not a terminal
+DELAY_ENV = "PLBAR_PROGRESS_DELAY"   #: overrides every phase's delay (seconds; 0 shows every phase)
 _BARS: list = []    #: the tqdm bars open on a terminal (messages go above them)
 
 
@@ -66,7 +69,8 @@ class _Lines(_Null):
 
     def _line(self, end: bool = False) -> str:
         dt = time.perf_counter() - self.t0
-        units = self.unit if self.n == 1 else f"{self.unit}s"
+        units = self.unit if (self.total or self.n) == 1 else f"{self.unit}es" if self.unit.endswith("ch") \
+            else f"{self.unit}s"
         if self.total:
             done = f"{self.n}/{self.total} {units} ({100 * self.n / self.total:.0f} %)"
         else:
@@ -131,12 +135,15 @@ def progress_bar(total, enabled: bool, desc: str, unit: str = "it", delay: float
     desc, unit : str
         What is done, and the name of one unit.
     delay : float
-        Show nothing for a phase shorter than this (s).
+        Show nothing for a phase shorter than this (s); the environment variable ``PLBAR_PROGRESS_DELAY``
+        overrides it.
     initial : int
         Units already done (a resumed study).
     """
     if not enabled:
         return _Null()
+    with contextlib.suppress(ValueError):
+        delay = float(os.environ.get(DELAY_ENV, delay))
     if _tty():
         return _Bar(total, desc, unit, delay, initial)
     return _Lines(total, desc, unit, delay, initial)

@@ -75,8 +75,9 @@ def _panel(ax, item, always: bool = False) -> None:
     An item with a ``caution`` (too few meshes, wandering values) shows its points only, and says why no
     rate or limit is stated (unless ``always``).
     """
-    why = getattr(item, "caution", "") or ""
-    if why and not always:
+    why = (getattr(item, "caution", "") or "") if not always else ""
+    hidden = bool(why) and _number(item.rate) is not None
+    if why:
         item = _Unstated(item.name, item.h, item.q)
     x, y, against_limit = _points(item)
     if x.size:
@@ -89,7 +90,7 @@ def _panel(ax, item, always: bool = False) -> None:
         ax.text(0.5, 0.5, "no nonzero values to show", ha="center", va="center", transform=ax.transAxes)
     _reference(ax, x, y, _number(item.fitted))
     rate = _number(item.rate)
-    if why and not always:
+    if hidden:
         ax.plot([], [], " ", label="no rate stated: " + ("too few meshes" if "mesh" in why else "values wander"))
     else:
         ax.plot([], [], " ", label=f"final observed rate {rate:.3g}" if rate is not None else "final rate: none")
