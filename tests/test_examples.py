@@ -69,6 +69,7 @@ def test_load_sweep_example(tmp_path):
     assert (tmp_path / "worst_load.csv").read_text().startswith("branch,point,T1,T2,phi,T,xi_worst,")
 
 
+@pytest.mark.slow
 def test_refinement_example(tmp_path):
     env = dict(os.environ, MPLBACKEND="agg", PLBAR_NMAX="16")
     p = subprocess.run([sys.executable, str(EX / "refinement.py"), str(tmp_path)], capture_output=True, text=True,

@@ -1,7 +1,8 @@
 """The one vocabulary of the command line: options every command shares, and how they become a Case.
 
 * ``--out DIR`` is where a command writes; ``--from DIR`` is a previous run it reads;
-* ``--overwrite`` lets a command replace another case's results (never silently);
+* ``--overwrite`` lets a command replace what another command or case owns in its ``--out``
+  (:func:`plbar.util.outputs.claim_folder`, never silently);
 * ``--quiet`` prints nothing on success, ``--json`` prints the result as JSON (both without progress bars);
 * the model is ``--model``, ``-N/--elements``, ``--element``, ``--mass``, ``--end-mass``; the load ``--load-node`` /
   ``--load-at``; a TOML file is ``--case FILE`` (``plbar run FILE`` too) and then no model, load or search option
@@ -31,7 +32,8 @@ def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None
     """``--out``, ``--overwrite``, ``--quiet``, ``--json``."""
     g = p.add_argument_group("output")
     g.add_argument("--out", default=default_out, metavar="DIR", help=f"{what} [{default_out}]")
-    g.add_argument("--overwrite", action="store_true", help="replace results of another case in DIR")
+    g.add_argument("--overwrite", action="store_true",
+                   help="replace what another command or case owns in DIR (its owner marker .plbar-owner.json)")
     g.add_argument("--quiet", "-q", action="store_true", help="print nothing on success (no progress bars)")
     g.add_argument("--json", action="store_true", help="print the result as JSON (no progress bars)")
 

@@ -78,8 +78,9 @@ def _source(a, kind: str):
 
 def _solved(a, st, run: Path, case):
     """Solve a case file and write its results into ``run`` (checked before the solve), as ``plbar run`` does."""
-    with check_output(case, run, a.overwrite or st.overwrite):
+    with check_output(case, run, a.overwrite or st.overwrite) as claim:
         res = solve(case)
+        claim.take()
         write_results(res, run, overwrite=a.overwrite or st.overwrite)
     return res
 

@@ -64,7 +64,7 @@ def _cmd_run(a) -> int:
     case, st = case_from_args(a)
     out = Path(a.out if st is None or a.out != "plbar-out" or st.dir is None else st.dir)
     overwrite = a.overwrite or (st is not None and st.overwrite)
-    with check_output(case, out, overwrite):          # before the solve: fail fast; undone if interrupted
+    with check_output(case, out, overwrite) as claim:   # before the solve: fail fast; undone if interrupted
         note = cost_note(case)
         if note and not a.quiet:
             message(note)
@@ -73,6 +73,7 @@ def _cmd_run(a) -> int:
             res, files = r["result"], r["files"]
         else:
             res = solve(case, progress=progress(a))
+            claim.take()
             files = write_results(res, out, overwrite=overwrite)
     files.update(_plots(res, out, a))
     s = res.summary()

@@ -69,7 +69,7 @@ class _Lines(_Null):
 
     def _line(self, end: bool = False) -> str:
         dt = time.perf_counter() - self.t0
-        units = self.unit if (self.total or self.n) == 1 else f"{self.unit}es" if self.unit.endswith("ch") \
+        units = self.unit if (self.total or self.n) == 1 else f"{self.unit}es" if self.unit.endswith(("ch", "sh")) \
             else f"{self.unit}s"
         if self.total:
             done = f"{self.n}/{self.total} {units} ({100 * self.n / self.total:.0f} %)"
@@ -80,6 +80,8 @@ class _Lines(_Null):
     def update(self, n=1):
         self.n += n
         now = time.perf_counter()
+        if self.total and self.n >= self.total:
+            return                                   # the last line is close()'s
         if now - self.t0 >= self.delay and (self.last is None or now - self.last >= EVERY):
             self.last, self.shown = now, True
             message(self._line())

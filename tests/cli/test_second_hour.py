@@ -363,9 +363,9 @@ def test_readme_states_the_jump_law_with_two_over_pi():
     assert "≲ π S / (4 ρA c T ln(N/N₀))" in text and "π S / (8" not in text
 
 
-def test_impact_loss_is_exact_near_grazing():
+def test_impact_loss_is_exact_near_grazing(fe_p2_coarse):
     """Delta_PL is S v_c^2 / 2 itself (every digit), not a difference of kinetic energies."""
-    res = plbar.solve(plbar.Case(model="fe", n=6, element="P2", mass="consistent", grid=(60, 60)))
+    res = fe_p2_coarse
     S = res.paths.prob.system.impact_mass
     for b in res.branches:
         vc = b.orbits.contact_velocity(b.orbits.T2[:, None])[:, 0]

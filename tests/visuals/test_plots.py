@@ -150,9 +150,8 @@ def test_log_ticks_are_plain_numbers(fe8, figures, tmp_path):
     assert any(labels) and not any("times" in x or "^" in x for x in labels), labels
 
 
-def test_stability_legend_lists_only_what_is_there(figures, tmp_path):
-    res = plbar.solve(plbar.Case(model="fe", n=8, element="P2", mass="consistent", load_points=((0.37, 1.0),),
-                                 grid=(60, 60)))
+def test_stability_legend_lists_only_what_is_there(fe_p2_coarse, figures, tmp_path):
+    res = fe_p2_coarse
     assert not any(b.stable.any() for b in res.branches)       # this FE bar: no stable point
     plots.frequency_response(res, tmp_path)
     (fig,) = figures
