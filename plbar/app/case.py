@@ -177,7 +177,8 @@ class Case:
             if fe_only:
                 k, v = fe_only[0]
                 raise InputError(f"{k} = {show(v)} does not apply to model = 'chain' (a P1 lumped chain of N "
-                                 f"masses m and springs k, L = N); use model = 'fe' (--model fe) or drop {k} ({_flag(k)})")
+                                 f"masses m and springs k, L = N); use model = 'fe' (--model fe) or drop {k} "
+                                 f"({_flag(k)})")
         elif (self.m, self.k) != (1.0, 1.0):
             k = "m" if self.m != 1.0 else "k"
             raise InputError(f"{k} = {show(getattr(self, k))} does not apply to model = 'fe'; give the section "

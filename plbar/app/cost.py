@@ -65,7 +65,7 @@ def _duration(s: float) -> str:
 
 
 def cost_note(case: Case, threshold: float = NOTE_SECONDS) -> str | None:
-    """One line saying what a solve of ``case`` will cost and what to do instead, if above ``threshold`` s; else None."""
+    """One line: what a solve of ``case`` will cost and what to do instead, if above ``threshold`` s (else None)."""
     c = estimate_cost(case)
     if c.seconds <= threshold:
         return None

@@ -21,7 +21,8 @@ from ..util.outputs import claim_folder, clear_owned, fingerprint, require
 from .case import Case
 from .run import case_fingerprint, read_paths
 
-__all__ = ["select", "from_run", "case_of_run", "write_response", "write_response_data", "response_of", "render_response",
+__all__ = ["select", "from_run", "case_of_run", "write_response", "write_response_data", "response_of",
+           "render_response",
            "export_owned", "RENDER_OWNED"]
 
 #: what :func:`plbar.visuals.render` writes (cleared before a new render)
@@ -178,7 +179,7 @@ def _tuples(o):
 
 
 def _owner(case, data) -> str:
-    """The fingerprint an export or render records: its case's (so it may join that run's folder), else the response's."""
+    """The fingerprint an export or render records: its case's (to join that run's folder), else the response's."""
     if isinstance(case, Case):
         return case_fingerprint(case)
     return fingerprint({k: v for k, v in data.info.items() if k in ("T1", "T2", "phi", "T")})

@@ -108,7 +108,9 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
     short = [b.id for b in paths.branches if len(b) < MIN_BRANCH_POINTS]
     if short:
         ids = ", ".join(str(i) for i in short[:8]) + (f" and {len(short) - 8} more" if len(short) > 8 else "")
-        warnings.warn(f"{len(short)} branch(es) ({ids}) have fewer than {MIN_BRANCH_POINTS} points on grid = "
+        many = len(short) != 1
+        warnings.warn(f"{len(short)} branch{'es' if many else ''} ({ids}) {'have' if many else 'has'} fewer than "
+                      f"{MIN_BRANCH_POINTS} points on grid = "
                       f"{case.grid}; refine the grid (or narrow T1/T2) to resolve them", CoarseGridWarning,
                       stacklevel=2)
     return Result(case, paths, time.perf_counter() - t0)

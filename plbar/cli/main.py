@@ -79,10 +79,13 @@ def _one_line(exc) -> str:
 
 
 def _show_warning(fallback):
-    """``warnings.showwarning`` that prints plbar's warnings as one line on stderr."""
+    """``warnings.showwarning`` that prints plbar's warnings as one line on stderr (others as Python formats them),
+    through :func:`plbar.util.progress.message`."""
     def show(text, category, filename, lineno, file=None, line=None):
         if issubclass(category, PlbarWarning):
             message(f"plbar: warning: {_one_line(text)}")
+        elif file is None:                    # stderr: through the one message path (never on a progress bar)
+            message(warnings.formatwarning(text, category, filename, lineno, line).rstrip("\n"))
         else:
             fallback(text, category, filename, lineno, file, line)
     return show

@@ -60,7 +60,7 @@ def _check_options(a) -> None:
 
 
 def _source(a, kind: str):
-    """``(settings, run folder, case file's Case or None)``; the old ``--out DIR`` (a run folder as input) still works."""
+    """``(settings, run folder, case file's Case or None)``; the old ``--out DIR`` (a run folder as input) works."""
     _check_options(a)
     if a.src is None and a.case is None and a.out is not None and (Path(a.out) / "summary.json").is_file():
         message(f"plbar: warning: --out {a.out} as the input folder is the old spelling; use --from {a.out} "

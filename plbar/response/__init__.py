@@ -18,8 +18,8 @@ from .onemap import G as scan_G
 from .orbit import Orbits, orbits
 from .stability import Stability, monodromy, monodromy_modal, multipliers, periodic_state, stability
 
-__all__ = ["Admissibility", "check", "check_both", "Damping", "damping", "impact_loss", "kinetic_energy_loss", "psi_sums",
-           "work_quadrature", "NoResponseError", "Response", "find_response", "free_flow", "kernels", "psi",
+__all__ = ["Admissibility", "check", "check_both", "Damping", "damping", "impact_loss", "kinetic_energy_loss",
+           "psi_sums", "work_quadrature", "NoResponseError", "Response", "find_response", "free_flow", "kernels", "psi",
            "segment", "Coefficients", "PeriodMap", "coefficients", "period_map", "phase", "scan_function",
            "states", "scan_G", "Orbits", "orbits", "Stability", "monodromy", "monodromy_modal", "multipliers",
            "periodic_state", "stability"]

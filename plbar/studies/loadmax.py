@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
 from ..util.blas import single_thread_blas
 
 __all__ = ["Worst", "ElementMax", "element_max", "worst", "RCOND"]

@@ -71,6 +71,8 @@ class _Lines(_Null):
         dt = time.perf_counter() - self.t0
         units = self.unit if (self.total or self.n) == 1 else f"{self.unit}es" if self.unit.endswith(("ch", "sh")) \
             else f"{self.unit}s"
+        if self.total == 1 and end:                  # a phase without parts: just its time
+            return f"plbar: {self.desc}: done in {dt:.1f} s"
         if self.total:
             done = f"{self.n}/{self.total} {units} ({100 * self.n / self.total:.0f} %)"
         else:

@@ -6,11 +6,8 @@ Every test here failed on the code before the fix it covers.
 import io
 import json
 import os
-import signal
 import subprocess
 import sys
-import time
-import warnings
 from pathlib import Path
 
 import numpy as np

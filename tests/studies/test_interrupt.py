@@ -97,7 +97,7 @@ def _rerun_completes(out: Path):
     assert r.returncode == 0, r.stderr
     n = _csv_ok(out / "paths.csv")
     assert n > 0 and json.loads((out / "summary.json").read_text())["n_points"] == n
-    assert sorted(p.name for p in out.iterdir()) == [".plbar-owner.json", "paths.csv", "summary.json"]   # no temporaries
+    assert sorted(p.name for p in out.iterdir()) == [".plbar-owner.json", "paths.csv", "summary.json"]  # no temps
 
 
 def test_kill_when_output_appears(tmp_path):
