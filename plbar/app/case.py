@@ -18,9 +18,10 @@ from ..paths import Domain, default_domain
 from ..util.check import choice, integer, interval, number, pairs, positive, show
 from ..util.check import grid as check_grid
 
-__all__ = ["Case", "MODELS"]
+__all__ = ["Case", "MODELS", "SIGNATURES"]
 
 MODELS = ("chain", "fe")
+SIGNATURES = ("paper", "default", "all")    #: which periodic responses a solve finds (see Case.signatures)
 #: default load of an FE bar: a unit point force at this fraction of the length (mid-bar, whatever the mesh)
 DEFAULT_FE_LOAD = 0.5
 
@@ -77,6 +78,12 @@ class Case:
         Search domain; default ``(0, T0^alpha / 2]``.
     method : {"continuation", "grid"}
         How branches are built from the scan (:func:`plbar.find_paths`).
+    signatures : {"paper", "default", "all"}
+        Which periodic responses to find: the paper's class only (one stuck phase, one impact per
+        period; the default, as fast as before); ``"default"``: also every signature reached from it without a simulation (the
+        zero-dwell class, period doublings up to ``m = 4``, the neighbouring signatures where a
+        branch stops being admissible: :func:`plbar.hybrid.find_hybrid`); ``"all"``: also the
+        periodic motions of a short simulation from rest at 41 forcing periods, polished and followed.
     modes : int, optional
         Keep only the lowest ``modes`` modes of each state (modal truncation,
         for fine meshes; check it with :func:`plbar.system.truncation_check`).
@@ -103,6 +110,7 @@ class Case:
     T1: tuple[float, float] | None = None
     T2: tuple[float, float] | None = None
     method: str = "continuation"
+    signatures: str = "paper"
     modes: int | None = None
     label: str = field(default="", compare=False)
 
@@ -111,6 +119,7 @@ class Case:
         choice("element", self.element, ELEMENTS)
         choice("mass", self.mass, MASSES)
         choice("method", self.method, ("continuation", "grid"))
+        choice("signatures", self.signatures, SIGNATURES)
         if self.modes is not None:
             object.__setattr__(self, "modes", integer("modes", self.modes, 1))
         if self.n is not None:

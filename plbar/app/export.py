@@ -150,6 +150,8 @@ def from_run(folder, branch: int | None = None, index: int | None = None):
                          f"(0..{sel.size - 1})")
     k = sel[int(index) % sel.size]
     T1, T2, phi = (float(cols[c][k]) for c in ("T1", "T2", "phi"))
+    if "signature" in cols and cols["signature"][k] != "1P":          # another signature: rebuilt exactly
+        return case, *_hybrid_row(case, cols, k, int(branch), int(index) % sel.size)
     orb = orbits(case.problem(), T1, T2, phi)
     d = damping(orb)
     info = {"T1": T1, "T2": T2, "phi": phi, "T": float(orb.T[0]),
@@ -166,6 +168,18 @@ def case_of_run(folder) -> Case:
         return Case(**_tuples(json.loads(sfile.read_text())["case"]))
     except (KeyError, TypeError, ValueError) as exc:
         raise InputError(f"{str(sfile)!r} does not hold a valid case: {' '.join(str(exc).split())}") from None
+
+
+def _hybrid_row(case, cols, k: int, branch: int, index: int):
+    """The orbit of row ``k`` of another signature, as an :class:`plbar.hybrid.OrbitSeries`, and its info."""
+    from ..hybrid import OrbitSeries, from_row, signature
+
+    sig = signature(cols["signature"][k])
+    d = [float(x) for x in str(cols["durations"][k]).split(";")]
+    orb = from_row(case.problem(), sig, float(cols["T"][k]), d, float(cols["phi"][k]))
+    info = {"T1": float(cols["T1"][k]), "T2": float(cols["T2"][k]), "phi": orb.phi, "T_forcing": orb.T,
+            "signature": str(sig), "m": sig.m, "xi": orb.xi, "dPL": orb.dPL, "branch": branch, "index": index}
+    return OrbitSeries(orb), info
 
 
 def _tuples(o):

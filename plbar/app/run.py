@@ -18,14 +18,19 @@ from ..util.outputs import Claim, check_folder, clear_owned, fingerprint
 from ..util.version import __version__
 from ..visuals.plots import contact_amplitude
 from .case import Case
+from .signatures import hybrid_branches, hybrid_rows, hybrid_summary
 
 __all__ = ["Result", "solve", "write_results", "read_paths", "check_output", "case_fingerprint", "PATHS_COLUMNS",
-           "CSV_HEADER", "CSV_FORMATS", "RUN_FILES"]
+           "CSV_HEADER", "CSV_FORMATS", "TEXT_COLUMNS", "RUN_FILES"]
 
 #: the columns of ``paths.csv`` (name, printf format): the one definition, for writers and readers
 PATHS_COLUMNS = (("branch", "%d"), ("T1", "%.17g"), ("T2", "%.17g"), ("phi", "%.17g"), ("T", "%.17g"),
                  ("dPL", "%.17g"), ("xi", "%.17g"), ("grazing", "%d"), ("stable", "%d"),
-                 ("max_abs_multiplier", "%.17g"), ("max_abs_xc", "%.17g"), ("omega", "%.17g"))
+                 ("max_abs_multiplier", "%.17g"), ("max_abs_xc", "%.17g"), ("omega", "%.17g"),
+                 ("xi_w", "%.17g"), ("m", "%d"), ("k", "%d"), ("signature", "%s"), ("loss_per_T", "%.17g"),
+                 ("durations", "%s"))
+#: the text columns of ``paths.csv`` (read as strings)
+TEXT_COLUMNS = ("signature", "durations")
 CSV_HEADER = [c for c, _ in PATHS_COLUMNS]
 #: what ``plbar run`` owns in its folder besides paths.csv and summary.json (cleared before new results)
 RUN_OWNED = ("vtk", "render", "frequency_response.png", "frequency_response.pdf", "paths_T1_T2.png", "paths_T1_T2.pdf")
@@ -38,11 +43,12 @@ CSV_FORMATS = [f for _, f in PATHS_COLUMNS]
 
 @dataclass(frozen=True)
 class Result:
-    """A solved case: the paths and the solver time (s)."""
+    """A solved case: the paths of the paper's class, the branches of other signatures, the solver time (s)."""
 
     case: Case
     paths: Paths
     solver_time: float
+    hybrid: tuple = ()
 
     @property
     def branches(self):
@@ -84,6 +90,8 @@ class Result:
             "n_branches": len(self.branches),
             "n_points": int(sum(len(b) for b in self.branches)),
             "branches": br,
+            "signatures": self.case.signatures,
+            "other_signatures": hybrid_summary(self.hybrid, _first_hybrid_id(self)),
             "scan": stats,
             "run_time": round(self.solver_time, 6),
             "plbar_version": __version__,
@@ -113,7 +121,12 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
                       f"{MIN_BRANCH_POINTS} points on grid = "
                       f"{case.grid}; refine the grid (or narrow T1/T2) to resolve them", CoarseGridWarning,
                       stacklevel=2)
-    return Result(case, paths, time.perf_counter() - t0)
+    hybrid = tuple(hybrid_branches(paths, case.signatures))
+    return Result(case, paths, time.perf_counter() - t0, hybrid)
+
+
+def _first_hybrid_id(res: Result) -> int:
+    return max((b.id for b in res.branches), default=-1) + 1
 
 
 def _rows(res: Result):
@@ -131,6 +144,14 @@ def _rows(res: Result):
         cols["max_abs_multiplier"].append(b.max_abs_multiplier)
         cols["max_abs_xc"].append(contact_amplitude(b.orbits))          # the amplitude the plot shows
         cols["omega"].append(2 * np.pi / b.T)
+        cols["xi_w"].append(b.xi_w)
+        cols["m"].append(np.ones(len(b), int))
+        cols["k"].append(np.ones(len(b), int))
+        cols["signature"].append(np.full(len(b), "1P", dtype=object))
+        cols["loss_per_T"].append(b.dPL)
+        cols["durations"].append(np.array([f"{a:.17g};{c:.17g}" for a, c in zip(b.T1, b.T2)], dtype=object))
+    for k, v in hybrid_rows(res.hybrid, _first_hybrid_id(res)).items():
+        cols[k].append(np.array(v, dtype=object if k in TEXT_COLUMNS else None))
     return [np.concatenate(cols[k]) if cols[k] else np.zeros(0) for k in CSV_HEADER]
 
 
@@ -142,8 +163,16 @@ def read_paths(path) -> dict[str, np.ndarray]:
     missing = [c for c in CSV_HEADER if c not in header]
     if missing:
         raise InputError(f"{str(path)!r} is not a plbar paths.csv (no column {missing[0]!r})")
-    rows = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2).reshape(-1, len(header))
-    return {c: rows[:, k] for k, c in enumerate(header)}
+    import csv
+
+    with open(path, newline="") as fh:
+        body = list(csv.reader(fh))[1:]
+    cols = list(zip(*body)) if body else [()] * len(header)
+    out = {}
+    for c, vals in zip(header, cols):
+        out[c] = np.array(vals, dtype=object) if c in TEXT_COLUMNS else \
+            np.array([float(v) if v != "" else np.nan for v in vals], float)
+    return out
 
 
 def case_fingerprint(case: Case) -> str:

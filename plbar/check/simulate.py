@@ -223,13 +223,18 @@ def _check_span(T, n_periods, t0, record):
     return n_periods, t0, rec
 
 
-def _run(mod: _Model, T, phi, seg: _Seg, t_limit: float):
-    """Event loop from ``seg`` until no event is left before ``t_limit``: segments and event data."""
+def _run(mod: _Model, T, phi, seg: _Seg, t_limit: float, t_stop: float | None = None):
+    """Event loop from ``seg`` until no event is left before ``t_limit``: segments and event data.
+
+    With ``t_stop``, the loop also ends once a segment starts at or after it: the events in
+    ``[t_stop, t_limit]`` (the snap window after the last sample, see :func:`simulate`) are taken
+    one at a time, never a cascade of zero-length segments there.
+    """
     W = 2 * np.pi / T
     segs = [seg]
     times, kinds, losses = [], [], []
     zero = 0
-    while True:
+    while t_stop is None or seg.ts < t_stop:
         tau = _next_event(mod, W, phi, seg, t_limit - seg.ts)
         if tau is None:
             break
@@ -301,7 +306,7 @@ def _simulation(mod: _Model, T, phi, seg0: _Seg, t_end: float, n_periods: float,
     """Run the events from ``seg0`` to ``t_end`` and sample the stroboscopic states, the end and the record."""
     W = 2 * np.pi / T
     snap = SNAP * T
-    segs, times, kinds, losses = _run(mod, T, phi, seg0, t_end + snap)
+    segs, times, kinds, losses = _run(mod, T, phi, seg0, t_end + snap, t_end)
     starts = np.array([s.ts for s in segs])
 
     def sample(tk):

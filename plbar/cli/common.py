@@ -25,7 +25,8 @@ hidden = argparse.SUPPRESS
 CASE_OPTIONS = {"model": "--model", "elements": "-N/--elements", "element": "--element", "mass": "--mass",
                 "mesh_file": "--mesh-file", "grading": "--grading", "end_mass": "--end-mass",
                 "end_mass_absolute": "--end-mass-absolute", "modes": "--modes", "load_node": "--load-node",
-                "load_at": "--load-at", "grid": "--grid", "T1": "--T1", "T2": "--T2", "method": "--method"}
+                "load_at": "--load-at", "grid": "--grid", "T1": "--T1", "T2": "--T2", "method": "--method",
+                "signatures": "--signatures"}
 
 
 def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None:
@@ -55,7 +56,7 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
     else:
         g.add_argument("--elements", "-N", "--n", dest="sizes", type=int, nargs="+", default=list(sizes),
                        metavar="N", help="masses of the chain / elements of the FE bar, coarse to fine "
-                                         f"[{' '.join(str(n) for n in sizes)}]")
+                                         f"[{' '.join(str(n) for n in sizes) or 'the case: 5 / 8'}]")
     g.add_argument("--element", choices=("P1", "P2"), default=None, help="FE element [P1]")
     g.add_argument("--mass", choices=("lumped", "consistent"), default=None, help="FE mass matrix [lumped]")
     g.add_argument("--mesh-file", default=None, help="meshio-readable 1D line mesh for --model fe")
@@ -78,6 +79,10 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
                    help="scan grid over (T1, T2) [200 200]")
     g.add_argument("--T1", type=float, nargs=2, default=None, metavar=("LO", "HI"), help="T1 range [(0, T0_I/2]]")
     g.add_argument("--T2", type=float, nargs=2, default=None, metavar=("LO", "HI"), help="T2 range [(0, T0_II/2]]")
+    g.add_argument("--signatures", choices=("paper", "default", "all"), default=None,
+                   help="which periodic responses: the paper's class only (paper); also the zero-dwell class, "
+                        "period doublings and the neighbouring signatures of its branches (default: about 10x the "
+                        "time); also those a short simulation from rest settles on (all) [paper]")
     g.add_argument("--method", choices=("continuation", "grid"), default=None,
                    help="branches by pseudo-arclength continuation seeded by the scan, or by linking the "
                         "scan's crossings only (faster, may fragment) [continuation]")
@@ -98,7 +103,8 @@ def case_from_args(a):
     points = tuple((s, 1.0) for s in (a.load_at or ()))
     kw = dict(model=a.model, n=getattr(a, "elements", None), element=a.element, mass=a.mass, mesh_file=a.mesh_file,
               grading=a.grading, grid=tuple(a.grid) if a.grid else None, T1=tuple(a.T1) if a.T1 else None,
-              T2=tuple(a.T2) if a.T2 else None, method=a.method, modes=a.modes, end_mass=a.end_mass,
+              T2=tuple(a.T2) if a.T2 else None, method=a.method,
+              signatures=getattr(a, "signatures", None), modes=a.modes, end_mass=a.end_mass,
               end_mass_absolute=a.end_mass_absolute)
     return Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None}), None
 

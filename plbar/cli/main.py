@@ -1,4 +1,4 @@
-"""Command line: ``plbar run``, ``mesh``, ``export``, ``render``, ``sweep-loads``, ``refine``, ``figures``.
+"""Command line: ``plbar run``, ``mesh``, ``export``, ``render``, ``sweep-loads``, ``refine``, ``figures``, ``survey``.
 
 ``main(argv) -> int``; each handler is a thin call into the public API.
 Exit codes: 0 ok, 1 failed, 2 bad input (one line on stderr), 130 interrupted.
@@ -35,11 +35,12 @@ def build_parser() -> argparse.ArgumentParser:
         "each plastic impact and the equivalent viscous damping ratio xi_eq."))
     p.add_argument("--version", action="version", version=f"plbar {__version__}")
     sub = p.add_subparsers(dest="cmd", metavar="COMMAND")
-    from . import output, run, studies
+    from . import output, run, studies, survey
 
     run.register(sub)
     output.register(sub)
     studies.register(sub)
+    survey.register(sub)
     return p
 
 

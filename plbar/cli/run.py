@@ -39,6 +39,20 @@ def _human(summary: dict, files: dict, verbose: bool) -> str:
         lines.append(f"  ... {plural(len(rest), 'more branch')} with {plural(sum(b['points'] for b in rest), 'point')} "
                      f"(max xi_eq {max(b['xi_range'][1] for b in rest):.4g}; {short} with fewer than 3 points): "
                      "all in paths.csv and summary.json")
+    other = summary.get("other_signatures", [])
+    if other:
+        by = {}
+        for b in other:
+            by.setdefault(b["signature"], []).append(b)
+        lines.append(f"  other signatures ({summary['signatures']}): {len(other)} branch(es), "
+                     f"{sum(b['points'] for b in other)} admissible points:")
+        for lab, bs in by.items():
+            lo, hi = min(b["T_range"][0] for b in bs), max(b["T_range"][1] for b in bs)
+            lines.append(f"    {lab:8s} {len(bs):3d} branch(es), T in [{lo:.5g}, {hi:.5g}], xi_eq up to "
+                         f"{max(b['xi_range'][1] for b in bs):.4g}, {sum(b['stable_points'] for b in bs)} stable points")
+    elif summary.get("signatures", "paper") == "paper":
+        lines.append("  (the paper's class only: --signatures default adds zero-dwell impacts, subharmonics and "
+                     "several impacts per period)")
     lines.append("  wrote " + ", ".join(str(p) for p in files.values() if not isinstance(p, (list, tuple))))
     return "\n".join(lines)
 

@@ -175,8 +175,9 @@ def response_data(orbit, info: dict | None = None, periods: int = 1, steps: int 
 
     Parameters
     ----------
-    orbit : Orbits
-        One orbit (its first is used); ``orbit.prob`` must come from a Bar.
+    orbit : Orbits or plbar.hybrid.OrbitSeries
+        One orbit (its first is used); ``orbit.prob`` must come from a Bar.  An orbit of another
+        signature is sampled over its whole orbit (``m`` forcing periods).
     info : dict, optional
         Extra orbit information kept in :attr:`ResponseData.info`.
     periods : {1, 2}
@@ -201,8 +202,10 @@ def response_data(orbit, info: dict | None = None, periods: int = 1, steps: int 
     u = np.concatenate([np.zeros((K, 1)), x], axis=1)
     vel = np.concatenate([np.zeros((K, 1)), v], axis=1)
     em, sen, ped, ked = _densities(u, vel, pts, cells, ctype, EA, rA)
-    tau1 = np.minimum(t_loc, orb.T1[0])[None, :]
-    margin = orb.reaction_margin(tau1)[0]
+    if hasattr(orb, "reaction_at"):             # an orbit of any signature (plbar.hybrid.OrbitSeries)
+        margin = orb.reaction_at(t_loc)[0]
+    else:
+        margin = orb.reaction_margin(np.minimum(t_loc, orb.T1[0])[None, :])[0]
     inI = state == 1
     zero = np.zeros(K)
     ek, ep = orb.energies(t_loc[None, :])

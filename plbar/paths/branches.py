@@ -108,6 +108,11 @@ class Branch:
         return self.damping.xi
 
     @property
+    def xi_w(self):
+        """``xi_w``: the damping ratio with one frequency, the forcing's (see :class:`plbar.response.Damping`)."""
+        return self.damping.xi_w
+
+    @property
     def grazing(self):
         return self.adm.grazing
 

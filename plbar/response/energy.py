@@ -43,15 +43,26 @@ class Damping(Batch):
     closed_form : ndarray of bool
         True where every ``Psi_j`` came from the closed form (False near
         resonance, where Gauss quadrature of the exact velocity is used).
+    kinetic : ndarray
+        ``sum_alpha sum_j Psi_j^alpha = int v^T M v dt`` over the period (mass-normalised modes).
+    xi_w : ndarray
+        ``xi_w = Delta_PL / (2 W int v^T M v dt)``: the same energy balance with one
+        frequency for all modes, the forcing's (viscous damping ``c = 2 xi W M``,
+        FORMULATION §8).  Eq. (22) weights mode ``j`` by ``w_j``, a half-derivative
+        norm of the velocity that grows like ``ln N`` for the velocity jump an
+        impact leaves; ``xi_w``'s denominator is the time integral of twice the
+        kinetic energy, finite in the continuum.
     """
 
     dPL: np.ndarray
     denom: np.ndarray
     xi: np.ndarray
     closed_form: np.ndarray
+    kinetic: np.ndarray
+    xi_w: np.ndarray
 
     def __repr__(self) -> str:
-        return build("Damping", {"P": self.xi.size, "xi": rng(self.xi), "dPL": rng(self.dPL),
+        return build("Damping", {"P": self.xi.size, "xi": rng(self.xi), "xi_w": rng(self.xi_w), "dPL": rng(self.dPL),
                                  "closed_form": count(self.closed_form)})
 
 
@@ -78,14 +89,18 @@ def kinetic_energy_loss(orb: Orbits) -> np.ndarray:
     return 0.5 * np.sum(v_end ** 2, axis=1) - 0.5 * np.sum(v_plus ** 2, axis=1)
 
 
-def psi_sums(orb: Orbits) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``sum_j Psi_j^alpha w_j^alpha`` for both states and the closed-form flag."""
+def psi_sums(orb: Orbits, weighted: bool = True):
+    """``sum_j Psi_j^alpha w_j^alpha`` for both states and the closed-form flag (``weighted=False``: plain sums too).
+
+    Returns ``(s1, s2, ok)``, or ``(s1, s2, ok, k1, k2)`` with the plain sums ``sum_j Psi_j^alpha``.
+    """
     s, p = orb.prob.system, orb.prob
     W = orb.W[:, None]
     c, sn = np.cos(orb.phi)[:, None], np.sin(orb.phi)[:, None]
     psi1, ok1 = psi(s.w1[None], p.f1[None], W, 0.0, orb.T1[:, None], orb.eta0, orb.v0, c, sn)
     psi2, ok2 = psi(s.w2[None], p.f2[None], W, orb.T1[:, None], orb.T2[:, None], orb.eta_s, orb.v_s, c, sn)
-    return psi1 @ s.w1, psi2 @ s.w2, ok1.all(axis=1) & ok2.all(axis=1)
+    out = (psi1 @ s.w1, psi2 @ s.w2, ok1.all(axis=1) & ok2.all(axis=1))
+    return out if weighted else out + (psi1.sum(axis=1), psi2.sum(axis=1))
 
 
 def damping(orb: Orbits) -> Damping:
@@ -104,10 +119,12 @@ def damping(orb: Orbits) -> Damping:
                       "large; use them to locate paths only and the full model (no modes=) for xi_eq",
                       TruncationWarning, stacklevel=2)
     dpl = impact_loss(orb)
-    s1, s2, ok = psi_sums(orb)
+    s1, s2, ok, k1, k2 = psi_sums(orb, weighted=False)
     denom = s1 + s2
     xi = np.divide(dpl, 2 * denom, out=np.zeros_like(dpl), where=denom > 0)
-    return Damping(dpl, denom, xi, ok)
+    kin = k1 + k2
+    xi_w = np.divide(dpl, 2 * orb.W * kin, out=np.zeros_like(dpl), where=kin > 0)
+    return Damping(dpl, denom, xi, ok, kin, xi_w)
 
 
 def work_quadrature(orb: Orbits, n: int | None = None) -> np.ndarray:

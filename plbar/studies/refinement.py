@@ -23,7 +23,7 @@ from ..app import Case
 from ..errors import InputError
 from ..util.check import show
 from ..util.files import write_json
-from ..util.outputs import claim_folder, clear_owned, fingerprint
+from ..util.outputs import claim_folder, fingerprint
 from ..util.progress import progress_bar
 from .anchors import family_label, family_title, parse_anchor, slug
 from .executor import SerialExecutor
@@ -199,6 +199,9 @@ REFINE_OWNED = ("refine.csv", "refine_rates.json", "refine_max.csv", "refine_con
                 "refine_convergence.pdf", "refine_family.png", "refine_family.pdf", "study.json", "tasks", "levels",
                 ".*.part.*")
 
+#: finished work in a refinement folder (a failed study that has some is kept: a rerun resumes it)
+FINISHED = ("levels/*/N*.json", "tasks/*.json")
+
 _SHOW = contextvars.ContextVar("plbar_refine_progress", default=False)
 
 
@@ -212,11 +215,6 @@ def refine_fingerprint(study: Study) -> str:
     return fingerprint({"series": [json.loads(x) for x in dict.fromkeys(json.dumps(b, sort_keys=True)
                                                                          for b in series)],
                         "settings": study.tasks[0]["settings"] if study.tasks else {}})
-
-
-def _finished(folder: Path) -> bool:
-    """A finished mesh or task is in the study folder (then a failed study is kept: a rerun resumes it)."""
-    return any((folder / "levels").glob("*/N*.json")) or any((folder / "tasks").glob("*.json"))
 
 
 def run_refine(cases, ns, families=("T0_II/2",), settings: TrackSettings | None = None, out="plbar-refine",
@@ -244,9 +242,7 @@ def run_refine(cases, ns, families=("T0_II/2",), settings: TrackSettings | None 
     try:
         results = run_study(folder, study, executor, progress=progress, overwrite=True)
     except BaseException:
-        if not _finished(folder):              # nothing finished: leave nothing that blocks a corrected rerun
-            clear_owned(folder, REFINE_OWNED)
-            claim.release()
+        claim.abandon(FINISHED)                # nothing finished: leave nothing that blocks a corrected rerun
         raise
     finally:
         _SHOW.reset(token)

@@ -23,7 +23,7 @@ from pathlib import Path
 __all__ = ["LAYERS", "HEAVY", "HEAVY_OK", "MAX_MODULE", "MAX_FUNCTION", "modules", "graph", "violations", "main"]
 
 #: subpackages from the bottom up; each may import only from those before it (``errors`` is the base)
-LAYERS = ("errors", "util", "model", "response", "paths", "check", "io", "visuals", "app", "studies", "cli")
+LAYERS = ("errors", "util", "model", "response", "paths", "motion", "hybrid", "check", "io", "visuals", "app", "studies", "cli")
 HEAVY = ("pyvista", "vtk", "vtkmodules", "meshio", "matplotlib", "dask", "distributed", "h5py", "PIL")
 HEAVY_OK = {"io", "visuals", "studies.executor"}
 MAX_MODULE = 400

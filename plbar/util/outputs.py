@@ -18,7 +18,12 @@ patterns).  :func:`claim_folder` is the one rule, for every command:
 
 :func:`check_folder` applies the rule without writing (call it before a long solve; ``Claim.take`` when the
 results are ready).  Used as a context manager, a claim is undone when the command fails or is interrupted
-before writing any of its files: no marker and no empty folder are left behind.
+before writing any of its files: no marker and no empty folder are left behind; a resumable study calls
+``Claim.abandon(finished)`` when it fails before finishing anything.
+
+A new command needs one line (a resumable study resumes when the fingerprint is the same)::
+
+    claim = claim_folder(out, "survey", fingerprint(definition), ("survey.csv", "tasks", ...), overwrite)
 """
 
 from __future__ import annotations
@@ -128,6 +133,15 @@ class Claim:
         for d in reversed(self.created):
             with contextlib.suppress(OSError):
                 d.rmdir()              # only an empty folder goes
+
+    def abandon(self, finished=()) -> bool:
+        """After a failure: unless a file matching ``finished`` (globs: finished work a rerun resumes) exists, remove
+        what this command owns here and undo the claim, so that nothing blocks a corrected rerun.  True if undone."""
+        if _matches(self.folder, finished):
+            return False
+        clear_owned(self.folder, self.owner.owned)
+        self.release()
+        return True
 
     def __enter__(self) -> "Claim":
         return self

@@ -125,7 +125,7 @@ def frequency_response(res, out, name: str = "frequency_response") -> Path:
     present (no per-event text, so hundreds of branches stay readable).
     """
     plt = _plt()
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7.5, 6.2), sharex=True)
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9.0, 6.2), sharex=True)
     amps = []
     for b in res.branches:
         amps.append(contact_amplitude(b.orbits))
@@ -138,6 +138,7 @@ def frequency_response(res, out, name: str = "frequency_response") -> Path:
     _draw_events(ax1, _event_points(res.branches, amps), (2, 3), label=False)
     ev = _event_points(res.branches)
     _draw_events(ax2, ev, (2, 3))
+    _draw_signatures(ax1, ax2, getattr(res, "hybrid", ()))
     T0I, T0II = res.paths.prob.system.T0
     _anchors(ax1, T0I, T0II)
     _anchors(ax2, T0I, T0II, label=False)
@@ -145,12 +146,13 @@ def frequency_response(res, out, name: str = "frequency_response") -> Path:
     ax2.set_ylabel(r"$\xi_{eq}$ (Eq. 22)")
     ax2.set_xlabel("forcing period $T$")
     kinds = [(b.stable.any(), (~b.stable).any()) for b in res.branches]
+    hollow = " (other signatures: hollow)" if getattr(res, "hybrid", ()) else ""
     if any(k[0] for k in kinds):                                   # only the kinds present
-        ax1.plot([], [], "o", color="tab:blue", label="stable")
+        ax1.plot([], [], "o", color="tab:blue", label="1P (paper's class), stable")
     if any(k[1] for k in kinds):
-        ax1.plot([], [], "x", color="tab:red", label="unstable")
-    if kinds:
-        ax1.legend(loc="best", framealpha=0.8)
+        ax1.plot([], [], "x", color="tab:red", label="1P, unstable" + hollow)
+    if ax1.get_legend_handles_labels()[1]:
+        ax1.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
     if ev:
         ax2.legend(loc="best", framealpha=0.8, title="events")
     ax1.set_yscale("log")
@@ -158,6 +160,28 @@ def frequency_response(res, out, name: str = "frequency_response") -> Path:
     p = res.paths.prob
     fig.suptitle(f"{p.bar.describe() if p.bar else ''}; load {p.load.describe() if p.load else ''}", fontsize=8)
     return _save(fig, out, name)[0]
+
+
+#: markers of the other signatures (in order of first appearance), one legend entry each
+SIG_MARKS = ("s", "D", "^", "v", "P", "*", "h", "<", ">", "p", "X", "d")
+SIG_COLORS = ("tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:cyan", "tab:olive", "tab:pink", "gold",
+              "teal", "darkslateblue", "peru", "olive")
+
+
+def _draw_signatures(ax1, ax2, branches) -> None:
+    """The branches of other signatures: one marker and colour per signature (filled stable, hollow unstable)."""
+    labels = list(dict.fromkeys(b.label for b in branches))
+    for b in branches:
+        j = labels.index(b.label)
+        mk, col = SIG_MARKS[j % len(SIG_MARKS)], SIG_COLORS[j % len(SIG_COLORS)]
+        amp = np.array([o.amplitude for o in b.orbits])
+        st = np.asarray(b.stable, bool)
+        for ax, y in ((ax1, amp), (ax2, b.xi)):
+            ax.plot(b.T[st], y[st], mk, ms=3.2, color=col, ls="none", zorder=3)
+            ax.plot(b.T[~st], y[~st], mk, ms=3.2, color=col, mfc="none", alpha=0.5, ls="none", zorder=2)
+    for j, lab in enumerate(labels):
+        ax1.plot([], [], SIG_MARKS[j % len(SIG_MARKS)], color=SIG_COLORS[j % len(SIG_COLORS)], ls="none",
+                 label=f"signature {lab}")
 
 
 #: at most this many branches (those with the largest ``xi_eq``) get their id written in :func:`paths_plane`

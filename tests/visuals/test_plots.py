@@ -155,7 +155,7 @@ def test_stability_legend_lists_only_what_is_there(fe_p2_coarse, figures, tmp_pa
     assert not any(b.stable.any() for b in res.branches)       # this FE bar: no stable point
     plots.frequency_response(res, tmp_path)
     (fig,) = figures
-    assert _legend_labels(fig.axes[0]) == ["unstable"]
+    assert _legend_labels(fig.axes[0]) == ["1P, unstable"]                  # no entry "stable"
 
 
 def test_render_scalar_bar_title_is_above_its_top_label():

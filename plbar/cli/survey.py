@@ -1,0 +1,158 @@
+"""``plbar survey``: what the bar really does at every forcing period (simulated from rest, and sweeps).
+
+A thin call into :func:`plbar.studies.survey.run_survey`; the same vocabulary
+as every command (``--out``, ``--overwrite``, ``--quiet``, ``--json``, the model
+and load options, ``--case``), the executor options of the studies.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+
+import numpy as np
+
+from ..errors import InputError
+from ..util.outputs import check_writable
+from .common import case_args, case_from_args, output_args, progress, report
+
+__all__ = ["register"]
+
+#: the search options of ``plbar run``: a survey simulates, it does not search
+_SEARCH = ("grid", "T1", "T2", "method")
+
+
+def _periods(a, case) -> np.ndarray:
+    from ..studies.survey import default_periods
+
+    if a.T_list:
+        return np.asarray(a.T_list, float)
+    if a.T is None:
+        return default_periods(case, a.num)
+    lo, hi = a.T
+    if not (np.isfinite(lo) and np.isfinite(hi) and 0 < lo <= hi):
+        raise InputError(f"--T {lo:g} {hi:g} must be a range 0 < LO <= HI of forcing periods")
+    if a.num < 1:
+        raise InputError(f"--num {a.num} must be at least 1")
+    return np.linspace(lo, hi, a.num)
+
+
+def _lines(s, T) -> list[str]:
+    t = s.table
+    lines = [f"plbar survey: {len(T)} forcing periods in [{T.min():.6g}, {T.max():.6g}], {s.summary['periods']} "
+             f"periods each (last {s.summary['record']} recorded), {s.summary['seconds']:.1f} s"]
+    for start, e in s.summary["by_start"].items():
+        k = e["kinds"]
+        by_m = ", ".join(f"m = {m}: {c}" for m, c in e["periodic_by_m"].items())
+        lines.append(f"  from {start:4s}: {k['periodic']} periodic ({by_m or '-'}), {k['irregular']} irregular"
+                     + (f", {k['failed']} failed" if k["failed"] else ""))
+    per = (t["kind"] == "periodic") & (t["start"] == "rest")
+    if per.any():
+        i = int(np.nanargmax(np.where(per, t["xi_eq"], -np.inf)))
+        lines.append(f"  largest xi_eq of a periodic motion: {t['xi_eq'][i]:.4f} at T = {t['T'][i]:.6g} "
+                     f"(m = {t['m'][i]}, loss per period {t['loss_per_T'][i]:.4g})")
+    fin = np.isfinite(t["xi_eq"])
+    if fin.any():
+        lines.append(f"  xi_eq of every motion: {np.nanmin(t['xi_eq']):.4f} .. {np.nanmax(t['xi_eq']):.4f} "
+                     f"(median {np.nanmedian(t['xi_eq']):.4f}); xi_w: {np.nanmin(t['xi_w']):.4f} .. "
+                     f"{np.nanmax(t['xi_w']):.4f}")
+    lines.append(f"  energy budget closes to {s.summary['energy_residual_max']:.1e} of the work")
+    lines.append("  wrote " + ", ".join(str(f) for v in s.files.values() for f in (v if isinstance(v, list) else [v])))
+    return lines
+
+
+def _cmd_survey(a) -> int:
+    from ..app import solve
+    from ..studies import get_executor
+    from ..studies.survey import run_survey
+
+    case, _ = case_from_args(a)
+    if a.sizes and len(a.sizes) == 1:
+        case = _with_n(case, a.sizes[0])
+    T = _periods(a, case)
+    out = check_writable(a.out)
+    if a.sizes and len(a.sizes) > 1:
+        return _refine(a, case, T, out)
+    plot = not a.no_plot and importlib.util.find_spec("matplotlib") is not None
+    paths = None
+    if plot and not a.no_paths and (a.paths or case.n_eff <= 12):
+        paths = solve(case, progress=False).paths
+    kind = "dask" if a.scheduler else a.executor
+    modes = ("rest",) + tuple(dict.fromkeys(a.cont or ()))
+    with get_executor(kind, a.scheduler, a.workers) as ex:
+        s = run_survey(case, T, a.periods, a.record, out, modes, ex, progress=progress(a), overwrite=a.overwrite,
+                       plot=plot, chunks=a.chunks, paths=paths)
+    payload = {"summary": s.summary, "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v)
+                                               for k, v in s.files.items()}}
+    report(a, payload, "\n".join(_lines(s, T)))
+    return 0
+
+
+def _with_n(case, n):
+    from dataclasses import replace
+
+    return replace(case, n=int(n))
+
+
+def _refine(a, case, T, out) -> int:
+    from ..studies import get_executor
+    from ..studies.survey import run_survey_refine
+
+    kind = "dask" if a.scheduler else a.executor
+    with get_executor(kind, a.scheduler, a.workers) as ex:
+        r = run_survey_refine(case, a.sizes, T, a.periods, a.record, out, ex, progress(a), a.overwrite,
+                              plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
+    lines = [f"plbar survey over N = {', '.join(str(n) for n in sorted(set(a.sizes)))}:"]
+    for key, d in r["rates"].items():
+        lines.append(f"  {key}: kinds {', '.join(d['kinds'])}")
+        for q in ("loss_per_T", "xi_eq", "xi_w"):
+            c = d[q]
+            vals = ", ".join(f"{v:.4g}" for v in c["values"])
+            rate = (f"-> {c['limit']:.4g}, rate {c['rate']:.2f} ({len(c['h'])} meshes)" if c["rate"] is not None
+                    and c["limit"] is not None else f"no rate: {c['why']}")
+            lines.append(f"    {q:10s} {vals}  {rate}")
+    lines.append("  wrote " + ", ".join(str(f) for v in r["files"].values() for f in (v if isinstance(v, list)
+                                                                                      else [v])))
+    report(a, {"rates": r["rates"], "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v)
+                                              for k, v in r["files"].items()}}, "\n".join(lines))
+    return 0
+
+
+def register(sub) -> None:
+    """Add ``survey`` to the ``plbar`` subparsers ``sub``."""
+    s = sub.add_parser("survey", help="what the bar really does at every forcing period: simulated from rest, "
+                                      "periodic or irregular, loss, xi_eq and xi_w of the motion",
+                       description="Simulate the bar from rest (at the wall, load q cos(2 pi t / T)) at many forcing "
+                                   "periods together (exact, event-driven), drop the transient and characterise the "
+                                   "last --record periods: periodic with stroboscopic period m or irregular, impacts "
+                                   "and impact loss per period (mean, spread), xi_eq of the motion (Eq. 22 over all "
+                                   "its segments), xi_w (one frequency), contact amplitude, time stuck.  Writes "
+                                   "DIR/survey.csv, DIR/summary.json and DIR/survey.png/.pdf (the frequency response "
+                                   "of the real motion over the exact branches of 'plbar run').  Resumable.")
+    output_args(s, "plbar-survey", "study folder (resumable)")
+    g = s.add_argument_group("forcing periods")
+    g.add_argument("--T", type=float, nargs=2, default=None, metavar=("LO", "HI"),
+                   help="range of forcing periods [6 14 for the paper's case; 0.6-1.4 T0_I for a chain, "
+                        "0.75-2.25 T0_I for an FE bar]")
+    g.add_argument("--num", type=int, default=161, metavar="K", help="forcing periods in the range [161]")
+    g.add_argument("--T-list", dest="T_list", type=float, nargs="+", default=None, metavar="T",
+                   help="explicit forcing periods (instead of --T/--num)")
+    g.add_argument("--periods", type=int, default=1000, metavar="P", help="forcing periods simulated [1000]")
+    g.add_argument("--record", type=int, default=100, metavar="R",
+                   help="the last R periods characterise the motion (the rest is the transient) [100]")
+    g.add_argument("--continue", dest="cont", choices=("up", "down"), nargs="+", default=None,
+                   help="also sweep T up and/or down, each period starting from the previous one's final state "
+                        "(hysteresis, coexisting motions)")
+    g.add_argument("--chunks", type=int, default=None, metavar="C",
+                   help="tasks the from-rest runs are split into [max(2, K/96)]")
+    s.add_argument("--no-plot", action="store_true", help="skip survey.png/.pdf")
+    s.add_argument("--no-paths", action="store_true", help="do not solve the exact branches under the figure")
+    s.add_argument("--paths", action="store_true",
+                   help="solve the exact branches under the figure even for a large model [only N <= 12]")
+    case_args(s, "the load", sizes=())
+    for act in list(s._actions):
+        if act.dest in _SEARCH:
+            act.help = "not used by a survey (it simulates; the branches under the figure use the defaults)"
+    from .studies import _executor_args
+
+    _executor_args(s)
+    s.set_defaults(func=_cmd_survey, resumable=True)

@@ -1,0 +1,279 @@
+"""Branches of periodic responses of every signature, found without the user (FORMULATION §8).
+
+:func:`find_hybrid` seeds, follows and checks:
+
+1. the zero-dwell class ``1Z`` on a grid of the period window (closed form, :func:`.seeds.zero_dwell`);
+2. every period doubling met on a branch (a real multiplier through ``-1``) seeds the doubled
+   signature (``m = 2``, then ``m = 4``), on the branches of the paper's class (their events,
+   :func:`plbar.find_paths`) and on the branches found here;
+4. a stuck phase shrinking to zero continues in the signature with that pair of zero dwell;
+   where a branch stops being admissible (a premature switch), the switches the bar makes
+   instead seed the neighbouring signature (:func:`.seeds.split`), on the paper's branches too;
+5. any extra seeds (a survey's periodic motions: :func:`.seeds.from_events`).
+
+Every curve is followed both ways in ``T`` (:func:`.follow.follow`), each point is
+replayed by the certified simulator (:func:`.verify.admissible`) and gets its
+Floquet multipliers (:mod:`.floquet`); a branch is a maximal run of admissible
+points.  Curves met twice (from two seeds, or as two rotations of one orbit)
+are kept once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..model import Problem
+from ..paths import FOLD_T, NEIMARK_SACKER, PERIOD_DOUBLING
+from ..util.reprs import build, count, rng
+from .floquet import monodromy, multipliers
+from .follow import END_DWELL, FollowSettings, follow
+from .seeds import doubled, split, zero_dwell
+from .signature import PAPER, Signature
+from .solve import HybridOrbit, NotConverged, orbit_at, polish
+from .verify import admissible
+
+__all__ = ["HybridBranch", "find_hybrid", "KINDS", "PD", "NS", "FOLD"]
+
+KINDS = ("paper", "default", "all")
+PD, NS, FOLD = PERIOD_DOUBLING, NEIMARK_SACKER, FOLD_T
+M_MAX = 4                 #: longest orbit (in forcing periods) seeded by period doublings
+STABLE_TOL = 1e-9
+
+
+@dataclass(frozen=True)
+class HybridBranch:
+    """Admissible periodic responses of one signature along a curve in ``T`` (ordered).
+
+    Attributes
+    ----------
+    sig : Signature
+        As followed (``label`` is its canonical string).
+    orbits : tuple of HybridOrbit
+    stable : ndarray of bool
+    max_abs_multiplier : ndarray
+    events : list of dict
+        ``kind`` (:data:`PD`, :data:`NS`, :data:`FOLD`), ``index``, ``T``.
+    """
+
+    id: int
+    sig: Signature
+    orbits: tuple = field(repr=False)
+    stable: np.ndarray = field(repr=False)
+    max_abs_multiplier: np.ndarray = field(repr=False)
+    events: list = field(default_factory=list, repr=False)
+
+    @property
+    def label(self) -> str:
+        return str(self.sig.canonical())
+
+    def _a(self, name):
+        return np.array([getattr(o, name) for o in self.orbits], float)
+
+    @property
+    def T(self):
+        return self._a("T")
+
+    @property
+    def dPL(self):
+        return self._a("dPL")
+
+    @property
+    def loss_per_T(self):
+        return self._a("loss_per_T")
+
+    @property
+    def xi(self):
+        return self._a("xi")
+
+    @property
+    def xi_w(self):
+        return self._a("xi_w")
+
+    @property
+    def phi(self):
+        return self._a("phi")
+
+    def __len__(self) -> int:
+        return len(self.orbits)
+
+    def __repr__(self) -> str:
+        return build("HybridBranch", {"id": self.id, "signature": self.label, "points": len(self), "T": rng(self.T),
+                                      "xi": rng(self.xi), "loss_per_T": rng(self.loss_per_T),
+                                      "stable": count(self.stable), "events": len(self.events)})
+
+
+def _curve(prob, orb: HybridOrbit, window, st) -> tuple[list[HybridOrbit], list[str]]:
+    """The whole curve through ``orb`` (both directions), in increasing arclength, and its two ends."""
+    up, e_up = follow(prob, orb.sig, orb, window, +1.0, st)
+    dn, e_dn = follow(prob, orb.sig, orb, window, -1.0, st)
+    return dn[::-1] + up[1:], [e_dn, e_up]
+
+
+def _mults(prob, orbs) -> list[np.ndarray]:
+    return [multipliers(monodromy(prob, o.sig, o.T, o.phi, o.chain)) for o in orbs]
+
+
+def _events(orbs, mus) -> list[dict]:
+    ev = []
+    for i in range(1, len(orbs)):
+        a, b = mus[i - 1], mus[i]
+        ra, rb = a[np.abs(a.imag) < 1e-9].real, b[np.abs(b.imag) < 1e-9].real
+        if (np.any(ra < -1) != np.any(rb < -1)):
+            ev.append({"kind": PD, "index": i, "T": orbs[i].T})
+        ca, cb = np.abs(a[np.abs(a.imag) >= 1e-9]), np.abs(b[np.abs(b.imag) >= 1e-9])
+        if ca.size and cb.size and (ca.max() > 1) != (cb.max() > 1):
+            ev.append({"kind": NS, "index": i, "T": orbs[i].T})
+        if i >= 2 and (orbs[i].T - orbs[i - 1].T) * (orbs[i - 1].T - orbs[i - 2].T) < 0:
+            ev.append({"kind": FOLD, "index": i - 1, "T": orbs[i - 1].T})
+    return ev
+
+
+def _known(curves, orb: HybridOrbit) -> bool:
+    """Is ``orb`` on a curve already followed (same canonical signature; its loss on the curve's piecewise
+    linear interpolation at its ``T``, between two neighbouring points)?"""
+    lab = str(orb.sig.canonical())
+    for sig, orbs in curves:
+        if str(sig.canonical()) != lab or len(orbs) < 2:
+            continue
+        T = np.array([o.T for o in orbs])
+        L = np.array([o.loss_per_T for o in orbs])
+        a, b = T[:-1], T[1:]
+        inside = (np.minimum(a, b) <= orb.T) & (orb.T <= np.maximum(a, b))
+        for i in np.flatnonzero(inside):
+            w = 0.0 if b[i] == a[i] else (orb.T - a[i]) / (b[i] - a[i])
+            Li = L[i] + w * (L[i + 1] - L[i])
+            if abs(Li - orb.loss_per_T) <= 1e-2 * abs(L[i + 1] - L[i]) + 1e-6 * max(abs(orb.loss_per_T), 1e-12):
+                return True
+    return False
+
+
+def _zero_dwell_seeds(prob, window, num: int) -> list[HybridOrbit]:
+    """One admissible ``1Z`` orbit per admissible stretch of the grid (and root)."""
+    Ts = np.linspace(window[0], window[1], num)
+    orbs = [o for T in Ts for o in zero_dwell(prob, T)]
+    ok = admissible(orbs)
+    seeds, prev = [], None
+    for o, a in zip(orbs, ok):
+        key = round(o.phi / np.pi * 1e6)
+        if a and (prev is None or abs(prev.T - o.T) > 1.5 * (Ts[1] - Ts[0]) or abs(prev.phi - o.phi) > 0.5):
+            seeds.append(o)
+        if a:
+            prev = o
+        del key
+    return seeds
+
+
+def _dwell_transition(prob, orb: HybridOrbit) -> list[HybridOrbit]:
+    """At a stuck phase shrinking to zero: the same orbit in the signature with that pair of zero dwell."""
+    out = []
+    d = orb.durations
+    for i, positive in enumerate(orb.sig.dwell):
+        if positive and d[2 * i] < 1e-3 * orb.T:
+            dw = list(orb.sig.dwell)
+            dw[i] = False
+            sig = Signature(orb.sig.m, tuple(dw))
+            var = [d[2 * j] for j in range(orb.sig.k) if dw[j]]
+            X = [orb.z0]
+            vals = []
+            for j in range(orb.sig.k):
+                if dw[j]:
+                    vals.append(d[2 * j])
+                vals.append(d[2 * j + 1] + (d[2 * j] if j == i else 0.0))
+            del var
+            try:
+                out.append(polish(prob, sig, orb.T, np.concatenate(X + [vals, [orb.phi]])))
+            except NotConverged:
+                pass
+    return out
+
+
+def _paper_doublings(prob, paper_branches) -> list[HybridOrbit]:
+    """Seeds of ``m = 2`` at the period doublings of the paper's branches (the point beyond the crossing)."""
+    out = []
+    for b in paper_branches:
+        o = b.orbits
+        for e in b.events:
+            if e["kind"] != PD:
+                continue
+            for i in {max(e["index"] - 1, 0), min(e["index"], len(b) - 1)}:
+                X = np.concatenate([o.eta0[i], o.v0[i], [o.T1[i], o.T2[i], o.phi[i]]])
+                orb = orbit_at(prob, PAPER, float(o.T[i]), X)
+                mu = _mults(prob, [orb])[0]
+                if np.any(np.abs(mu.imag) < 1e-9 * np.abs(mu) + 1e-12) and np.any(mu.real < -1):
+                    out.extend(doubled(prob, orb))
+    return out
+
+
+def _paper_ends(prob, paper_branches, window, st) -> list[HybridOrbit]:
+    """Seeds beyond the ends of the paper's branches: a few continuation steps out, then :func:`.seeds.split`."""
+    out = []
+    short = FollowSettings(h0=st.h0, h_min=st.h_min, h_max=st.h_max, max_points=4, newton=st.newton)
+    for b in paper_branches:
+        o = b.orbits
+        for i in {0, len(b) - 1}:
+            X = np.concatenate([o.eta0[i], o.v0[i], [o.T1[i], o.T2[i], o.phi[i]]])
+            orb = orbit_at(prob, PAPER, float(o.T[i]), X)
+            for direction in (1.0, -1.0):
+                orbs, _ = follow(prob, PAPER, orb, window, direction, short)
+                ok = admissible(orbs[1:])
+                bad = [x for x, a in zip(orbs[1:], ok) if not a]
+                if bad:
+                    out.extend(split(prob, bad[0]))
+    return out
+
+
+def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), extra_seeds=(),
+                kinds: str = "default", grid: int = 400, settings: FollowSettings | None = None) -> list[HybridBranch]:
+    """Branches of every signature but the paper's class reachable from the seeds (see the module docstring).
+
+    ``paper_branches`` are the branches of :func:`plbar.find_paths` (their period doublings and ends seed
+    other signatures), ``extra_seeds`` any other orbits.  ``kinds = "paper"`` returns nothing.
+    """
+    if kinds == "paper":
+        return []
+    st = settings or FollowSettings()
+    queue = list(_zero_dwell_seeds(prob, window, grid)) + _paper_doublings(prob, paper_branches) + \
+        _paper_ends(prob, paper_branches, window, st) + list(extra_seeds)
+    curves, branches = [], []
+    while queue:
+        orb = queue.pop(0)
+        if orb.sig == PAPER or orb.sig.m > M_MAX or _known(curves, orb):
+            continue
+        orbs, ends = _curve(prob, orb, window, st)
+        curves.append((orb.sig, orbs))
+        mus = _mults(prob, orbs)
+        ok = admissible(orbs)
+        ev = _events(orbs, mus)
+        for e in ev:
+            if e["kind"] == PD and orb.sig.m * 2 <= M_MAX:
+                i = e["index"]
+                beyond = i if np.any(mus[i].real < -1) else i - 1
+                queue.extend(doubled(prob, orbs[beyond]))
+        for end, o in zip(ends, (orbs[0], orbs[-1])):
+            if end == END_DWELL:
+                queue.extend(_dwell_transition(prob, o))
+        for j in np.flatnonzero(ok[1:] != ok[:-1]):          # the first inadmissible point past each run
+            k = j + 1 if ok[j] else j
+            queue.extend(split(prob, orbs[k]))
+        branches.extend(_admissible_runs(orbs, ok, mus, ev, len(branches)))
+    return branches
+
+
+def _admissible_runs(orbs, ok, mus, ev, first_id: int) -> list[HybridBranch]:
+    out = []
+    i = 0
+    n = len(orbs)
+    while i < n:
+        if not ok[i]:
+            i += 1
+            continue
+        j = i
+        while j < n and ok[j]:
+            j += 1
+        mx = np.array([np.abs(m).max() for m in mus[i:j]])
+        evs = [dict(e, index=e["index"] - i) for e in ev if i <= e["index"] < j]
+        out.append(HybridBranch(first_id + len(out), orbs[i].sig, tuple(orbs[i:j]), mx < 1 - STABLE_TOL, mx, evs))
+        i = j
+    return out

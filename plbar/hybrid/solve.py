@@ -1,0 +1,200 @@
+"""Exact periodic responses of any signature: Newton on the chain's residuals with its exact Jacobian.
+
+:func:`polish` takes a guess ``(z0, durations, phi)`` at a period ``T`` and
+returns a :class:`HybridOrbit` whose residuals, recomputed from the flow of
+the returned state, are at round-off (or raises :class:`NotConverged`).  The
+orbit's energy follows: the impact loss of every impact, ``S v_c^2 / 2``
+(Eq. (14)), summed over the orbit (``dPL``, ``m`` periods) and per forcing
+period (``loss_per_T``); ``xi_eq`` of Eq. (22) over all its segments
+(FORMULATION §8) and ``xi_w`` (one frequency, the forcing's).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from ..errors import PlbarError
+from ..model import Problem
+from ..response import psi, segment
+from ..util.reprs import build
+from .chain import Chain, evaluate, layout
+from .signature import Signature
+
+__all__ = ["HybridOrbit", "NotConverged", "polish", "orbit_at", "ACCEPT", "ROUNDOFF"]
+
+ACCEPT = 1e-11     #: largest relative residual Newton accepts as converged
+ROUNDOFF = 1e-13   #: the residual every reported orbit reaches (polish tightens to it)
+
+
+class NotConverged(PlbarError):
+    """Newton did not bring the residuals of a periodic response to round-off."""
+
+
+@dataclass(frozen=True)
+class HybridOrbit:
+    """One periodic response of signature ``sig`` at period ``T``.
+
+    Attributes
+    ----------
+    sig : Signature
+    T, phi : float
+    X : ndarray
+        The unknowns ``(z0, durations, phi)`` (:mod:`.chain`).
+    durations : ndarray, shape (2k,)
+        ``tau^I_1, tau^II_1, ..., tau^I_k, tau^II_k`` (zero for a zero dwell); they sum to ``m T``.
+    residual : float
+        Largest relative residual recomputed from the flow.
+    v_impact : ndarray, shape (k,)
+        Contact velocity just before each impact (> 0).
+    zero_margins : ndarray
+        ``-R`` just after each impact followed by a zero dwell (< 0).
+    chain : Chain
+
+    ``dPL`` (impact loss over the orbit, ``m`` periods: the sum of ``S v_c^2 / 2`` over its impacts,
+    Eq. (14)), ``loss_per_T = dPL / m``, ``xi`` (``xi_eq``, Eq. (22) over all segments) and ``xi_w``
+    (one frequency, the forcing's) are computed on first access.
+    """
+
+    prob: Problem
+    sig: Signature
+    T: float
+    phi: float
+    X: np.ndarray
+    durations: np.ndarray
+    residual: float
+    v_impact: np.ndarray
+    zero_margins: np.ndarray
+    chain: Chain
+
+    @property
+    def z0(self) -> np.ndarray:
+        return self.X[:2 * self.prob.system.w1.size]
+
+    @property
+    def dPL(self) -> float:
+        S = self.prob.cached("impact_mass", lambda p: p.system.impact_mass)
+        return float(0.5 * S * np.sum(self.v_impact ** 2))
+
+    @property
+    def loss_per_T(self) -> float:
+        return self.dPL / self.sig.m
+
+    @cached_property
+    def _psi(self) -> tuple[float, float]:
+        return _psi_sums(self.prob, self.chain, self.T, float(self.X[-1]))
+
+    @property
+    def xi(self) -> float:
+        den = self._psi[0]
+        return self.dPL / (2 * den) if den > 0 else 0.0
+
+    @property
+    def xi_w(self) -> float:
+        kin = self._psi[1]
+        return self.dPL / (2 * (2 * np.pi / self.T) * kin) if kin > 0 else 0.0
+
+    @cached_property
+    def amplitude(self) -> float:
+        """``max |x_c|`` over the orbit, sampled on every free phase (200 points each, as the paper's class)."""
+        prob = self.prob
+        sy = prob.system
+        m = sy.w2.size
+        W = 2 * np.pi / self.T
+        best = 0.0
+        for seg in self.chain.segments:
+            if seg.state == 2:
+                u = np.linspace(0.0, seg.tau, 200)
+                e, _ = segment(sy.w2, prob.f2, W, seg.t0, u[:, None], seg.z0[:m], seg.z0[m:], np.cos(self.phi),
+                               np.sin(self.phi))
+                best = max(best, float(np.abs(e @ sy.gap_row).max()))
+        return best
+
+    def __repr__(self) -> str:
+        return build("HybridOrbit", {"sig": str(self.sig), "T": self.T, "phi": self.phi,
+                                     "durations": np.array2string(self.durations, precision=5),
+                                     "loss_per_T": self.loss_per_T, "xi": self.xi, "residual": self.residual})
+
+
+def _scales(prob: Problem, ch: Chain, X, nz: int, q: int, T: float) -> np.ndarray:
+    zs = max(float(np.abs(X[:nz]).max(initial=0.0)), 1e-300)
+    return np.concatenate([np.maximum(ch.switch_scale, 1e-300), [T], np.full(nz, zs)])
+
+
+def durations_of(sig: Signature, X: np.ndarray, nz: int) -> np.ndarray:
+    """The ``2k`` durations (zero dwells filled in) from the unknowns."""
+    out, col = [], 0
+    for positive in sig.dwell:
+        if positive:
+            out.append(X[nz + col])
+            col += 1
+        else:
+            out.append(0.0)
+        out.append(X[nz + col])
+        col += 1
+    return np.array(out, float)
+
+
+def _psi_sums(prob: Problem, ch: Chain, T: float, phi: float) -> tuple[float, float]:
+    """``sum_j w_j Psi_j`` and ``sum_j Psi_j`` over every segment of an evaluated chain (Eqs. (20)-(21))."""
+    sy = prob.system
+    W = 2 * np.pi / T
+    den, kin = 0.0, 0.0
+    for seg in ch.segments:
+        w, f = (sy.w1, prob.f1) if seg.state == 1 else (sy.w2, prob.f2)
+        m = w.size
+        p, _ = psi(w, f, W, seg.t0, seg.tau, seg.z0[:m], seg.z0[m:], np.cos(phi), np.sin(phi))
+        den += float(p @ w)
+        kin += float(np.sum(p))
+    return den, kin
+
+
+def orbit_at(prob: Problem, sig: Signature, T: float, X, ch: Chain | None = None) -> HybridOrbit:
+    """The :class:`HybridOrbit` of unknowns ``X`` (residuals recomputed from the flow, or taken from ``ch``,
+    an evaluation of the same ``X`` without Jacobian)."""
+    X = np.asarray(X, float)
+    ch = ch if ch is not None and ch.J is None else evaluate(prob, sig, T, X, jac=False)
+    nz, q, _ = layout(prob, sig)
+    res = float(np.max(np.abs(ch.F) / _scales(prob, ch, X, nz, q, T)))
+    m2 = prob.system.w2.size
+    vimp = np.array([float(prob.system.gap_row @ seg.z1[m2:]) for seg in ch.segments if seg.state == 2])
+    return HybridOrbit(prob, sig, float(T), float(np.mod(X[-1], 2 * np.pi)), X, durations_of(sig, X, nz), res,
+                       vimp, ch.zero_margins, ch)
+
+
+def polish(prob: Problem, sig: Signature, T: float, X0, maxit: int = 30) -> HybridOrbit:
+    """Newton on the chain's residuals from the guess ``X0`` (exact Jacobian, damped by halving).
+
+    Raises
+    ------
+    NotConverged
+        If the relative residual does not reach :data:`ACCEPT`, or a duration turns negative.
+    """
+    X = np.array(X0, float)
+    nz, q, _ = layout(prob, sig)
+    T = float(T)
+    for _ in range(maxit):
+        ch = evaluate(prob, sig, T, X)
+        sc = _scales(prob, ch, X, nz, q, T)
+        r = np.max(np.abs(ch.F) / sc)
+        if r <= ROUNDOFF:
+            break
+        try:
+            dX = np.linalg.solve(ch.J, -ch.F)
+        except np.linalg.LinAlgError:
+            raise NotConverged(f"singular Jacobian for {sig} at T = {T:.12g}") from None
+        lam = 1.0
+        for _ in range(20):
+            Xn = X + lam * dX
+            if np.all(Xn[nz:nz + q] > 0):
+                rn = np.max(np.abs(evaluate(prob, sig, T, Xn, jac=False).F) / sc)
+                if rn < r or lam < 1e-3:
+                    break
+            lam *= 0.5
+        X = Xn
+    orb = orbit_at(prob, sig, T, X)
+    if not orb.residual <= 10 * ROUNDOFF or np.any(X[nz:nz + q] <= 0):
+        raise NotConverged(f"{sig} at T = {T:.12g}: residual {orb.residual:.2e} after Newton")
+    return orb

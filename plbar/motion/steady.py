@@ -1,0 +1,132 @@
+"""What a long simulation settled on: periodic (with its stroboscopic period) or not, and its energy accounts.
+
+From the recorded periods of a :class:`plbar.motion.Run`:
+
+* **kind**: ``periodic`` with stroboscopic period ``m`` when the states at the
+  period boundaries repeat after ``m`` periods over the whole recorded window
+  (relative distance below ``tol``), the smallest such ``m``; otherwise
+  ``irregular``; ``failed`` when the simulation stopped (a chattering contact).
+  A motion that does not repeat is never forced into a periodic label.
+* **impacts and loss per forcing period**: mean, min, max, standard deviation (of a periodic
+  motion over whole orbits: the last ``m floor(R / m)`` recorded periods).
+* **xi_eq of the motion** (FORMULATION §8): the mean impact loss per period over
+  ``2 x`` the mean per period of ``sum_alpha sum_j w_j^alpha int etadot_j^2`` over the
+  segments of each state; for the paper's class this is Eq. (22).  Its spread
+  is that of the per-period ratios.
+* **xi_w**: the same balance with one frequency for all modes, the forcing's:
+  mean loss / (``2 W`` x mean ``int v^T M v``) (viscous damping ``c = 2 xi W M``).
+* the contact amplitude (largest ``-x_c`` per period: mean and largest), the
+  fraction of time stuck, and the energy budget of the whole run.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..util.batch import Batch
+from ..util.reprs import build, rng
+from .run import Run
+
+__all__ = ["Steady", "steady", "periodicity", "KINDS", "PERIODIC_TOL", "M_MAX"]
+
+KINDS = ("periodic", "irregular", "failed")
+PERIODIC_TOL = 1e-6   #: relative distance of the boundary states below which a motion repeats
+M_MAX = 12            #: longest stroboscopic period looked for
+
+
+@dataclass(frozen=True)
+class Steady(Batch):
+    """The steady motion of each trajectory of a run (arrays of shape (B,)).
+
+    ``kind`` holds indices into :data:`KINDS`; ``m`` is 0 unless periodic; ``distance``
+    is the relative repeat distance at ``m`` (at the best ``m`` when irregular).
+    """
+
+    T: np.ndarray
+    kind: np.ndarray
+    m: np.ndarray
+    distance: np.ndarray
+    impacts_per_T: np.ndarray
+    loss_per_T: np.ndarray
+    loss_min: np.ndarray
+    loss_max: np.ndarray
+    loss_std: np.ndarray
+    xi_eq: np.ndarray
+    xi_min: np.ndarray
+    xi_max: np.ndarray
+    xi_std: np.ndarray
+    xi_w: np.ndarray
+    amp_c: np.ndarray
+    amp_c_max: np.ndarray
+    stuck_fraction: np.ndarray
+    work_per_T: np.ndarray
+    energy_residual: np.ndarray
+
+    def __len__(self) -> int:
+        return self.T.size
+
+    @property
+    def kind_names(self) -> np.ndarray:
+        return np.array(KINDS)[self.kind]
+
+    def __repr__(self) -> str:
+        counts = {k: int(np.sum(self.kind == i)) for i, k in enumerate(KINDS)}
+        return build("Steady", {"B": len(self), "T": rng(self.T), "kinds": counts, "xi_eq": rng(self.xi_eq),
+                                "loss_per_T": rng(self.loss_per_T)})
+
+
+def periodicity(x, v, m_max: int = M_MAX, tol: float = PERIODIC_TOL):
+    """Smallest repeat ``m`` of boundary states ``(B, R + 1, n)`` and its distance (``m = 0``: none up to ``m_max``).
+
+    The distance at ``m`` is ``max_r |z_(r+m) - z_r| / max_r |z_r|`` over the
+    window, ``z = (x, v)``; ``m`` is used only if the window holds at least
+    two repeats (``R >= 2 m``).
+    """
+    z = np.concatenate([x, v], axis=2)
+    B, R1, _ = z.shape
+    scale = np.maximum(np.linalg.norm(z, axis=2).max(axis=1), 1e-300)
+    best_m = np.zeros(B, int)
+    best_d = np.full(B, np.inf)
+    for m in range(1, min(m_max, (R1 - 1) // 2) + 1):
+        dist = np.linalg.norm(z[:, m:] - z[:, :-m], axis=2).max(axis=1) / scale
+        new = (best_m == 0) & (dist <= tol)
+        best_m[new] = m
+        best_d = np.where(new | ((best_m == 0) & (dist < best_d)), dist, best_d)
+    return best_m, best_d
+
+
+def _spread(a, use):
+    """Mean, min, max and standard deviation of each row over its ``use``d periods."""
+    rows = [a[b][use[b]] for b in range(a.shape[0])]
+    return tuple(np.array([f(x) for x in rows]) for f in (np.mean, np.min, np.max, np.std))
+
+
+def steady(r: Run, m_max: int = M_MAX, tol: float = PERIODIC_TOL) -> Steady:
+    """Characterise the recorded window of ``r`` (needs ``r.record >= 1``)."""
+    if r.record < 1:
+        raise ValueError("the run recorded no period; give record >= 1")
+    m, dist = periodicity(r.strobe_x, r.strobe_v, m_max, tol)
+    kind = np.where(r.status != 0, 2, np.where(m > 0, 0, 1))
+    m = np.where(kind == 0, m, 0)
+    # a periodic motion is averaged over whole orbits: the last m floor(R / m) periods
+    R = r.record
+    use = np.ones(r.loss.shape, bool)
+    for b in np.flatnonzero(m > 1):
+        use[b, :R - m[b] * (R // m[b])] = False
+    per_T = lambda a: np.array([a[b][use[b]].mean() for b in range(a.shape[0])])  # noqa: E731
+    loss = per_T(r.loss)
+    _, l_min, l_max, l_std = _spread(r.loss, use)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        per = np.where(r.d_eq > 0, r.loss / (2 * r.d_eq), 0.0)
+        den = per_T(r.d_eq)
+        xi = np.where(den > 0, loss / (2 * den), 0.0)
+        W = 2 * np.pi / r.T
+        dw = per_T(r.d_w)
+        xi_w = np.where(dw > 0, loss / (2 * W * dw), 0.0)
+    _, x_min, x_max, x_std = _spread(per, use)
+    stuck = np.array([r.stuck[b][use[b]].sum() / (use[b].sum() * r.T[b]) for b in range(r.T.size)])
+    amp_max = np.array([r.amp[b][use[b]].max() for b in range(r.T.size)])
+    return Steady(r.T, kind, m, dist, per_T(r.impacts.astype(float)), loss, l_min, l_max, l_std, xi, x_min, x_max,
+                  x_std, xi_w, per_T(r.amp), amp_max, stuck, per_T(r.work_rec), r.energy_residual)

@@ -1,0 +1,104 @@
+"""Work of the load over a segment, in closed form (pure functions).
+
+Over a segment that starts at ``ts`` with modal state ``eta0, v0`` the work of
+the load on mode ``j`` up to ``ts + tau`` is
+
+``W_j = f_j int_0^tau cos(W (ts + u) - phi) etadot_j(u) du``
+
+with the exact velocity ``etadot = A cos w u + B sin w u + Cc cos W u + Cs sin W u``
+(Eqs. (15)-(17), the same decomposition as ``Psi`` in :mod:`.flow`), so every
+product integrates exactly.  This is independent of the energy formulas
+(Eqs. (12)-(14)): the energy budget ``work = losses + change of energy`` of a
+simulation is a check, not an identity of the code.  Near resonance the
+closed form cancels and Gauss-Legendre quadrature of the exact velocity
+takes over (as for ``Psi``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .flow import CANCEL_LIMIT, gauss, segment, sinc
+
+__all__ = ["work_closed_form", "work_quadrature_segment", "segment_work"]
+
+
+def _h(x, tau):
+    """``(1 - cos(x tau)) / x``, smooth through ``x = 0``."""
+    s = sinc(0.5 * x * tau)
+    return 0.5 * x * tau * tau * s * s
+
+
+def work_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi):
+    """Closed-form work of the load on each mode over ``[ts, ts + tau]``.
+
+    Parameters
+    ----------
+    w, f : array_like
+        Natural circular frequencies and modal load amplitudes.
+    W : array_like
+        Forcing circular frequency.
+    ts, tau : array_like
+        Segment start (absolute) and length.
+    eta0, v0 : array_like
+        Modal state at ``ts``.
+    cphi, sphi : array_like
+        ``cos(phi), sin(phi)`` of the forcing phase.
+
+    Returns
+    -------
+    work : ndarray
+        Broadcast shape of the inputs (per mode; sum over the last axis for the total).
+    cancel : ndarray
+        Cancellation factor ``(|A|+|B|+|Cc|+|Cs|) / (|(w eta0, v0)| + |f| tau)``; large near resonance.
+    """
+    cw, sw = np.cos(W * ts), np.sin(W * ts)
+    th_c = cw * cphi + sw * sphi     # cos(W ts - phi)
+    th_s = sw * cphi - cw * sphi     # sin(W ts - phi)
+    wp, wm = w + W, w - W
+    d = wp * wm
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+        g = np.divide(f, d, out=np.full(np.broadcast(f, d).shape, np.inf), where=d != 0)
+        Cc = -g * W * th_s
+        Cs = -g * W * th_c
+        A = v0 - Cc
+        B = g * w * th_c - w * eta0
+        cm, cp = tau * sinc(wm * tau), tau * sinc(wp * tau)
+        hp, hm = _h(wp, tau), _h(wm, tau)
+        c2 = tau * sinc(2 * W * tau)
+        sW = sinc(W * tau)
+        scW = 0.5 * W * tau * tau * sW * sW                      # int sin Wu cos Wu
+        cos_v = A * 0.5 * (cm + cp) + B * 0.5 * (hp + hm) + Cc * 0.5 * (tau + c2) + Cs * scW
+        sin_v = A * 0.5 * (hp - hm) + B * 0.5 * (cm - cp) + Cc * scW + Cs * 0.5 * (tau - c2)
+        work = f * (th_c * cos_v - th_s * sin_v)
+        scale = np.hypot(w * eta0, v0) + np.abs(f) * tau
+        num = np.broadcast_to(np.abs(A) + np.abs(B) + np.abs(Cc) + np.abs(Cs), np.shape(work))
+        cancel = np.divide(num, scale, out=np.where(num > 0, np.inf, 0.0), where=scale > 0)
+    cancel = np.where(np.isfinite(work), cancel, np.inf)
+    return work, cancel
+
+
+def work_quadrature_segment(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None):
+    """The work of :func:`work_closed_form` by Gauss-Legendre on the exact velocity (any frequencies)."""
+    w, f, W, ts, tau, eta0, v0, cphi, sphi = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi)
+    if n is None:
+        k = float(np.max((np.maximum(w, W) + W) * np.abs(tau))) if w.size else 0.0
+        n = 20 * int(np.ceil((0.6 * k + 40) / 20))
+    x, wt = gauss(n)
+    u = 0.5 * tau[..., None] * (x + 1)
+    _, v = segment(w[..., None], f[..., None], W[..., None], ts[..., None], u,
+                   eta0[..., None], v0[..., None], cphi[..., None], sphi[..., None])
+    force = cphi[..., None] * np.cos(W[..., None] * (ts[..., None] + u)) + \
+        sphi[..., None] * np.sin(W[..., None] * (ts[..., None] + u))
+    return 0.5 * tau * np.sum(wt * f[..., None] * force * v, axis=-1)
+
+
+def segment_work(w, f, W, ts, tau, eta0, v0, cphi, sphi):
+    """Work per mode over ``[ts, ts + tau]``: closed form, or quadrature where it would cancel."""
+    p, cancel = work_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi)
+    bad = ~(cancel < CANCEL_LIMIT)
+    if np.any(bad):
+        b = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi)
+        p = np.array(p, copy=True)
+        p[bad] = work_quadrature_segment(*[a[bad] for a in b])
+    return p

@@ -1,0 +1,16 @@
+"""The survey of the real motion: what the bar does at every forcing period, and the damping of that motion.
+
+* :mod:`.points` -- one chunk of forcing periods simulated together (:mod:`plbar.motion`) and characterised;
+* :mod:`.tasks` -- the study's tasks: chunks from rest, and sweeps that carry the state up or down in ``T``;
+* :mod:`.refine` -- the survey at several sizes N and the convergence of its means;
+* :mod:`.study` -- :func:`survey` (in memory), :func:`run_survey` (a resumable study folder with
+  ``survey.csv``, ``summary.json`` and the figure).
+"""
+
+from .points import COLUMNS, survey_chunk
+from .refine import REFINE_COLUMNS, run_survey_refine
+from .study import SURVEY_OWNED, Survey, default_periods, run_survey, survey, survey_study, write_survey
+from .tasks import MODES, case_fields, case_of, make_tasks, survey_task
+
+__all__ = ["COLUMNS", "survey_chunk", "SURVEY_OWNED", "Survey", "default_periods", "run_survey", "survey",
+           "survey_study", "write_survey", "REFINE_COLUMNS", "run_survey_refine", "MODES", "case_fields", "case_of", "make_tasks", "survey_task"]

@@ -1,0 +1,83 @@
+"""One chunk of a survey: simulate forcing periods together and characterise what each settles on.
+
+The result of a chunk is JSON-able (one dict per forcing period, the columns of
+``survey.csv``), so a study task can return it and a checkpoint can hold it.
+Where the motion is periodic, its exact periodic response is polished from the
+simulation (:func:`plbar.hybrid.from_motion`: the state at the start of the last
+``m`` periods carried to an impact, the switches of ``m`` periods as the guess,
+Newton): its signature (``1P`` is the paper's class, ``1Z`` one impact without a
+stuck phase, ``2PZ`` ...), loss and ``xi_eq`` are reported beside the simulated ones.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...app import Case
+from ...motion import KINDS, Padded, Start, padded, run, steady
+from ...errors import PlbarError
+from ...hybrid import from_motion
+
+__all__ = ["COLUMNS", "survey_chunk", "start_of", "start_json"]
+
+#: the columns of survey.csv, in order (the first thirteen are the issue's minimum)
+COLUMNS = ("T", "kind", "m", "impacts_per_T", "loss_per_T", "loss_min", "loss_max", "xi_eq", "xi_min", "xi_max",
+           "xi_w", "amp_c", "stuck_fraction", "loss_std", "xi_std", "amp_c_max", "work_per_T", "distance",
+           "energy_residual", "exact_loss", "exact_xi", "signature", "status")
+
+
+def start_json(s: Start, i: int) -> dict:
+    """Row ``i`` of a start as JSON (exact floats)."""
+    return {"state": int(s.state[i]), "eta": [float(v) for v in s.eta[i]], "vel": [float(v) for v in s.vel[i]]}
+
+
+def start_of(rows: list[dict]) -> Start:
+    """A :class:`Start` from JSON rows (:func:`start_json`)."""
+    return Start(np.array([r["state"] for r in rows], int), np.array([r["eta"] for r in rows], float),
+                 np.array([r["vel"] for r in rows], float))
+
+
+def _polish(prob, r, b: int, m: int, loss: float) -> dict:
+    """The exact orbit of trajectory ``b``'s periodic motion (or no fields if Newton does not get there)."""
+    first = r.periods - r.record
+    sel = r.events["traj"] == b
+    te, ke = r.events["time"][sel], r.events["kind"][sel]
+    T = float(r.T[b])
+    t_b = first * T
+    after = te >= t_b
+    try:
+        o = from_motion(prob, T, m, t_b, r.strobe_x[b, 0], r.strobe_v[b, 0], int(r.strobe_state[b, 0]), te[after],
+                        ke[after], float(r.phi[b]))
+    except (PlbarError, ValueError, np.linalg.LinAlgError):
+        return {}
+    if not abs(o.loss_per_T - loss) <= 1e-5 * max(loss, 1e-300):
+        return {}                                 # Newton went to another orbit: not the motion simulated
+    return {"exact_loss": float(o.loss_per_T), "exact_xi": float(o.xi), "signature": str(o.sig.canonical())}
+
+
+def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None = None, pad: Padded | None = None,
+                 progress=None) -> tuple[list[dict], Start]:
+    """Simulate the forcing periods ``T`` together and characterise each; returns ``(rows, final states)``.
+
+    Parameters
+    ----------
+    case : Case
+    T : sequence of float
+    periods, record : int
+        Forcing periods simulated, and the last ones recorded (:func:`plbar.motion.run`).
+    start : Start, optional
+        Initial states (default: at rest against the wall, load ``q cos(2 pi t / T)``).
+    """
+    prob = case.problem()
+    pad = pad or padded(prob)
+    T = np.asarray(T, float)
+    r = run(pad, T, 0.0, periods, record, start, progress)
+    s = steady(r)
+    rows = []
+    for i in range(T.size):
+        row = {c: float(getattr(s, c)[i]) for c in COLUMNS if hasattr(s, c) and c not in ("kind", "m")}
+        row.update(kind=KINDS[int(s.kind[i])], m=int(s.m[i]), status=int(r.status[i]), signature="")
+        if row["kind"] == "periodic":
+            row.update(_polish(prob, r, i, row["m"], row["loss_per_T"]))
+        rows.append(row)
+    return rows, r.final

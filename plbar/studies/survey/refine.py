@@ -1,0 +1,120 @@
+"""The survey under mesh refinement: does the dissipation of the real motion converge where the paper's class vanishes?
+
+For a list of sizes ``N`` the same survey (same forcing periods; for the chain,
+whose length is ``N``, the periods scale with ``N``) runs in ``DIR/N00016/``
+(each resumable), and ``DIR/survey_refine.csv`` gathers, per forcing period and
+``N``, the motion's kind, loss per period, ``xi_eq`` and ``xi_w`` with their
+spread.  ``DIR/survey_refine.json`` holds observed rates and Richardson limits
+of the three means (:func:`plbar.studies.convergence.converge`, with the
+standard error of each mean as its noise floor: an irregular motion's mean is a
+statistic), or the reason where there is none.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from ...app import Case
+from ...errors import InputError
+from ...util.files import write_csv, write_json
+from ...util.outputs import claim_folder, fingerprint
+from ..convergence import MIN_MESHES, converge
+from .study import run_survey
+
+__all__ = ["run_survey_refine", "REFINED", "REFINE_COLUMNS", "MIN_MESHES"]
+
+#: what a survey refinement owns in its folder (each size's survey is in its own folder, owned by ``survey``)
+REFINE_OWNED = ("survey_refine.csv", "survey_refine.json", "survey_refine.png", "survey_refine.pdf", "N[0-9]*",
+                ".*.part.*")
+
+#: the means whose convergence is measured (with their spread column)
+REFINED = (("loss_per_T", "loss_std"), ("xi_eq", "xi_std"), ("xi_w", None))
+REFINE_COLUMNS = ("N", "h", "T", "T_L", "kind", "m", "impacts_per_T", "loss_per_T", "loss_std", "xi_eq", "xi_std",
+                  "xi_w", "amp_c", "stuck_fraction", "energy_residual")
+
+
+def _case_at(case: Case, n: int) -> Case:
+    if case.mesh_file:
+        raise InputError("a mesh file fixes the mesh; a refinement builds its meshes from N (drop --mesh-file)")
+    if case.model == "chain" and case.load_points:          # the chain's length is N: positions scale with it
+        k = n / case.n_eff
+        return replace(case, n=n, load_points=tuple((s * k, a) for s, a in case.load_points))
+    return replace(case, n=n)
+
+
+def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int = 100, out="plbar-survey-refine",
+                      executor=None, progress: bool = False, overwrite: bool = False, plot: bool = True) -> dict:
+    """Surveys of ``case`` at every size in ``sizes`` and the convergence of their means.
+
+    ``T`` are forcing periods of ``case`` (its own ``N``); for the chain they scale with ``N / N0``.
+    Returns ``{"rows", "rates", "files"}``.
+    """
+    sizes = sorted({int(n) for n in sizes})
+    if len(sizes) < 2 or sizes[0] < 2:
+        raise InputError(f"sizes = {sizes}: give at least two sizes >= 2 for a refinement")
+    folder = Path(out)
+    T = np.atleast_1d(np.asarray(T, float))
+    what = {"case": {k: v for k, v in case.to_dict().items() if k != "n"}, "T": T.tolist(), "periods": periods,
+            "record": record}                      # not the sizes: more sizes extend the same study
+    claim_folder(folder, "survey-refine", fingerprint(what), REFINE_OWNED, overwrite)
+    L0 = case.bar().length
+    rows = []
+    for n in sizes:
+        c = _case_at(case, n)
+        scale = n / case.n_eff if case.model == "chain" else 1.0
+        s = run_survey(c, T * scale, periods, record, folder / f"N{n:05d}", executor=executor, progress=progress,
+                       overwrite=overwrite, plot=plot)
+        t = s.rows("rest")
+        L = c.bar().length
+        for i in range(t["T"].size):
+            rows.append({"N": n, "h": L / n, "T": float(t["T"][i]), "T_L": float(t["T"][i] / L),
+                         **{k: (t[k][i].item() if hasattr(t[k][i], "item") else t[k][i])
+                            for k in REFINE_COLUMNS[4:]}})
+    rates = _rates(rows, T / L0, record)
+    files = _write(folder, rows, rates)
+    if plot:
+        files["figure"] = _plot(folder, rates)
+    return {"rows": rows, "rates": rates, "files": files}
+
+
+def _rates(rows: list[dict], TL, record: int) -> dict:
+    out = {}
+    for tl in TL:
+        sel = sorted((r for r in rows if abs(r["T_L"] - tl) <= 1e-12 * tl), key=lambda r: r["N"])
+        h = np.array([r["h"] for r in sel])
+        n = [r["N"] for r in sel]
+        key = f"T/L={tl:.6g}"
+        out[key] = {"kinds": [r["kind"] for r in sel], "N": n}
+        for q, spread in REFINED:
+            vals = np.array([r[q] for r in sel], float)
+            noise = float(max((r[spread] for r in sel), default=0.0)) / np.sqrt(record) if spread else 0.0
+            c = converge(q, h, vals, n=n, noise=noise).as_dict()
+            if len(sel) < MIN_MESHES:
+                c.update(rate=None, limit=None, error=None, fitted=None,
+                         why=f"{len(sel)} meshes: a rate needs at least {MIN_MESHES}")
+            out[key][q] = {"values": vals.tolist(), "meshes": len(sel), **c}
+    return out
+
+
+def _write(folder: Path, rows: list[dict], rates: dict) -> dict:
+    cols = list(REFINE_COLUMNS)
+    fmts = ["%d", "%.17g", "%.17g", "%.17g", "%s", "%d"] + ["%.17g"] * (len(cols) - 6)
+    return {"table": write_csv(folder / "survey_refine.csv", cols, [np.array([r[c] for r in rows], dtype=object
+                                                                              if c == "kind" else None) for c in cols],
+                               fmts),
+            "rates": write_json(folder / "survey_refine.json", rates)}
+
+
+def _plot(folder: Path, rates: dict):
+    from ...visuals import convergence_plot
+
+    class _Item:
+        def __init__(self, name, d):
+            self.name, self.h, self.q = name, d["h"], d["q"]
+            self.limit, self.rate, self.fitted = d.get("limit"), d.get("rate"), d.get("fitted")
+
+    items = [_Item(f"{key} {q}", d[q]) for key, d in rates.items() for q, _ in REFINED]
+    return convergence_plot(items, folder, "survey_refine", "the real motion under mesh refinement")

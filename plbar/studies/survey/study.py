@@ -1,0 +1,206 @@
+"""``run_survey``: the survey as a resumable study, its table, summary and figure; ``survey`` in memory."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ...app import Case
+from ...errors import InputError
+from ...motion import KINDS
+from ...util.files import write_csv, write_json
+from ...util.outputs import claim_folder, fingerprint
+from ...util.reprs import build, rng
+from ..executor import SerialExecutor
+from ..study import Study, run_study
+from .points import COLUMNS
+from .tasks import MODES, case_fields, make_tasks, survey_task
+
+__all__ = ["Survey", "survey", "run_survey", "survey_study", "SURVEY_OWNED", "check_forcing_periods"]
+
+#: what a survey owns in its folder (cleared before another survey is written there)
+SURVEY_OWNED = ("survey.csv", "summary.json", "survey.png", "survey.pdf", "study.json", "tasks", "sweeps", ".*.part.*")
+
+_INT = ("m", "status")
+_TEXT = ("kind", "start", "signature")
+
+
+@dataclass(frozen=True)
+class Survey:
+    """What the bar really does at every forcing period of a survey.
+
+    Attributes
+    ----------
+    case : Case
+    table : dict of ndarray
+        The columns of ``survey.csv`` (one row per forcing period and start), sorted by start and ``T``.
+    summary : dict
+        Counts by kind, ranges, settings and times (``summary.json``).
+    files : dict
+        Written files (empty for :func:`survey`).
+    """
+
+    case: Case
+    table: dict = field(repr=False)
+    summary: dict = field(repr=False)
+    files: dict = field(default_factory=dict, repr=False)
+
+    def __len__(self) -> int:
+        return int(self.table["T"].size)
+
+    def rows(self, start: str = "rest") -> dict:
+        """The columns of the rows of one start (``rest``, ``up``, ``down``)."""
+        sel = self.table["start"] == start
+        return {k: v[sel] for k, v in self.table.items()}
+
+    def __repr__(self) -> str:
+        t = self.table
+        return build("Survey", {"rows": len(self), "T": rng(t["T"]), "kinds": self.summary.get("kinds", {}),
+                                "xi_eq": rng(t["xi_eq"]), "loss_per_T": rng(t["loss_per_T"]),
+                                "files": len(self.files)})
+
+
+def check_forcing_periods(T) -> np.ndarray:
+    """Forcing periods as a sorted array of distinct finite positive numbers (one-line error otherwise)."""
+    try:
+        T = np.atleast_1d(np.asarray(T, float)).ravel()
+    except (TypeError, ValueError):
+        raise InputError(f"T = {T!r} must be forcing periods (numbers > 0)") from None
+    if not T.size or not np.all(np.isfinite(T) & (T > 0)):
+        raise InputError(f"forcing periods T must be finite and > 0, got {T.tolist()[:5]}")
+    return np.unique(T)
+
+
+def survey_study(case: Case, T, periods: int = 1000, record: int = 100, modes=("rest",), chunks=None,
+                 checkpoints=None) -> Study:
+    """The tasks of a survey (see :mod:`.tasks`)."""
+    T = check_forcing_periods(T)
+    bad = [m for m in modes if m not in MODES]
+    if bad or not modes:
+        raise InputError(f"start = {bad[0] if bad else modes!r} must be one of {', '.join(MODES)}")
+    if int(periods) != periods or periods < 2:
+        raise InputError(f"periods = {periods!r} must be an integer >= 2 (forcing periods simulated)")
+    if int(record) != record or not 1 <= record < periods:
+        raise InputError(f"record = {record!r} must be an integer in [1, periods - 1] (the last periods, "
+                         "after the transient)")
+    tasks = make_tasks(case, T, int(periods), int(record), tuple(modes), chunks, checkpoints)
+    params = {"periods": int(periods), "record": int(record), "modes": list(modes), "T": [float(t) for t in T]}
+    return Study("survey", survey_task, tuple(tasks), params)
+
+
+def _table(results: list[dict]) -> dict:
+    rows = [dict(r, start=res["mode"]) for res in results for r in res["rows"]]
+    rows.sort(key=lambda r: (MODES.index(r["start"]), r["T"]))
+    cols = COLUMNS + ("start",)
+    out = {}
+    for c in cols:
+        vals = [r.get(c, np.nan) for r in rows]
+        out[c] = np.array(vals, dtype=object if c in _TEXT else (int if c in _INT else float))
+    return out
+
+
+def _summary(case: Case, table: dict, study: Study, seconds: float) -> dict:
+    from ...util.version import __version__
+
+    kinds = {k: int(np.sum(table["kind"] == k)) for k in KINDS}
+    per = {}
+    for s in dict.fromkeys(table["start"]):
+        sel = table["start"] == s
+        per[s] = {"kinds": {k: int(np.sum(table["kind"][sel] == k)) for k in KINDS},
+                  "periodic_by_m": {str(m): int(np.sum(sel & (table["m"] == m))) for m in
+                                    sorted(set(table["m"][sel & (table["kind"] == "periodic")].tolist()))}}
+    fin = np.isfinite(table["xi_eq"])
+    return {"plbar_version": __version__, "case": case_fields(case), **study.params, "rows": int(table["T"].size),
+            "kinds": kinds, "by_start": per,
+            "xi_eq": [float(table["xi_eq"][fin].min()), float(table["xi_eq"][fin].max())] if fin.any() else None,
+            "loss_per_T": [float(np.nanmin(table["loss_per_T"])), float(np.nanmax(table["loss_per_T"]))],
+            "energy_residual_max": float(np.nanmax(np.abs(table["energy_residual"]))), "seconds": round(seconds, 3)}
+
+
+def write_survey(folder, table: dict, summary: dict) -> dict:
+    """``survey.csv`` and ``summary.json`` (atomically)."""
+    folder = Path(folder)
+    cols = list(COLUMNS) + ["start"]
+    fmts = ["%s" if c in _TEXT else ("%d" if c in _INT else "%.17g") for c in cols]
+    return {"table": write_csv(folder / "survey.csv", cols, [table[c] for c in cols], fmts),
+            "summary": write_json(folder / "summary.json", summary)}
+
+
+def survey(case: Case | None = None, T=None, periods: int = 1000, record: int = 100, modes=("rest",),
+           executor=None, progress: bool = False, chunks=None) -> Survey:
+    """What the bar does at every forcing period ``T``, in memory (no files).
+
+    Parameters
+    ----------
+    case : Case, optional
+        Default: the paper's chain.
+    T : array_like
+        Forcing periods (default :func:`default_periods`).
+    periods, record : int
+        Forcing periods simulated from the start, and how many of the last are recorded.
+    modes : sequence of {"rest", "up", "down"}
+        Starts: from rest, and sweeps that carry the final state to the next period up or down.
+    executor : concurrent.futures.Executor, optional
+        Default serial (in this process).
+    """
+    case = case or Case()
+    T = default_periods(case) if T is None else T
+    t0 = time.perf_counter()
+    study = survey_study(case, T, periods, record, modes, chunks)
+    ex = executor or SerialExecutor()
+    results = [f.result() for f in [ex.submit(survey_task, t) for t in study.tasks]]
+    table = _table(results)
+    return Survey(case, table, _summary(case, table, study, time.perf_counter() - t0))
+
+
+def default_periods(case: Case, num: int = 161) -> np.ndarray:
+    """Default forcing periods: ``[6, 14]`` for the paper's case, ``[0.6, 1.4] T0^I`` for another chain and
+    ``[0.75, 2.25] T0^I`` for an FE bar (``T/L`` in ``[1.5, 4.5]`` for a uniform bar, ``T0^I = 2 L / c``)."""
+    if case.to_dict() == Case().to_dict():
+        return np.linspace(6.0, 14.0, num)
+    T0 = case.problem().system.T0[0]
+    lo, hi = (0.6, 1.4) if case.model == "chain" else (0.75, 2.25)
+    return np.linspace(lo, hi, num) * T0
+
+
+def _claim(folder: Path, study: Study, overwrite: bool):
+    """The one ownership rule (:func:`plbar.util.outputs.claim_folder`): the same survey resumes; another
+    command's or survey's folder is refused unless ``overwrite``."""
+    return claim_folder(folder, "survey", fingerprint(study.manifest()["tasks"]), SURVEY_OWNED, overwrite)
+
+
+def run_survey(case: Case, T, periods: int = 1000, record: int = 100, out="plbar-survey", modes=("rest",),
+               executor=None, progress: bool = False, overwrite: bool = False, plot: bool = True, chunks=None,
+               paths=None) -> Survey:
+    """Run (or resume) a survey into ``out``: ``survey.csv``, ``summary.json`` and the figure (PNG + PDF).
+
+    ``paths`` (a :class:`plbar.Paths`, optional) are drawn under the survey: the
+    exact periodic responses of the paper's class, stable and unstable.
+    """
+    t0 = time.perf_counter()
+    folder = Path(out)
+    study = survey_study(case, T, periods, record, modes, chunks, checkpoints=folder / "sweeps")
+    claim = _claim(folder, study, overwrite)
+    try:
+        results = run_study(folder, study, executor, progress=progress, overwrite=True)
+    except BaseException:
+        claim.abandon(("tasks/*.json", "sweeps/*"))      # nothing finished: nothing left to block a corrected rerun
+        raise
+    table = _table(results)
+    summary = _summary(case, table, study, time.perf_counter() - t0)
+    files = write_survey(folder, table, summary)
+    if plot:
+        from ...visuals import survey_plot
+
+        files["figure"] = survey_plot(table, folder, "survey", paths=paths, title=_title(case))
+    return Survey(case, table, summary, files)
+
+
+def _title(case: Case) -> str:
+    if case.model == "chain":
+        return f"chain N = {case.n_eff}"
+    s = f"FE {case.element} {case.mass}, N = {case.n_eff}"
+    return s + (f", end mass {case.end_mass:g}" if case.end_mass else "")

@@ -1,0 +1,122 @@
+"""The survey's tasks: a chunk of forcing periods from rest, or a sweep that carries the state from period to period.
+
+A *rest* task simulates its forcing periods together from rest.  A *sweep*
+task (``up`` or ``down``) simulates its forcing periods one after the other,
+each from the final state of the previous one (the first from rest), so that
+hysteresis and coexisting motions show; every forcing period is checkpointed
+(``DIR/sweeps/<key>/T00012.json``, written atomically with the final state),
+so a killed sweep resumes where it stopped.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from pathlib import Path
+
+import numpy as np
+
+from ...app import Case
+from ...motion import padded
+from ...util.files import write_json
+from .points import survey_chunk, start_json, start_of
+
+__all__ = ["survey_task", "make_tasks", "MODES", "default_chunks", "case_fields", "case_of"]
+
+#: Case fields that apply to one model only
+_CHAIN_ONLY = ("m", "k")
+_FE_ONLY = ("element", "mass", "length", "EA", "rhoA", "grading", "mesh_file", "point_masses")
+
+
+def case_fields(case: Case) -> dict:
+    """The fields of ``case`` that define its bar, load and modes, as JSON (a task round-trips through it)."""
+    d = json.loads(json.dumps(case.to_dict(), default=list))
+    for k in _FE_ONLY if d["model"] == "chain" else _CHAIN_ONLY:
+        d.pop(k, None)
+    if d.get("mesh_file"):
+        d["mesh_file"] = str(Path(d["mesh_file"]).resolve())
+        d.pop("n", None)
+        d.pop("length", None)
+        d.pop("grading", None)
+    for k in ("grid", "T1", "T2", "method", "signatures"):
+        d.pop(k, None)
+    return d
+
+MODES = ("rest", "up", "down")
+
+
+def default_chunks(k: int) -> int:
+    """Tasks a from-rest survey of ``k`` forcing periods is split into: at least 2 (two cores), about 96 each.
+
+    Fixed by ``k`` alone, so that every executor runs the same batches and writes the same files.
+    """
+    return max(2, -(-k // 96)) if k > 1 else 1
+
+
+def make_tasks(case: Case, T, periods: int, record: int, modes=("rest",), chunks: int | None = None,
+               checkpoints=None) -> list[dict]:
+    """The task list of a survey (JSON-able dicts)."""
+    T = [float(t) for t in np.asarray(T, float)]
+    base = {"case": case_fields(case), "periods": int(periods),
+            "record": int(record)}
+    tasks = []
+    for mode in modes:
+        if mode == "rest":
+            n = chunks or default_chunks(len(T))
+            for part in np.array_split(np.arange(len(T)), n):
+                if part.size:
+                    tasks.append({**base, "mode": "rest", "T": [T[i] for i in part]})
+        else:
+            order = sorted(T, reverse=(mode == "down"))
+            t = {**base, "mode": mode, "T": order}
+            if checkpoints is not None:
+                t["checkpoints"] = str(Path(checkpoints).resolve())
+            tasks.append(t)
+    return tasks
+
+
+def case_of(fields: dict) -> Case:
+    """The :class:`Case` of :func:`case_fields`."""
+    c = dict(fields)
+    for k in ("load_nodes", "load_points", "point_masses"):
+        if k in c and c[k] is not None:
+            c[k] = tuple(tuple(p) for p in c[k])
+    return Case(**c)
+
+
+def _sweep_key(task: dict) -> str:
+    core = {k: task[k] for k in ("case", "periods", "record", "mode", "T")}
+    return hashlib.sha256(json.dumps(core, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def _sweep(task: dict, case: Case) -> list[dict]:
+    """The rows of a sweep, each forcing period from the previous final state (checkpointed per period)."""
+    folder = Path(task["checkpoints"]) / _sweep_key(task) if task.get("checkpoints") else None
+    pad = padded(case.problem())
+    rows, start = [], None
+    for i, T in enumerate(task["T"]):
+        path = folder / f"T{i:05d}.json" if folder else None
+        got = None
+        if path is not None and path.is_file():
+            try:
+                got = json.loads(path.read_text())
+            except (OSError, ValueError):
+                got = None
+        if got is None or got.get("T") != T:
+            r, fin = survey_chunk(case, [T], task["periods"], task["record"], start, pad)
+            got = {"T": T, "row": r[0], "final": start_json(fin, 0)}
+            if path is not None:
+                write_json(path, got)
+        rows.append(got["row"])
+        start = start_of([got["final"]])
+    return rows
+
+
+def survey_task(task: dict) -> dict:
+    """Run one survey task: ``{"mode", "rows"}`` (one row per forcing period, in the task's order)."""
+    case = case_of(task["case"])
+    if task["mode"] == "rest":
+        rows, _ = survey_chunk(case, task["T"], task["periods"], task["record"])
+    else:
+        rows = _sweep(task, case)
+    return {"mode": task["mode"], "rows": rows}

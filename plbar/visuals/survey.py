@@ -1,0 +1,96 @@
+"""The frequency response of the real motion: a survey over the forcing period on top of the exact branches.
+
+Three panels against ``T``: the impact loss per forcing period, ``xi_eq`` (with
+``xi_w``) and the contact amplitude.  Each survey point is the mean over the
+recorded periods, with a band from the smallest to the largest period (the
+spread of an irregular motion or of a subharmonic); its marker tells the kind:
+periodic with ``m = 1`` (circle), periodic with ``m >= 2`` (square), each with its
+number of impacts in ``m`` periods in the legend; irregular (grey cross).  Loss and
+amplitude axes end above the largest mean (a wild transient's band may go off the top).  Under them, the exact periodic
+responses of the paper's class (``plbar run``): stable (blue) and unstable (red).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .plots import _plt, _save, contact_amplitude
+
+__all__ = ["survey_plot"]
+
+#: colours of the periodic signatures, in order of appearance (blue and red are the exact branches')
+_PALETTE = ("tab:green", "tab:olive", "tab:orange", "tab:purple", "tab:cyan", "tab:brown", "tab:pink", "gold",
+            "darkslateblue", "teal", "peru", "olive")
+_START = {"rest": "o", "up": "^", "down": "v"}
+
+
+def _groups(table: dict):
+    """``(label, mask, marker, colour)`` of each kind and stroboscopic period present."""
+    kind, m, start = table["kind"], table["m"], table["start"]
+    out = []
+    for s in dict.fromkeys(start):
+        tag = "" if s == "rest" else f" ({s} sweep)"
+        sel = start == s
+        k = np.rint(table["impacts_per_T"] * m).astype(int)
+        per = sel & (kind == "periodic")
+        for mm, kk in sorted(set(zip(m[per].tolist(), k[per].tolist()))):
+            mark = _START.get(s, "o") if mm == 1 else ("s" if s == "rest" else _START.get(s, "s"))
+            col = _PALETTE[len(out) % len(_PALETTE)]
+            out.append((f"periodic, m = {mm}, {kk} impact{'s' if kk != 1 else ''}{tag}", per & (m == mm) & (k == kk),
+                        mark, col))
+        if np.any(sel & (kind == "irregular")):
+            out.append((f"irregular{tag}", sel & (kind == "irregular"), "x" if s == "rest" else _START[s], "0.35"))
+        if np.any(sel & (kind == "failed")):
+            out.append((f"failed (chattering contact){tag}", sel & (kind == "failed"), "X", "tab:red"))
+    return out
+
+
+def _branches(axes, paths) -> None:
+    for b in paths.branches:
+        amp = contact_amplitude(b.orbits)
+        st = np.asarray(b.stable, bool)
+        for ax, y in zip(axes, (b.dPL, b.xi, amp)):
+            ax.plot(b.T[st], y[st], ".", ms=1.8, color="tab:blue", zorder=1)
+            ax.plot(b.T[~st], y[~st], ".", ms=1.2, color="tab:red", alpha=0.35, zorder=1)
+    axes[0].plot([], [], ".", color="tab:blue", label="exact periodic responses (paper's class), stable")
+    axes[0].plot([], [], ".", color="tab:red", alpha=0.5, label="unstable")
+
+
+def survey_plot(table: dict, out, name: str = "survey", paths=None, title: str = "") -> list[Path]:
+    """Draw the survey (``table``: the columns of ``survey.csv``) into ``out/name.png`` and ``.pdf``."""
+    plt = _plt()
+    fig, axes = plt.subplots(3, 1, figsize=(10.0, 8.6), sharex=True)
+    if paths is not None:
+        _branches(axes, paths)
+    T = table["T"]
+    rest = table["start"] == "rest"
+    order = np.argsort(T[rest])
+    Tr = T[rest][order]
+    for ax, lo, hi in ((axes[0], "loss_min", "loss_max"), (axes[1], "xi_min", "xi_max")):
+        ax.fill_between(Tr, table[lo][rest][order], table[hi][rest][order], color="0.85", lw=0, zorder=0,
+                        label="spread over the recorded periods (min to max)" if ax is axes[0] else None)
+    for label, sel, mark, col in _groups(table):
+        filled = mark not in ("x",)
+        kw = dict(ls="none", ms=4.0, color=col, mfc=col if filled else "none", zorder=3)
+        axes[0].plot(T[sel], table["loss_per_T"][sel], mark, label=label, **kw)
+        axes[1].plot(T[sel], table["xi_eq"][sel], mark, **kw)
+        axes[2].plot(T[sel], table["amp_c"][sel], mark, **kw)
+        axes[2].plot(T[sel], table["amp_c_max"][sel], "_", ms=5, color=col, zorder=2)
+    axes[1].plot(Tr, table["xi_w"][rest][order], "-", color="k", lw=0.7, alpha=0.6, zorder=2,
+                 label=r"$\xi_\omega$ (one frequency, the forcing's)")
+    axes[0].set_ylabel("impact loss per forcing period")
+    axes[1].set_ylabel(r"$\xi_{eq}$ of the motion (Eq. 22)")
+    axes[2].set_ylabel(r"contact amplitude $\max|x_c|$ per period" + "\n(marker: mean, bar: largest)")
+    axes[2].set_xlabel("forcing period T")
+    axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
+    axes[1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
+    axes[0].set_title(f"what the bar does from rest{': ' + title if title else ''}")
+    for ax, cols in zip(axes, (("loss_per_T",), ("xi_eq", "xi_w"), ("amp_c_max",))):
+        # the spread of a wild transient can dwarf the rest: the axis shows every mean (and largest amplitude)
+        vals = np.concatenate([np.asarray(table[c], float) for c in cols])
+        top = float(np.nanmax(vals)) if np.isfinite(vals).any() else 1.0
+        ax.set_ylim(0, 1.1 * max(top, 1e-12))
+    fig.tight_layout()
+    return _save(fig, out, name)
