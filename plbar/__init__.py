@@ -18,7 +18,7 @@ from .app import Case, Result, solve, write_results
 from .check import simulate
 from .errors import CaseFileError, InputError, OutputExistsError, PlbarError
 from .model import (Bar, Load, Problem, TwoStateSystem, assemble, chain, graded_nodes, node, point, problem,
-                    two_state, uniform_bar, uniform_nodes)
+                    rayleigh_from_ratio, two_state, uniform_bar, uniform_nodes)
 from .paths import Branch, Domain, Paths, default_domain, find_paths
 from .response import Orbits, Response, damping, find_response, impact_loss, orbits, stability
 from .util.version import __version__
@@ -28,5 +28,5 @@ __all__ = [
     "impact_loss", "CaseFileError", "InputError", "OutputExistsError", "PlbarError", "Load", "node", "point",
     "Orbits", "orbits", "Branch", "Domain", "Paths", "default_domain", "find_paths", "Result", "solve",
     "write_results", "Response", "find_response", "Problem", "TwoStateSystem", "problem", "two_state",
-    "simulate", "stability", "__version__",
+    "simulate", "stability", "rayleigh_from_ratio", "__version__",
 ]

@@ -57,3 +57,23 @@ def p2_small():
 
     return plbar.solve(plbar.Case(model="fe", n=4, element="P2", mass="consistent", load_points=((0.37, 1.0),),
                                   grid=(50, 50)))
+
+
+#: the FE bar of the damped tests (issue 21)
+DAMPED_FE = dict(model="fe", n=8, element="P1", mass="lumped", end_mass=0.5)
+
+
+@pytest.fixture(scope="session")
+def damped_result():
+    """The default case with 2 % Rayleigh damping at T = 8 and 12."""
+    import plbar
+
+    return plbar.solve(plbar.Case(rayleigh=plbar.rayleigh_from_ratio(0.02, 8.0, 12.0)))
+
+
+@pytest.fixture(scope="session")
+def damped_fe_result():
+    """FE P1 lumped N = 8 with an end mass 0.5, 2 % Rayleigh damping at T = 2 and 4."""
+    import plbar
+
+    return plbar.solve(plbar.Case(**DAMPED_FE, rayleigh=plbar.rayleigh_from_ratio(0.02, 2.0, 4.0)))

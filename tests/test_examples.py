@@ -88,3 +88,22 @@ def test_refinement_example(tmp_path):
     assert "T0_I_L        no rate stated: rests on 3 meshes" in out
     steps = [float(ln.split("step / ln 2 = ")[1].split()[0]) for ln in out.splitlines() if "step / ln 2" in ln]
     assert len(steps) == 4 and steps[-1] == pytest.approx(2 / 3.141592653589793, rel=2e-3)
+
+
+def test_inherent_damping_example(tmp_path):
+    """Issue 21: xi_eq of the impact with 0, 1, 2, 5 % Rayleigh damping, chain and FE bar; the figure."""
+    out = _run("inherent_damping.py", tmp_path)
+    rows = [ln.split() for ln in out.splitlines() if ln.strip().endswith(tuple("0123456789")) and "%" in ln]
+    chain = {float(r[0]): (float(r[4]), float(r[5]), float(r[6])) for r in rows[:4]}
+    fe = {float(r[0]): (float(r[4]), float(r[5]), float(r[6])) for r in rows[4:8]}
+    assert chain[0.0][0] == pytest.approx(0.0773, abs=5e-4)          # the undamped maximum (Eq. 22)
+    assert chain[2.0][0] == pytest.approx(0.0685, abs=5e-4) and chain[2.0][1] == pytest.approx(12.44, abs=0.05)
+    # damping lowers the impact's own share, but the total ratio at its maximum grows
+    xs = [chain[z][0] for z in (0.0, 1.0, 2.0, 5.0)]
+    tot = [chain[z][2] for z in (0.0, 1.0, 2.0, 5.0)]
+    assert xs == sorted(xs, reverse=True) and tot == sorted(tot)
+    for z, (xi, T, total) in list(chain.items()) + list(fe.items()):
+        assert total >= xi and (z > 0) == (total > xi)
+    assert fe[2.0][0] == pytest.approx(0.0711, abs=1e-3)
+    for ext in ("png", "pdf"):
+        assert (tmp_path / f"xi_rayleigh.{ext}").stat().st_size > 10_000

@@ -13,7 +13,7 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from ..errors import InputError
-from ..model import ELEMENTS, MASSES, Bar, Load, Problem, chain, graded_nodes, problem
+from ..model import ELEMENTS, MASSES, Bar, Load, Problem, chain, check_rayleigh, graded_nodes, problem
 from ..paths import Domain, default_domain
 from ..util.check import choice, integer, interval, number, pairs, positive, show
 from ..util.check import grid as check_grid
@@ -80,14 +80,21 @@ class Case:
         How branches are built from the scan (:func:`plbar.find_paths`).
     signatures : {"paper", "default", "all"}
         Which periodic responses to find: the paper's class only (one stuck phase, one impact per
-        period; the default, as fast as before); ``"default"``: also every signature reached from it without a simulation (the
-        zero-dwell class, period doublings up to ``m = 4``, the neighbouring signatures where a
-        branch stops being admissible: :func:`plbar.hybrid.find_hybrid`); ``"all"``: also the
-        periodic motions of a short simulation from rest at 41 forcing periods, polished and followed.
+        period; the default, as fast as before); ``"default"``: every signature found without the
+        user (the zero-dwell class, period doublings up to ``m = 4``, the neighbouring signatures
+        where a branch stops being admissible, and the periodic motions of a simulation from rest at
+        81 forcing periods, 600 periods each: :func:`plbar.hybrid.find_hybrid`), about 30x the
+        time; ``"all"``: the same with the survey's simulation (161 periods, 1,000 each) and orbits
+        up to ``m = 8``.
     modes : int, optional
         Keep only the lowest ``modes`` modes of each state (modal truncation,
         for fine meshes; check it with :func:`plbar.system.truncation_check`).
         Default: all.
+    rayleigh : (float, float), optional
+        Inherent Rayleigh damping ``(alpha, beta)`` of the whole bar, ``C = alpha M
+        + beta K`` (FORMULATION §8; :func:`plbar.rayleigh_from_ratio` gives it from
+        one ratio at two periods).  Default None: undamped, the paper;
+        ``(0, 0)`` is taken as None.
     """
 
     model: str = "chain"
@@ -113,6 +120,7 @@ class Case:
     signatures: str = "paper"
     modes: int | None = None
     label: str = field(default="", compare=False)
+    rayleigh: tuple[float, float] | None = None
 
     def __post_init__(self):
         choice("model", self.model, MODELS)
@@ -122,6 +130,7 @@ class Case:
         choice("signatures", self.signatures, SIGNATURES)
         if self.modes is not None:
             object.__setattr__(self, "modes", integer("modes", self.modes, 1))
+        object.__setattr__(self, "rayleigh", check_rayleigh(self.rayleigh))
         if self.n is not None:
             object.__setattr__(self, "n", integer("n" if self.model == "fe" else "chain size N", self.n, 2))
         for nm in ("length", "EA", "rhoA", "m", "k", "grading"):
@@ -238,7 +247,7 @@ class Case:
 
     def problem(self) -> Problem:
         """Assemble the bar, solve both eigenproblems and attach the load (the expensive step: call once)."""
-        return problem(self.bar(), self.load(), modes=self.modes)
+        return problem(self.bar(), self.load(), modes=self.modes, rayleigh=self.rayleigh)
 
     def domain(self, prob: Problem) -> Domain:
         """The search domain: ``T1``, ``T2`` if given, else the paper's ``(0, T0^alpha / 2]``."""
@@ -249,7 +258,8 @@ class Case:
         """The fields that apply to the model, as plain data (what ``summary.json`` records; ``Case(**d)`` rebuilds it).
 
         ``n`` is filled in and ``length`` is the bar's (``N`` for the chain); a chain has no FE fields, an FE bar
-        no ``m, k``, and a mesh file stands for ``n``, ``grading`` and ``length``.
+        no ``m, k``, and a mesh file stands for ``n``, ``grading`` and ``length``; ``rayleigh`` appears only for a
+        damped case.
         """
         d = asdict(self)
         d["n"] = self.n_eff
@@ -258,4 +268,8 @@ class Case:
         drop = tuple(FE_ONLY) if self.model == "chain" else ("m", "k")
         if self.mesh_file is not None:
             drop += ("n", "grading", "length")
+        if d["rayleigh"] is None:
+            drop += ("rayleigh",)
+        else:
+            d["rayleigh"] = list(d["rayleigh"])
         return {k: v for k, v in d.items() if k not in drop}

@@ -23,7 +23,10 @@ A case file::
 mesh_file`` (relative to the TOML file), ``point_masses = [[x, m], ...]``,
 ``end_mass`` (a point mass on the contact node, as a fraction of the bar's mass;
 ``end_mass_absolute = true`` for the mass itself; both models),
-``modes`` (modal truncation: the lowest modes of each state).
+``modes`` (modal truncation: the lowest modes of each state),
+``rayleigh = [alpha, beta]`` (inherent damping ``C = alpha M + beta K``; default none)
+or ``damping_ratio = XI`` with ``damping_at = [T_A, T_B]`` (the same from one ratio at
+two periods, :func:`plbar.rayleigh_from_ratio`).
 Every mistake raises :class:`plbar.errors.CaseFileError` with one line naming
 the file, the section and the key.
 """
@@ -36,6 +39,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import CaseFileError, InputError
+from ..model import rayleigh_from_ratio
+from .schema import FORMATS, HELP, REQUIRED, SCHEMA, schema_table
 
 __all__ = ["OutputSettings", "load_case", "loads_case", "dump_case", "schema_table", "SCHEMA", "HELP"]
 
@@ -46,73 +51,6 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10 with tomli install
         import tomli as _toml
     except ModuleNotFoundError:
         _toml = None
-
-FORMATS = ("pvd", "xdmf", "both")
-
-#: expected types: "int", "float" (int accepted), "str", "bool", ("choice", values), "pair", "grid", "pairs"
-SCHEMA = {
-    "": {"title": "str", "bar": "table", "load": "tables", "search": "table", "output": "table"},
-    "bar": {"model": ("choice", ("chain", "fe")), "n": "int", "element": ("choice", ("P1", "P2")),
-            "mass": ("choice", ("lumped", "consistent")), "length": "float", "EA": "float", "rhoA": "float",
-            "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs",
-            "end_mass": "float", "end_mass_absolute": "bool", "modes": "int"},
-    "load": {"node": "int", "at": "float", "amplitude": "float"},
-    "search": {"grid": "grid", "T1": "pair", "T2": "pair", "method": ("choice", ("continuation", "grid")),
-               "signatures": ("choice", ("paper", "default", "all"))},
-    "output": {"dir": "str", "vtk": "bool", "format": ("choice", FORMATS), "render": "bool", "field": "str",
-               "periods": ("choice", (1, 2)), "steps": "int", "snapshots": "int", "gif": "bool",
-               "branch": "int", "index": "int", "overwrite": "bool"},
-}
-REQUIRED = ("bar",)
-
-#: what each key means (the README's table is :func:`schema_table`; a test keeps the two and SCHEMA in step)
-HELP = {
-    "": {"title": "a label for the case (optional)", "bar": "the bar (required)",
-         "load": "one `[[load]]` table per force (optional: without one, the default load: DOF 1 of the chain, "
-                 "a unit force at s = L/2 of an FE bar)",
-         "search": "where to look for paths (optional)", "output": "what to write (optional)"},
-    "bar": {"model": "the paper's chain of N masses (L = N) or a finite-element bar; required",
-            "n": "masses of the chain / elements of the FE bar [5 / 8]; not with `mesh_file`",
-            "element": "FE element [P1]; FE only", "mass": "FE mass matrix [lumped]; FE only",
-            "length": "bar length L [1]; FE only, not with `mesh_file`", "EA": "axial stiffness [1]; FE only",
-            "rhoA": "mass per length [1]; FE only", "m": "chain mass [1]; chain only",
-            "k": "chain spring stiffness [1]; chain only",
-            "grading": "last / first element length [1]; FE only, not with `mesh_file`",
-            "mesh_file": "a 1D line mesh (meshio), relative to the TOML file; FE only",
-            "point_masses": "extra point masses m at FE vertices x; FE only",
-            "end_mass": "a rigid mass on the contact node, as a fraction of the bar's mass [0]",
-            "end_mass_absolute": "`true`: `end_mass` is the mass itself [false]; needs `end_mass` > 0",
-            "modes": "keep the lowest modes of each state (locating paths only, never for xi_eq) [all]"},
-    "load": {"node": "a force on free DOF K (1-based from the clamp); or `at`",
-             "at": "a point force at position s in (0, L]; or `node`", "amplitude": "its amplitude [1]"},
-    "search": {"grid": "scan grid over (T1, T2) [200, 200]",
-               "T1": "search range of T1 [(0, T0_I/2]]", "T2": "search range of T2 [(0, T0_II/2]]",
-               "method": "branches by continuation from the scan, or by linking its crossings [continuation]",
-               "signatures": "the paper's class only, also the signatures reached from it, or also those a "
-                             "simulation from rest settles on [paper]"},
-    "output": {"dir": "output folder, relative to the current directory (`--out` overrides it)",
-               "vtk": "also write the ParaView time series of one response [false]",
-               "format": "ParaView file format [pvd]", "render": "also render pictures of it [false]",
-               "field": "the field to colour by [displacement]", "periods": "periods written [1]",
-               "steps": "time steps per period, >= 4 [40]", "snapshots": "snapshots, >= 1 [4]",
-               "gif": "an animated GIF too [true]", "branch": "branch id [the largest xi_eq]",
-               "index": "point along the branch; negative counts from its end, -1 is its last [the largest xi_eq]",
-               "overwrite": "replace what another command or case owns in the folder [false]"},
-}
-TYPES = {"int": "integer", "float": "number", "str": "string", "bool": "boolean", "pair": "[low, high]",
-         "grid": "[N1, N2]", "pairs": "[[x, m], ...]", "table": "table", "tables": "array of tables"}
-
-
-def schema_table() -> str:
-    """The README's table of case-file keys, generated from :data:`SCHEMA` and :data:`HELP` (markdown)."""
-    rows = ["| section | key | type | meaning [default] |", "|---|---|---|---|"]
-    for sec, keys in SCHEMA.items():
-        name = "(top level)" if not sec else ("[[load]]" if sec == "load" else f"[{sec}]")
-        for key, kind in keys.items():
-            t = " \\| ".join(f"`{v}`" for v in kind[1]) if isinstance(kind, tuple) else TYPES[kind]
-            rows.append(f"| {name} | `{key}` | {t} | {HELP[sec][key]} |")
-    return "\n".join(rows)
-
 
 @dataclass(frozen=True)
 class OutputSettings:
@@ -293,6 +231,21 @@ def _mesh_path(ctx: _Ctx, name: str, base: Path | None) -> str:
     return str(mf)
 
 
+def _damping_keys(ctx: _Ctx, bar: dict) -> None:
+    """``damping_ratio`` + ``damping_at`` -> ``rayleigh`` (in place); the two ways exclude each other."""
+    if "damping_ratio" not in bar and "damping_at" not in bar:
+        return
+    if "rayleigh" in bar:
+        raise ctx.err("bar", "give rayleigh = [alpha, beta] or damping_ratio with damping_at, not both")
+    if "damping_ratio" not in bar or "damping_at" not in bar:
+        raise ctx.err("bar", "damping_ratio = XI needs damping_at = [T_A, T_B] (the two periods where the "
+                             "Rayleigh damping has the ratio XI), and the other way round")
+    try:
+        bar["rayleigh"] = rayleigh_from_ratio(bar.pop("damping_ratio"), *bar.pop("damping_at"))
+    except InputError as exc:
+        raise ctx.err("bar", str(exc)) from None
+
+
 def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
     """Parse case-file text; see :func:`load_case`.  ``base`` resolves ``mesh_file``."""
     from .case import Case
@@ -319,6 +272,7 @@ def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
         raise ctx.err("bar", 'missing required key "model"; choose "chain" or "fe"')
     if "mesh_file" in bar:
         bar["mesh_file"] = _mesh_path(ctx, bar["mesh_file"], base)
+    _damping_keys(ctx, bar)
     try:        # Case is the one validator of values (ranges, the mesh, the load against the bar)
         case = Case(load_nodes=tuple(nodes), load_points=tuple(points), label=title, **bar, **search)
     except InputError as exc:
@@ -382,6 +336,8 @@ def dump_case(case, output: OutputSettings | None = None) -> str:
         lines.append(f"end_mass_absolute = {_fmt(bool(case.end_mass_absolute))}")
     if case.modes is not None:
         lines.append(f"modes = {int(case.modes)}")
+    if case.rayleigh is not None:
+        lines.append(f"rayleigh = {_fmt([float(x) for x in case.rayleigh])}")
     for k, a in case.load_nodes:
         lines += ["", "[[load]]", f"node = {int(k)}", f"amplitude = {_fmt(float(a))}"]
     for s, a in case.load_points:

@@ -27,8 +27,9 @@ __all__ = ["Result", "solve", "write_results", "read_paths", "check_output", "ca
 PATHS_COLUMNS = (("branch", "%d"), ("T1", "%.17g"), ("T2", "%.17g"), ("phi", "%.17g"), ("T", "%.17g"),
                  ("dPL", "%.17g"), ("xi", "%.17g"), ("grazing", "%d"), ("stable", "%d"),
                  ("max_abs_multiplier", "%.17g"), ("max_abs_xc", "%.17g"), ("omega", "%.17g"),
-                 ("xi_w", "%.17g"), ("m", "%d"), ("k", "%d"), ("signature", "%s"), ("loss_per_T", "%.17g"),
-                 ("durations", "%s"))
+                 ("xi_w", "%.17g"),
+                 ("viscous_loss", "%.17g"), ("zeta_rayleigh", "%.17g"), ("xi_total", "%.17g"),
+                 ("m", "%d"), ("k", "%d"), ("signature", "%s"), ("loss_per_T", "%.17g"), ("durations", "%s"))
 #: the text columns of ``paths.csv`` (read as strings)
 TEXT_COLUMNS = ("signature", "durations")
 CSV_HEADER = [c for c, _ in PATHS_COLUMNS]
@@ -73,6 +74,8 @@ class Result:
                 "T2_range": [float(b.T2.min()), float(b.T2.max())],
                 "xi_range": [float(b.xi.min()), float(b.xi.max())],
                 "dPL_range": [float(b.dPL.min()), float(b.dPL.max())],
+                "viscous_loss_range": [float(b.viscous.min()), float(b.viscous.max())],
+                "xi_total_range": [float(b.xi_total.min()), float(b.xi_total.max())],
                 "grazing_points": int(b.grazing.sum()),
                 "resonant_points": int((~b.damping.closed_form).sum()),
                 "stable_points": int(b.stable.sum()),
@@ -85,6 +88,7 @@ class Result:
             "bar": self.paths.prob.bar.describe() if self.paths.prob.bar else "",
             "load": self.paths.prob.load.describe() if self.paths.prob.load else "",
             "dofs": int(s.n),
+            "rayleigh": [float(s.alpha), float(s.beta)] if s.damped else None,
             "T0_I": float(T0I), "T0_II": float(T0II),
             "domain": {"T1": list(self.paths.domain.T1), "T2": list(self.paths.domain.T2)},
             "n_branches": len(self.branches),
@@ -145,6 +149,9 @@ def _rows(res: Result):
         cols["max_abs_xc"].append(contact_amplitude(b.orbits))          # the amplitude the plot shows
         cols["omega"].append(2 * np.pi / b.T)
         cols["xi_w"].append(b.xi_w)
+        cols["viscous_loss"].append(b.viscous)
+        cols["zeta_rayleigh"].append(b.damping.zeta_rayleigh)
+        cols["xi_total"].append(b.xi_total)
         cols["m"].append(np.ones(len(b), int))
         cols["k"].append(np.ones(len(b), int))
         cols["signature"].append(np.full(len(b), "1P", dtype=object))

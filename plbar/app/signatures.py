@@ -2,9 +2,11 @@
 
 :func:`hybrid_branches` is what :func:`plbar.solve` calls after the paper's class
 (:func:`plbar.find_paths`), for ``Case.signatures`` ``"default"`` or ``"all"``
-(:func:`plbar.hybrid.find_hybrid`); with ``"all"`` the periodic motions of a short
-simulation from rest (41 forcing periods, 300 periods each, the last 30 recorded)
-are polished (:func:`plbar.hybrid.from_motion`) and followed too.  Their rows
+(:func:`plbar.hybrid.find_hybrid`): besides the seeds of the structure (the zero-dwell
+class, period doublings, admissibility ends), the periodic motions of a simulation from
+rest across the window (``"default"``: 81 forcing periods, 600 periods each, the last 60
+recorded; ``"all"``: 161, 1,000 and 100, as ``plbar survey``, and orbits up to ``m = 8``)
+are polished (:func:`plbar.hybrid.from_motion`) and followed.  Their rows
 join the paper's in ``paths.csv`` with the columns ``m, k, signature,
 loss_per_T, durations``; ``T1`` and ``T2`` are then the total stuck and free
 time over the orbit (``m`` periods) and ``dPL`` the loss over the orbit.
@@ -20,7 +22,8 @@ from ..paths import Paths
 
 __all__ = ["hybrid_branches", "hybrid_window", "hybrid_rows", "hybrid_summary", "simulated_seeds", "SEED_PERIODS"]
 
-SEED_PERIODS = (41, 300, 30)   #: forcing periods, periods simulated, periods recorded of the seeding simulation
+#: forcing periods, periods simulated, periods recorded of the seeding simulation, per kind
+SEED_PERIODS = {"default": (81, 600, 60), "all": (161, 1000, 100)}
 
 
 def hybrid_window(paths: Paths) -> tuple[float, float]:
@@ -29,10 +32,10 @@ def hybrid_window(paths: Paths) -> tuple[float, float]:
     return 0.5 * T0I, float(paths.domain.T1[1] + paths.domain.T2[1])
 
 
-def simulated_seeds(paths: Paths, window) -> list:
-    """Orbits polished from the periodic motions of a short simulation from rest across the window."""
+def simulated_seeds(paths: Paths, window, kinds: str = "default") -> list:
+    """Orbits polished from the periodic motions of a simulation from rest across the window."""
     prob = paths.prob
-    num, periods, record = SEED_PERIODS
+    num, periods, record = SEED_PERIODS[kinds]
     T = np.linspace(window[0], window[1], num)
     r = run(padded(prob), T, 0.0, periods, record)
     s = steady(r, tol=1e-4)
@@ -55,8 +58,8 @@ def hybrid_branches(paths: Paths, kinds: str) -> list:
     if kinds == "paper":
         return []
     window = hybrid_window(paths)
-    extra = simulated_seeds(paths, window) if kinds == "all" else []
-    return find_hybrid(paths.prob, window, paths.branches, extra, kinds=kinds)
+    return find_hybrid(paths.prob, window, paths.branches, simulated_seeds(paths, window, kinds), kinds=kinds,
+                       m_max=4 if kinds == "default" else 8)
 
 
 def hybrid_rows(branches, first_id: int) -> dict:
@@ -67,7 +70,7 @@ def hybrid_rows(branches, first_id: int) -> dict:
             _, d, phi = canonical(o)                 # the durations and phase of the canonical rotation
             row = {"branch": first_id + j, "T1": float(d[0::2].sum()), "T2": float(d[1::2].sum()),
                    "phi": phi, "T": o.T, "dPL": o.dPL, "xi": o.xi, "grazing": 0, "omega": 2 * np.pi / o.T,
-                   "xi_w": o.xi_w, "m": o.sig.m, "k": o.sig.k, "signature": b.label, "loss_per_T": o.loss_per_T,
+                   "xi_w": o.xi_w, "viscous_loss": 0.0, "zeta_rayleigh": 0.0, "xi_total": o.xi, "m": o.sig.m, "k": o.sig.k, "signature": b.label, "loss_per_T": o.loss_per_T,
                    "durations": ";".join(f"{x:.17g}" for x in d), "max_abs_xc": o.amplitude}
             for k, v in row.items():
                 cols.setdefault(k, []).append(v)

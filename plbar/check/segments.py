@@ -2,7 +2,9 @@
 
 Written independently of :mod:`plbar.response` on purpose (see
 :mod:`plbar.check.simulate`); it imports :mod:`plbar.model` data only
-through ``prob.system`` and ``prob.q``.
+through ``prob.system`` and ``prob.q``.  With Rayleigh damping it builds
+``C = alpha M + beta K`` from ``prob.system.alpha, beta`` itself, its own modal
+ratios, its own reaction and its own damped flow (:mod:`plbar.check.viscous`).
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import InputError
+from .viscous import damped_flow, flow_rate, modal_ratios
 
 __all__ = ["duhamel", "modal_flow", "OPEN", "IMPACT", "SAMPLES_PER_RAD"]
 
@@ -44,10 +47,17 @@ class _Model:
     G: np.ndarray       # M_rr^{-1} M_r:, the impact velocity map v_r^+ = G v^-
     Minv: np.ndarray
     Mrr_inv: np.ndarray
+    zeta: tuple | None = None       # (zeta1, zeta2) modal ratios of C = alpha M + beta K, None undamped
+    rho_v: np.ndarray | None = None  # damped: R = rho_eta . eta + rho_v . eta' + r_q cos(W t - phi)
 
     @property
     def n(self) -> int:
         return self.q.size
+
+    def rate(self, state: int) -> float:
+        """The fastest modal rate of a state (frequency, or decay of an over-damped mode)."""
+        w = self.w[state - 1]
+        return float(w.max()) if self.zeta is None else flow_rate(w, self.zeta[state - 1])
 
 
 def _model(prob) -> _Model:
@@ -67,8 +77,14 @@ def _model(prob) -> _Model:
     H = M[-1, :-1] @ Mrr_inv
     rho = K[-1, :-1] - H @ K[:-1, :-1]
     r_q = float(H @ q[:-1] - q[-1])
+    zeta = rho_v = None
+    alpha, beta = float(getattr(s, "alpha", 0.0)), float(getattr(s, "beta", 0.0))
+    if alpha or beta:                    # Rayleigh damping: a_r = M_rr^{-1} (q_r cos - K_rr x_r - C_rr v_r)
+        C = alpha * M + beta * K
+        zeta = (modal_ratios(C[:-1, :-1], V1, w1), modal_ratios(C, V2, w2))
+        rho_v = (C[-1, :-1] - H @ C[:-1, :-1]) @ V1
     return _Model(M, K, q, (w1, w2), (V1, V2), (B1, B2), (V1.T @ q[:-1], V2.T @ q), rho @ V1, r_q,
-                  Mrr_inv @ M[:-1, :], np.linalg.inv(M), Mrr_inv)
+                  Mrr_inv @ M[:-1, :], np.linalg.inv(M), Mrr_inv, zeta, rho_v)
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -110,12 +126,13 @@ def duhamel(w, W, tau):
     return C, Cp, S, W * C
 
 
-def modal_flow(w, f, W, theta, tau, eta, v):
+def modal_flow(w, f, W, theta, tau, eta, v, zeta=None):
     """Exact modal state at ``tau`` after a segment start with ``eta, v``.
 
     Each mode obeys ``eta'' + w^2 eta = f cos(W u + theta)`` (Eq. (1) in
     modal form, ``theta = W t_s - phi``): free vibration from ``eta, v``
-    plus the Duhamel response from rest (:func:`duhamel`).
+    plus the Duhamel response from rest (:func:`duhamel`).  With ``zeta``
+    (damped modes): :func:`plbar.check.viscous.damped_flow`.
 
     Parameters
     ----------
@@ -128,6 +145,8 @@ def modal_flow(w, f, W, theta, tau, eta, v):
     -------
     eta, v : ndarray, shape (m,) or (K, m)
     """
+    if zeta is not None:
+        return damped_flow(w, zeta, f, W, theta, tau, eta, v)
     tau = np.asarray(tau, float)
     t = tau[..., None] if tau.ndim else tau
     co, si = np.cos(w * t), np.sin(w * t)
@@ -161,15 +180,21 @@ class _Seg:
 
 def _at(mod: _Model, W, phi, seg: _Seg, tau):
     i = seg.state - 1
-    return modal_flow(mod.w[i], mod.f[i], W, W * seg.ts - phi, tau, seg.eta, seg.v)
+    z = None if mod.zeta is None else mod.zeta[i]
+    return modal_flow(mod.w[i], mod.f[i], W, W * seg.ts - phi, tau, seg.eta, seg.v, z)
 
 
 def _margin(mod: _Model, W, phi, seg: _Seg, tau):
     """Admissibility margin of the segment's state (``>= 0`` while it holds): ``-R`` or ``-x_c``."""
     i = seg.state - 1
-    e = _modal_displacement(mod.w[i], mod.f[i], W, W * seg.ts - phi, tau, seg.eta, seg.v)
+    if mod.zeta is None:
+        e = _modal_displacement(mod.w[i], mod.f[i], W, W * seg.ts - phi, tau, seg.eta, seg.v)
+        r = e @ mod.rho_eta if seg.state == 1 else None
+    else:                                    # damped: the reaction has its damper part
+        e, u = _at(mod, W, phi, seg, tau)
+        r = e @ mod.rho_eta + u @ mod.rho_v if seg.state == 1 else None
     if seg.state == 1:
-        return -(e @ mod.rho_eta + mod.r_q * np.cos(W * (seg.ts + np.asarray(tau, float)) - phi))
+        return -(r + mod.r_q * np.cos(W * (seg.ts + np.asarray(tau, float)) - phi))
     return -(e @ mod.V[1][-1])
 
 
@@ -194,7 +219,7 @@ def _energy(mod: _Model, state: int, eta, v):
 # ---------------------------------------------------------------------------------------------------------------
 
 def _step(mod: _Model, W, state) -> float:
-    return 1.0 / (SAMPLES_PER_RAD * max(float(mod.w[state - 1].max()), W))
+    return 1.0 / (SAMPLES_PER_RAD * max(mod.rate(state), W))
 
 
 def _scale(mod: _Model, seg: _Seg) -> float:
@@ -272,23 +297,43 @@ def _switch(mod: _Model, W, phi, seg: _Seg, tau: float):
     return new, float(E0 - E1)
 
 
+def _quadrature(tau: float, rate: float):
+    """Gauss-Legendre nodes and weights over ``[0, tau]``, in pieces of two periods of ``rate`` (24 points each)."""
+    npc = max(1, int(np.ceil(abs(tau) * rate / (4 * np.pi))))
+    edges = np.linspace(0.0, tau, npc + 1)
+    half = 0.5 * np.diff(edges)
+    nodes = (edges[:-1, None] + half[:, None] * (_GL_X + 1)).ravel()
+    return nodes, (half[:, None] * _GL_W).ravel()
+
+
 def _work(mod: _Model, W, phi, seg: _Seg, tau: float) -> float:
     """Work of the load over ``[ts, ts + tau]``: ``int q cos(W t - phi) . v dt``, Gauss-Legendre.
 
     The segment is split into pieces of at most two periods of the fastest
-    frequency in the integrand, each integrated with 24 Gauss points (exact
-    to round-off for this trigonometric polynomial).  ``tau`` may be negative.
+    frequency in the integrand (or decay rate, with damping), each integrated
+    with 24 Gauss points (exact to round-off for this exponential polynomial).
+    ``tau`` may be negative.
     """
     if tau == 0.0:
         return 0.0
     i = seg.state - 1
-    Om = float(mod.w[i].max()) + W
-    npc = max(1, int(np.ceil(abs(tau) * Om / (4 * np.pi))))
-    edges = np.linspace(0.0, tau, npc + 1)
-    half = 0.5 * np.diff(edges)
-    nodes = (edges[:-1, None] + half[:, None] * (_GL_X + 1)).ravel()
+    nodes, wts = _quadrature(tau, mod.rate(seg.state) + W)
     _, v = _at(mod, W, phi, seg, nodes)
     integrand = np.cos(W * (seg.ts + nodes) - phi) * (v @ mod.f[i])
-    return float(np.sum((half[:, None] * _GL_W).ravel() * integrand))
+    return float(np.sum(wts * integrand))
+
+
+def _viscous(mod: _Model, W, phi, seg: _Seg, tau: float) -> float:
+    """Energy the dampers dissipate over ``[ts, ts + tau]``: ``int sum_j 2 zeta_j w_j eta_j'^2 dt`` (Gauss-Legendre).
+
+    ``v^T C v = sum_j 2 zeta_j w_j eta_j'^2`` in the modes of the segment's state.
+    Zero without damping; ``tau`` may be negative.
+    """
+    if tau == 0.0 or mod.zeta is None:
+        return 0.0
+    i = seg.state - 1
+    nodes, wts = _quadrature(tau, 2 * mod.rate(seg.state))
+    _, v = _at(mod, W, phi, seg, nodes)
+    return float(np.sum(wts * ((v * v) @ (2 * mod.zeta[i] * mod.w[i]))))
 
 

@@ -12,7 +12,9 @@ Between events the motion is exact: every mode of the active state is a
 forced undamped oscillator, ``eta'' + w^2 eta = f cos(W t - phi)`` (paper
 Eqs. (1)-(3)), integrated in closed form (homogeneous part plus a Duhamel
 particular part, factorised with ``sinc`` so that it stays exact at and near
-resonance ``W = w``, where it tends to ``tau sin(w tau) / (2 w)``).
+resonance ``W = w``, where it tends to ``tau sin(w tau) / (2 w)``).  With
+Rayleigh damping (FORMULATION §8) each mode is damped (:mod:`plbar.check.viscous`), the
+reaction has its damper part and the budget the dampers' loss (``Simulation.viscous``).
 
 Events (paper Sec. 2.2, FORMULATION §3):
 
@@ -30,9 +32,8 @@ An event is found by sampling the closed-form margin of the current segment
 densely (``SAMPLES_PER_RAD`` samples per radian of the fastest of the
 state's modal frequencies and the forcing frequency), bracketing the first
 sign change and refining it with :func:`scipy.optimize.brentq` to round-off.
-A double crossing between two samples (a near-grazing excursion shorter than
-about a sixteenth of the fastest period) is not seen; this is the usual
-limit of event detection by sampling.
+A double crossing between two samples (a near-grazing excursion shorter than about a sixteenth of
+the fastest period) is not seen: the usual limit of sampling (:mod:`plbar.motion` certifies instead).
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ import numpy as np
 from ..errors import InputError, PlbarError
 from ..util.reprs import build, rng
 from .segments import (IMPACT, OPEN, SAMPLES_PER_RAD, _at, _energy, _Model, _model, _next_event, _physical, _Seg,
-                       _switch, _work)
+                       _switch, _viscous, _work)
 
 __all__ = ["Simulation", "History", "SimulationError", "simulate", "period_map", "OPEN", "IMPACT",
            "SNAP", "SAMPLES_PER_RAD"]
@@ -121,6 +122,8 @@ class Simulation:
         Mechanical energy at ``t0`` and at ``t_end``.
     history : History or None
         The recorded time history, if a grid was given.
+    viscous : float
+        Energy the Rayleigh dampers dissipate over ``[t0, t_end]`` (quadrature of ``v^T C v``); 0 undamped.
     """
 
     T: float
@@ -141,6 +144,7 @@ class Simulation:
     energy0: float
     energy: float
     history: History | None = None
+    viscous: float = 0.0
 
     def __repr__(self) -> str:
         return build("Simulation", {"T": self.T, "phi": self.phi, "t": f"[{self.t0:.6g}, {self.t_end:.6g}]",
@@ -160,8 +164,8 @@ class Simulation:
 
     @property
     def energy_residual(self) -> float:
-        """Energy budget ``work - sum(event losses) - (energy - energy0)``; zero up to round-off."""
-        return self.work - float(np.sum(self.event_losses)) - (self.energy - self.energy0)
+        """Energy budget ``work - sum(event losses) - viscous - (energy - energy0)``; zero up to round-off."""
+        return self.work - float(np.sum(self.event_losses)) - self.viscous - (self.energy - self.energy0)
 
 
 def _check_state(mod: _Model, x0, v0, state):
@@ -224,12 +228,8 @@ def _check_span(T, n_periods, t0, record):
 
 
 def _run(mod: _Model, T, phi, seg: _Seg, t_limit: float, t_stop: float | None = None):
-    """Event loop from ``seg`` until no event is left before ``t_limit``: segments and event data.
-
-    With ``t_stop``, the loop also ends once a segment starts at or after it: the events in
-    ``[t_stop, t_limit]`` (the snap window after the last sample, see :func:`simulate`) are taken
-    one at a time, never a cascade of zero-length segments there.
-    """
+    """Event loop from ``seg`` until no event is left before ``t_limit`` (or a segment starts at ``t_stop``,
+    so the snap window after the last sample holds no cascade of zero-length segments): segments, events."""
     W = 2 * np.pi / T
     segs = [seg]
     times, kinds, losses = [], [], []
@@ -325,9 +325,10 @@ def _simulation(mod: _Model, T, phi, seg0: _Seg, t_end: float, n_periods: float,
     # work: each segment up to the next start; the last one up to t_end (backwards if it started after t_end)
     ends = np.append(starts[1:], t_end)
     work = sum(_work(mod, W, phi, s, float(te - s.ts)) for s, te in zip(segs, ends))
+    visc = sum(_viscous(mod, W, phi, s, float(te - s.ts)) for s, te in zip(segs, ends))
     hist = None if rec is None else _history(mod, W, phi, segs, starts, rec)
     return Simulation(T, phi, seg0.ts, t_end, times, kinds, losses, xe, ve, se, st, sx, sv, ss, float(work), E0,
-                      Ee, hist)
+                      Ee, hist, float(visc))
 
 
 def _history(mod: _Model, W, phi, segs, starts, rec) -> History:

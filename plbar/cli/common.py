@@ -4,7 +4,8 @@
 * ``--overwrite`` lets a command replace what another command or case owns in its ``--out``
   (:func:`plbar.util.outputs.claim_folder`, never silently);
 * ``--quiet`` prints nothing on success, ``--json`` prints the result as JSON (both without progress bars);
-* the model is ``--model``, ``-N/--elements``, ``--element``, ``--mass``, ``--end-mass``; the load ``--load-node`` /
+* the model is ``--model``, ``-N/--elements``, ``--element``, ``--mass``, ``--end-mass``; the inherent damping
+  ``--rayleigh A B`` or ``--damping-ratio XI --at T_A T_B`` (``--damping-at``); the load ``--load-node`` /
   ``--load-at``; a TOML file is ``--case FILE`` (``plbar run FILE`` too) and then no model, load or search option
   may be given.
 """
@@ -16,6 +17,7 @@ import json
 
 from ..app import Case, load_case
 from ..errors import InputError
+from ..model import rayleigh_from_ratio
 
 __all__ = ["output_args", "case_args", "case_from_args", "progress", "report", "hidden", "plural"]
 
@@ -26,7 +28,8 @@ CASE_OPTIONS = {"model": "--model", "elements": "-N/--elements", "element": "--e
                 "mesh_file": "--mesh-file", "grading": "--grading", "end_mass": "--end-mass",
                 "end_mass_absolute": "--end-mass-absolute", "modes": "--modes", "load_node": "--load-node",
                 "load_at": "--load-at", "grid": "--grid", "T1": "--T1", "T2": "--T2", "method": "--method",
-                "signatures": "--signatures"}
+                "signatures": "--signatures", "rayleigh": "--rayleigh", "damping_ratio": "--damping-ratio",
+                "damping_at": "--damping-at"}
 
 
 def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None:
@@ -39,10 +42,12 @@ def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None
     g.add_argument("--json", action="store_true", help="print the result as JSON (no progress bars)")
 
 
-def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", sizes=None, refused=()) -> None:
-    """The model, load and search options (all default to None: given ones are known) and ``--case``.
+def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", sizes=None, at: bool = True,
+              refused=()) -> None:
+    """The model, damping, load and search options (all default to None: given ones are known) and ``--case``.
 
-    ``sizes`` (a default list) makes ``-N/--elements`` a list of sizes (``a.sizes``; ``plbar refine``).
+    ``sizes`` (a default list) makes ``-N/--elements`` a list of sizes (``a.sizes``; ``plbar refine``);
+    ``at=False`` leaves ``--at`` to the command (the damping periods are then ``--damping-at`` only).
     ``refused`` (dest names): options the command refuses (with a line saying what to do); left out of its help.
     """
     g = p.add_argument_group("model")
@@ -69,6 +74,7 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
                    help="take --end-mass as an absolute mass")
     g.add_argument("--modes", type=int, default=None, metavar="M",
                    help="keep the lowest M modes of each state (modal truncation: never for xi_eq, see README) [all]")
+    _damping_args(p, at)
     g = p.add_argument_group(f"load ({load_help}; unit amplitude; default: DOF 1 of the chain, s = L/2 of an FE bar)")
     g.add_argument("--load-node", type=int, action="append", default=None, metavar="K",
                    help="force on free DOF K (1-based from the clamp, as in the paper); repeatable")
@@ -80,15 +86,40 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
     g.add_argument("--T1", type=float, nargs=2, default=None, metavar=("LO", "HI"), help="T1 range [(0, T0_I/2]]")
     g.add_argument("--T2", type=float, nargs=2, default=None, metavar=("LO", "HI"), help="T2 range [(0, T0_II/2]]")
     g.add_argument("--signatures", choices=("paper", "default", "all"), default=None,
-                   help="which periodic responses: the paper's class only (paper); also the zero-dwell class, "
-                        "period doublings and the neighbouring signatures of its branches (default: about 10x the "
-                        "time); also those a short simulation from rest settles on (all) [paper]")
+                   help="which periodic responses: the paper's class only (paper); every signature found "
+                        "without the user: the zero-dwell class, period doublings, the neighbours where a branch "
+                        "stops being admissible and what a simulation from rest settles on (default: ~30x the "
+                        "time); the same with the survey's simulation and orbits up to m = 8 (all) [paper]")
     g.add_argument("--method", choices=("continuation", "grid"), default=None,
                    help="branches by pseudo-arclength continuation seeded by the scan, or by linking the "
                         "scan's crossings only (faster, may fragment) [continuation]")
     for act in p._actions:                   # refused options: still parsed (to say why), not offered
         if act.dest in refused:
             act.help = hidden
+
+
+def _damping_args(p: argparse.ArgumentParser, at: bool) -> None:
+    """``--rayleigh A B`` or ``--damping-ratio XI --at T_A T_B`` (``--damping-at`` if ``at`` is False)."""
+    g = p.add_argument_group("inherent damping (Rayleigh, C = alpha M + beta K on the whole bar; default none)")
+    g.add_argument("--rayleigh", type=float, nargs=2, default=None, metavar=("ALPHA", "BETA"),
+                   help="Rayleigh coefficients alpha (mass) and beta (stiffness), both >= 0")
+    g.add_argument("--damping-ratio", type=float, default=None, metavar="XI",
+                   help="the Rayleigh damping with ratio XI (0.02 for 2 %%) at the two periods of --damping-at (--at)")
+    g.add_argument("--damping-at", *(["--at"] if at else []), dest="damping_at", type=float, nargs=2, default=None, metavar=("T_A", "T_B"),
+                   help="the two periods where --damping-ratio holds (e.g. bracketing the periods of interest)")
+
+
+def _rayleigh(a):
+    """``(alpha, beta)`` from ``--rayleigh`` or ``--damping-ratio`` with ``--at``, or None."""
+    ratio, at, ab = getattr(a, "damping_ratio", None), getattr(a, "damping_at", None), getattr(a, "rayleigh", None)
+    if ratio is None and at is None:
+        return None if ab is None else tuple(ab)
+    if ab is not None:
+        raise InputError("give --rayleigh A B or --damping-ratio XI --at T_A T_B, not both")
+    if ratio is None or at is None:
+        raise InputError("--damping-ratio XI needs --at T_A T_B (the two periods where the ratio holds), and "
+                         "the other way round")
+    return rayleigh_from_ratio(ratio, *at)
 
 
 def case_from_args(a):
@@ -105,7 +136,7 @@ def case_from_args(a):
               grading=a.grading, grid=tuple(a.grid) if a.grid else None, T1=tuple(a.T1) if a.T1 else None,
               T2=tuple(a.T2) if a.T2 else None, method=a.method,
               signatures=getattr(a, "signatures", None), modes=a.modes, end_mass=a.end_mass,
-              end_mass_absolute=a.end_mass_absolute)
+              end_mass_absolute=a.end_mass_absolute, rayleigh=_rayleigh(a))
     return Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None}), None
 
 

@@ -17,9 +17,10 @@ __all__ = ["register"]
 TOP = 5     #: branches listed by default (the largest xi_eq first); --verbose lists all
 
 
-def _line(b: dict) -> str:
+def _line(b: dict, damped: bool = False) -> str:
+    tot = (f", with Rayleigh in [{b['xi_total_range'][0]:.4g}, {b['xi_total_range'][1]:.4g}]" if damped else "")
     return (f"  branch {b['branch']:3d}: {plural(b['points'], 'point', width=4)}, T in [{b['T_range'][0]:.5g}, "
-            f"{b['T_range'][1]:.5g}], xi_eq in [{b['xi_range'][0]:.4g}, {b['xi_range'][1]:.4g}], "
+            f"{b['T_range'][1]:.5g}], xi_eq in [{b['xi_range'][0]:.4g}, {b['xi_range'][1]:.4g}]{tot}, "
             f"{b['stable_points']} stable")
 
 
@@ -32,7 +33,9 @@ def _human(summary: dict, files: dict, verbose: bool) -> str:
     shown = brs if verbose else sorted(brs, key=lambda b: -b["xi_range"][1])[:TOP]
     if not verbose and len(brs) > TOP:
         lines.append(f"  the {TOP} branches with the largest xi_eq (--verbose lists all {len(brs)}):")
-    lines += [_line(b) for b in shown]
+    if summary.get("rayleigh"):
+        lines.insert(2, f"  Rayleigh damping alpha = {summary['rayleigh'][0]:.6g}, beta = {summary['rayleigh'][1]:.6g}")
+    lines += [_line(b, bool(summary.get("rayleigh"))) for b in shown]
     if not verbose and len(brs) > TOP:
         rest = [b for b in brs if b not in shown]
         short = sum(b["points"] < 3 for b in rest)

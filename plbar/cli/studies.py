@@ -168,7 +168,7 @@ def register(sub) -> None:
     s.add_argument("--no-pairs", action="store_true", help="skip the node-pair table")
     s.add_argument("--pairs", action="store_true", help=hidden)
     s.add_argument("--no-plot", action="store_true", help="skip xi_T_s.png")
-    case_args(s, "the reference load")
+    case_args(s, "the reference load", at=False)     # --at: the old spelling of --positions
     s.set_defaults(func=_cmd_sweep)
 
     r = sub.add_parser("refine", help="families followed through a list of N, full model (Sec. 4.3)",

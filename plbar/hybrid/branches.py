@@ -225,7 +225,8 @@ def _paper_ends(prob, paper_branches, window, st) -> list[HybridOrbit]:
 
 
 def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), extra_seeds=(),
-                kinds: str = "default", grid: int = 400, settings: FollowSettings | None = None) -> list[HybridBranch]:
+                kinds: str = "default", grid: int = 400, settings: FollowSettings | None = None,
+                m_max: int = M_MAX) -> list[HybridBranch]:
     """Branches of every signature but the paper's class reachable from the seeds (see the module docstring).
 
     ``paper_branches`` are the branches of :func:`plbar.find_paths` (their period doublings and ends seed
@@ -239,7 +240,7 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
     curves, branches = [], []
     while queue:
         orb = queue.pop(0)
-        if orb.sig == PAPER or orb.sig.m > M_MAX or _known(curves, orb):
+        if orb.sig == PAPER or orb.sig.m > m_max or _known(curves, orb):
             continue
         orbs, ends = _curve(prob, orb, window, st)
         curves.append((orb.sig, orbs))
@@ -247,7 +248,7 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
         ok = admissible(orbs)
         ev = _events(orbs, mus)
         for e in ev:
-            if e["kind"] == PD and orb.sig.m * 2 <= M_MAX:
+            if e["kind"] == PD and orb.sig.m * 2 <= m_max:
                 i = e["index"]
                 beyond = i if np.any(mus[i].real < -1) else i - 1
                 queue.extend(doubled(prob, orbs[beyond]))

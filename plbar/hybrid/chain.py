@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
 from ..model import Problem
 from ..response import forced_coeffs, free_flow
 from .signature import Signature
@@ -69,6 +70,9 @@ class Chain:
 
 def layout(prob: Problem, sig: Signature) -> tuple[int, int, int]:
     """``(nz, q, nX)``: state I size ``2 m1``, unknown durations, unknowns."""
+    if getattr(prob.system, "damped", False):   # the chain's flows are undamped (issue 21): never silently
+        raise InputError("periodic responses of other signatures do not take inherent (Rayleigh) damping yet; drop "
+                         "rayleigh= / --rayleigh, or use plbar.solve for the paper's class, which does")
     nz = 2 * prob.system.w1.size
     q = sig.durations
     return nz, q, nz + q + 1

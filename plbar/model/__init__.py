@@ -8,9 +8,10 @@ the switch maps, Eqs. (2)-(10)) -> :func:`problem` (with the load vector of a
 
 from .bar import (ELEMENTS, MASSES, Assembled, Bar, assemble, chain, graded_nodes, uniform_bar,
                   uniform_nodes)
+from .damping import check_rayleigh, rayleigh_from_ratio, rayleigh_ratio
 from .load import Load, node, point
 from .system import Problem, TwoStateSystem, problem, two_state, with_load_vector
 
 __all__ = ["ELEMENTS", "MASSES", "Assembled", "Bar", "assemble", "chain", "graded_nodes", "uniform_bar",
-           "uniform_nodes", "Load", "node", "point", "Problem", "TwoStateSystem", "problem", "two_state",
+           "uniform_nodes", "check_rayleigh", "rayleigh_from_ratio", "rayleigh_ratio", "Load", "node", "point", "Problem", "TwoStateSystem", "problem", "two_state",
            "with_load_vector"]

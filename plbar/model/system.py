@@ -5,7 +5,14 @@ State II (free): all DOFs, ``M^II = M``, ``K^II = K``.  Modes are mass
 normalised (``V^T M V = I``, Eq. (2)); the switch matrices project between the
 modal spaces (Eqs. (8)-(10)), with the plastic impact conserving the
 generalised momenta of the DOFs other than ``c``.
+
+Inherent damping (FORMULATION §8) is Rayleigh, ``C = alpha M + beta K`` on the
+whole bar: state I takes ``C_rr``, both states stay diagonal in their undamped
+modes with ratios ``zeta_j = alpha / (2 w_j) + beta w_j / 2``, and the state I
+reaction gains a term in the modal velocities (``r_v``).  Without damping
+(the default, the paper) every quantity is the undamped one.
 """
+
 
 from __future__ import annotations
 
@@ -15,6 +22,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from .bar import Assembled, Bar, assemble
+from .damping import check_rayleigh, rayleigh_ratio
 from ..errors import InputError
 from .load import Load
 from ..util.reprs import build, rng
@@ -61,6 +69,20 @@ class TwoStateSystem:
         ``M_cr V1``, used for the load term of the reaction.
     gap_row : ndarray, shape (m2,)
         ``x_c = gap_row . eta^II`` (row ``c`` of ``V2``).
+    lumped : bool
+        True if ``M`` is diagonal over the DOFs other than ``c`` and uncoupled from ``c``.
+    alpha, beta : float
+        Rayleigh damping ``C = alpha M + beta K`` of the whole bar (FORMULATION §8);
+        0, 0 (the default): undamped, as in the paper.
+    zeta1, zeta2 : ndarray, shapes (m1,), (m2,)
+        Modal damping ratios of states I and II, ``zeta_j = alpha / (2 w_j) + beta w_j / 2``
+        (zeros without damping); each mode obeys
+        ``eta'' + 2 zeta_j w_j eta' + w_j^2 eta = f_j cos(W t - phi)``.
+    r_v : ndarray, shape (m1,)
+        Contact reaction in state I per modal *velocity*: with ``x_c = x_c' = 0``,
+        ``R = (M x'' + C x' + K x - q)_c = r_eta . eta + r_v . eta' + r_q cos(W t - phi)``,
+        ``r_v = C_cr V1 - 2 M_cr V1 diag(zeta1 w1)`` (the damper's share of the
+        reaction; ``beta r_eta`` for a lumped mass); zeros without damping.
     """
 
     M: np.ndarray
@@ -77,11 +99,48 @@ class TwoStateSystem:
     MV1_c: np.ndarray
     gap_row: np.ndarray
     lumped: bool
+    alpha: float = 0.0
+    beta: float = 0.0
+    zeta1: np.ndarray | None = None
+    zeta2: np.ndarray | None = None
+    r_v: np.ndarray | None = None
+
+    def __post_init__(self):
+        ab = check_rayleigh((self.alpha, self.beta))
+        a, b = ab if ab is not None else (0.0, 0.0)
+        object.__setattr__(self, "alpha", a)
+        object.__setattr__(self, "beta", b)
+        object.__setattr__(self, "zeta1", rayleigh_ratio(a, b, self.w1))
+        object.__setattr__(self, "zeta2", rayleigh_ratio(a, b, self.w2))
+        Mc = self.M[-1, :-1] @ self.V1
+        r_v = (a * Mc + b * (self.K[-1, :-1] @ self.V1)) - 2.0 * Mc * self.zeta1 * self.w1
+        object.__setattr__(self, "r_v", r_v if ab is not None else np.zeros_like(self.w1))
 
     @property
     def n(self) -> int:
         return self.x.size
 
+    @property
+    def damped(self) -> bool:
+        """True with Rayleigh damping (``alpha`` or ``beta`` non-zero)."""
+        return self.alpha != 0.0 or self.beta != 0.0
+
+    @property
+    def zeta(self) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """``(zeta1, zeta2)`` for the flows of :mod:`plbar.response.flow`, or ``(None, None)`` if undamped.
+
+        None selects the undamped code path (bit for bit the paper's flows).
+        """
+        return (self.zeta1, self.zeta2) if self.damped else (None, None)
+
+    @property
+    def C(self) -> np.ndarray:
+        """The damping matrix ``alpha M + beta K`` over the free DOFs (zeros without damping)."""
+        return self.alpha * self.M + self.beta * self.K
+
+    def rayleigh_ratio(self, W):
+        """The Rayleigh damping ratio at circular frequency ``W``: ``alpha / (2 W) + beta W / 2``."""
+        return rayleigh_ratio(self.alpha, self.beta, W)
     @property
     def truncated(self) -> bool:
         """True if only the lowest modes of a state are kept (rectangular ``V1`` or ``V2``)."""
@@ -89,9 +148,11 @@ class TwoStateSystem:
 
     def __repr__(self) -> str:
         T0I, T0II = self.T0
-        return build("TwoStateSystem", {"n": self.n, "modes": (self.w1.size, self.w2.size),
-                                        "T0": f"({T0I:.6g}, {T0II:.6g})", "w1": rng(self.w1),
-                                        "w2": rng(self.w2), "lumped": self.lumped})
+        items = {"n": self.n, "modes": (self.w1.size, self.w2.size), "T0": f"({T0I:.6g}, {T0II:.6g})",
+                 "w1": rng(self.w1), "w2": rng(self.w2), "lumped": self.lumped}
+        if self.damped:
+            items["rayleigh"] = f"({self.alpha:.6g}, {self.beta:.6g})"
+        return build("TwoStateSystem", items)
 
     @property
     def impact_mass(self) -> float:
@@ -132,7 +193,7 @@ def _n_modes(modes, n: int) -> tuple[int | None, int | None]:
     return (None if m1 >= n - 1 else m1), (None if m2 >= n else m2)
 
 
-def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray, modes=None) -> TwoStateSystem:
+def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray, modes=None, rayleigh=None) -> TwoStateSystem:
     """Build the two-state modal system from free-DOF matrices (contact last).
 
     Parameters
@@ -147,6 +208,9 @@ def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray, modes=None) -> TwoSta
         and ``V2`` ``(n, m2)``; the switch maps are the Galerkin projections
         of the same formulas (Eqs. (8)-(10)).  Default: all modes (exact).
         Check convergence with :func:`plbar.studies.truncation_check`.
+    rayleigh : (float, float), optional
+        Rayleigh damping ``(alpha, beta)``, ``C = alpha M + beta K`` (both ``>= 0``);
+        default none (the paper).  See :func:`plbar.rayleigh_from_ratio`.
     """
     M = np.asarray(M, float)
     K = np.asarray(K, float)
@@ -166,8 +230,9 @@ def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray, modes=None) -> TwoSta
     MV1_c = M[-1, :-1] @ V1
     r_eta = K[-1, :-1] @ V1 - MV1_c * w1**2
     lumped = bool(np.all(M[-1, :-1] == 0) and np.allclose(M[:-1, :-1], np.diag(np.diag(M[:-1, :-1]))))
+    a, b = check_rayleigh(rayleigh) or (0.0, 0.0)
     return TwoStateSystem(M, K, np.asarray(x, float), w1, V1, w2, V2, P12, P21, Q21, r_eta, MV1_c,
-                          V2[-1, :].copy(), lumped)
+                          V2[-1, :].copy(), lumped, a, b)
 
 
 @dataclass(frozen=True)
@@ -229,7 +294,8 @@ def with_load_vector(sys: TwoStateSystem, q: np.ndarray, bar=None, load=None, as
     return Problem(sys, q, f1, f2, r_q, bar, load, asm)
 
 
-def problem(bar: Bar, load: Load | None = None, q: np.ndarray | None = None, modes=None) -> Problem:
+def problem(bar: Bar, load: Load | None = None, q: np.ndarray | None = None, modes=None,
+            rayleigh=None) -> Problem:
     """Assemble ``bar``, build both states and attach the load.
 
     Parameters
@@ -239,9 +305,11 @@ def problem(bar: Bar, load: Load | None = None, q: np.ndarray | None = None, mod
         The harmonic load; or give the amplitude vector ``q`` directly.
     modes : int or (int, int), optional
         Modal truncation (see :func:`two_state`); default all modes.
+    rayleigh : (float, float), optional
+        Rayleigh damping ``(alpha, beta)`` (see :func:`two_state`); default none.
     """
     a = assemble(bar)
-    sys = two_state(a.M, a.K, a.x, modes)
+    sys = two_state(a.M, a.K, a.x, modes, rayleigh)
     if load is not None:
         qv = load.vector(bar, a)
     elif q is not None:

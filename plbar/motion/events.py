@@ -25,7 +25,7 @@ vanishes to order ``2 (N - 1)`` on the paper's chain) from a crossing.
 
 from __future__ import annotations
 
-from math import factorial
+from math import lgamma
 
 import numpy as np
 
@@ -34,6 +34,11 @@ __all__ = ["ZERO", "SIGNIFICANT", "LADDER", "first_order", "certified_step", "qu
 ZERO = 1e-13          #: |g| below ZERO * (size of its terms) is round-off: the crossing is located to this
 SIGNIFICANT = 1e-9    #: a derivative counts when |g^(k)| > SIGNIFICANT * (size of its terms)
 LADDER = 0.5 ** np.arange(0, 48)   #: step candidates, as fractions of the longest step
+
+
+def _inv_factorials(n: int) -> np.ndarray:
+    """``1 / i!`` for ``i = 0 .. n - 1`` (through ``lgamma``: no integer overflow at high orders)."""
+    return np.exp(-np.array([lgamma(i + 1.0) for i in range(n)]))
 
 
 def first_order(d, scale):
@@ -72,7 +77,7 @@ def certified_step(d, rem, k, vmax):
     """
     K = d.shape[0] - 1
     B = d.shape[1]
-    inv_fact = 1.0 / np.array([factorial(i) for i in range(K + 2)], float)
+    inv_fact = _inv_factorials(K + 2)
     rows = np.arange(B)
     kk = np.minimum(k, K)
     lead = d[kk, rows] * inv_fact[kk]                                   # g^(k)/k!
@@ -100,7 +105,7 @@ def quadratic_step(d, rem, v):
     Valid where the returned value is at most ``v``; ``g >= 0`` is taken as given.
     """
     K = d.shape[0] - 1
-    inv = np.array([1.0 / factorial(i) for i in range(K + 1)])
+    inv = _inv_factorials(K + 1)
     j = np.arange(K - 1)[:, None]
     B2 = np.sum(np.abs(d[2:]) * inv[:K - 1, None] * v ** j, axis=0) + rem * inv[K - 1] * v ** (K - 1)
     g, g1 = np.maximum(d[0], 0.0), d[1]
@@ -111,16 +116,18 @@ def quadratic_step(d, rem, v):
     return np.where(g1 > 0, up, down)
 
 
-def decide_step(d, rem, scale, vmax):
+def decide_step(d, rem, scale, vmax, floor=0.0):
     """The decision at a point from its Taylor model: ``(event, step, found)`` (scaled step ``v = Om u``).
 
     * ``event``: the first significant derivative is negative (the state ends here);
     * ``step``: certified by :func:`certified_step` from that order, by :func:`quadratic_step` near a simple
       crossing (``k = 0``, ``g' < 0``: quadratic convergence onto it from the left), and, where the margin is
-      round-off small but not crossing (``k > 0``), also for the margin shifted by its round-off level
-      ``ZERO * scale`` (no crossing below that level is missed): where the margin vanishes to a high order
-      (a bar at rest, loaded far from its contact) this certifies long steps instead of tiny ones;
-    * ``found``: some derivative up to the model's order is significant (elsewhere ``step`` is 0).
+      round-off small but not crossing (``k > 0``, or no derivative significant at all), also for the margin
+      shifted by its round-off level ``ZERO * max(scale, floor)`` (no crossing below that level is missed):
+      where the margin vanishes to a high order (a bar at rest, loaded far from its contact) this certifies
+      long steps instead of tiny ones; ``floor`` is the problem's own size of the margin (a bar at rest has
+      none of its own);
+    * ``found``: some derivative up to the model's order is significant, or the shifted margin certified a step.
     """
     K = d.shape[0] - 1
     k = first_order(d, scale)
@@ -129,14 +136,15 @@ def decide_step(d, rem, scale, vmax):
     event = found & (d[np.minimum(k, K), rows] < 0)
     go = found & ~event
     v = np.where(go, certified_step(d, rem, k, vmax), 0.0)
-    flat = go & (k > 0)
+    flat = (go & (k > 0)) | ~found
     if flat.any():
         ds = d[:, flat].copy()
-        ds[0] = np.maximum(ds[0], 0.0) + ZERO * scale[0, flat]
+        ds[0] = np.maximum(ds[0], 0.0) + ZERO * np.maximum(scale[0, flat], floor if np.ndim(floor) == 0 else
+                                                            np.asarray(floor)[flat])
         v[flat] = np.maximum(v[flat], certified_step(ds, rem[flat], np.zeros(int(flat.sum()), int), vmax[flat]))
     near = go & (k == 0) & (d[1] < 0) & (v < vmax)
     if near.any():
         sig = np.minimum(2.0 * v[near], vmax[near])
         rho = quadratic_step(d[:, near], rem[near], sig)
         v[near] = np.maximum(v[near], np.minimum(rho, sig) * (1 - 1e-15))
-    return event, v, found
+    return event, v, found | (v > 0)

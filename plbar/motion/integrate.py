@@ -39,6 +39,7 @@ MAX_ZERO = 50       #: consecutive zero-length segments before a trajectory is s
 MAX_STALL = 5000    #: rounds without an event or a period boundary before a trajectory is stopped as stalled
 CAP = 0.25          #: longest step, in forcing periods (the remainder bound is taken over it)
 ORDER = 8           #: order of the Taylor model of the margin
+DEEP_MAX = 40       #: highest order of the deep model (where no derivative up to ORDER is significant)
 
 
 @dataclass
@@ -79,8 +80,9 @@ class Batch:
         """Modal ``eta, etadot`` of trajectories ``idx`` at local times ``u`` of their current segments."""
         st = self.state[idx]
         ph = self.phi[idx][:, None]
+        zeta = None if self.pad.zeta is None else self.pad.zeta[st]
         return segment(self.pad.w[st], self.pad.f[st], self.W[idx][:, None], self.tp[idx][:, None], u[:, None],
-                       self.eta[idx], self.vel[idx], np.cos(ph), np.sin(ph))
+                       self.eta[idx], self.vel[idx], np.cos(ph), np.sin(ph), zeta=zeta)
 
     def pieces(self, idx, tau) -> Pieces:
         """The current segments of ``idx`` up to ``tau``, as pieces."""
@@ -94,9 +96,10 @@ def _certify(b: Batch, idx, eta, vel, K: int):
     st = b.state[idx]
     t = b.tp[idx] + b.p[idx]
     cap = np.minimum(CAP * b.T[idx], np.maximum(b.T[idx] - t, 0.0))
+    zeta, cv = (None, None) if pad.zeta is None else (pad.zeta[st], pad.cv[st])
     d, rem, scale, Om = taylor(pad.c[st], pad.rq[st], pad.w[st], pad.f[st], eta, vel, b.W[idx], t, b.phi[idx],
-                               cap, K)
-    event, v, found = decide_step(d, rem, scale, Om * cap)
+                               cap, K, zeta, cv)
+    event, v, found = decide_step(d, rem, scale, Om * cap, pad.size[st])
     return event, np.where(found, v / Om, -1.0)
 
 
@@ -105,13 +108,13 @@ def decide(b: Batch, idx):
 
     A Taylor model of order :data:`ORDER` decides; where no derivative up to it
     is significant (a bar started at rest, loaded far from its contact) one of
-    order ``2 m + 4`` does; where that fails too, a tiny step.
+    order ``min(2 m + 4, DEEP_MAX)`` does; where that fails too, a tiny step.
     """
     eta, vel = b.flow(idx, b.p[idx])
     event, step = _certify(b, idx, eta, vel, ORDER)
     deep = np.flatnonzero(step < 0)
     if deep.size:
-        ev, stp = _certify(b, idx[deep], eta[deep], vel[deep], 2 * b.pad.m + 4)
+        ev, stp = _certify(b, idx[deep], eta[deep], vel[deep], min(2 * b.pad.m + 4, DEEP_MAX))
         event[deep], step[deep] = ev, stp
     step = np.where(step > 0, step, TINY * b.T[idx])
     new_p = b.p[idx] + step

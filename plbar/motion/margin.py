@@ -28,7 +28,7 @@ __all__ = ["margin", "taylor"]
 
 
 def margin(c, rq, eta, vel, W, t, phi):
-    """``g`` and ``g'`` of a batch (rows) at absolute times ``t``.
+    """``g`` and ``g'`` of a batch (rows) at absolute times ``t`` (undamped margins; :func:`taylor` takes damping).
 
     Parameters
     ----------
@@ -50,7 +50,7 @@ def margin(c, rq, eta, vel, W, t, phi):
     return g, g1
 
 
-def taylor(c, rq, w, f, eta, vel, W, t, phi, s, K: int):
+def taylor(c, rq, w, f, eta, vel, W, t, phi, s, K: int, zeta=None, cv=None):
     """Scaled derivatives ``g^(k) / Om^k`` (``k = 0 .. K``) and the bound of ``|g^(K+1)| / Om^(K+1)`` over a step.
 
     Parameters
@@ -62,6 +62,10 @@ def taylor(c, rq, w, f, eta, vel, W, t, phi, s, K: int):
         Step length over which the remainder bound must hold.
     K : int
         Highest derivative.
+    zeta, cv : ndarray, shape (B, m), optional
+        Inherent damping: the modal ratios (``eta'' = f cos - w^2 eta - 2 zeta w eta'``) and the margin's
+        weights on the modal velocities (``g = c . eta + cv . eta' + rq cos``; the damper's share of the
+        reaction).  The amplitude bound holds as it is (damping only takes energy out).
 
     Returns
     -------
@@ -84,17 +88,24 @@ def taylor(c, rq, w, f, eta, vel, W, t, phi, s, K: int):
     mag = [np.abs(eta), np.abs(vel) / Om[:, None]]       # size of the terms of each e[k]: its round-off level
     b = [amp / w, amp / Om[:, None]]
     load = f / (Om ** 2)[:, None]
-    for k in range(2, K + 2):
+    damp = None if zeta is None else 2.0 * zeta * w / Om[:, None]
+    top = K + (2 if cv is not None else 1)
+    for k in range(2, top + 1):
         Wk = Wr ** (k - 2)
-        if k <= K:
+        if k < top:
             lk = load * (Wk * np.cos(arg + 0.5 * np.pi * (k - 2)))[:, None]
-            e.append(lk - wr2 * e[k - 2])
-            mag.append(np.abs(lk) + wr2 * mag[k - 2])
-        b.append(np.abs(load) * Wk[:, None] + wr2 * b[k - 2])
+            e.append(lk - wr2 * e[k - 2] - (0.0 if damp is None else damp * e[k - 1]))
+            mag.append(np.abs(lk) + wr2 * mag[k - 2] + (0.0 if damp is None else damp * mag[k - 1]))
+        b.append(np.abs(load) * Wk[:, None] + wr2 * b[k - 2] + (0.0 if damp is None else damp * b[k - 1]))
     ks = np.arange(K + 1)[:, None]
     forced = rq * Wr ** ks * np.cos(arg + 0.5 * np.pi * ks)
-    d = np.einsum("bj,kbj->kb", c, np.stack(e))
-    scale = np.einsum("bj,kbj->kb", ac, np.stack(mag)) + np.abs(forced)
-    d = d + forced
+    d = np.einsum("bj,kbj->kb", c, np.stack(e[:K + 1]))
+    scale = np.einsum("bj,kbj->kb", ac, np.stack(mag[:K + 1])) + np.abs(forced)
     rem = np.einsum("bj,bj->b", ac, b[K + 1]) + arq * Wr ** (K + 1)
+    if cv is not None:                                    # g^(k) also holds cv . eta^(k+1)
+        cvs = cv * Om[:, None]
+        d = d + np.einsum("bj,kbj->kb", cvs, np.stack(e[1:K + 2]))
+        scale = scale + np.einsum("bj,kbj->kb", np.abs(cvs), np.stack(mag[1:K + 2]))
+        rem = rem + np.einsum("bj,bj->b", np.abs(cvs), b[K + 2])
+    d = d + forced
     return d, rem, scale, Om

@@ -49,6 +49,13 @@ class Padded:
     truncated : bool
         True for a modally truncated system (the loss is then the modal one, see
         :class:`plbar.errors.TruncationWarning`).
+    zeta, cv : ndarray, shape (2, m), or None
+        Inherent (Rayleigh) damping: the modal ratios of each state, and the margin's weights on the
+        modal velocities (``-r_v`` in state I: the damper's share of the reaction; 0 in state II);
+        None without damping (the undamped code path, bit for bit).
+    size : ndarray, shape (2,)
+        The margin's own size in each state, ``sum_j |c_j f_j| / w_j^2 + |rq|`` (the static response to
+        the load's amplitude): the floor of its round-off level (a bar at rest has no size of its own).
     """
 
     w: np.ndarray
@@ -62,6 +69,9 @@ class Padded:
     S: float
     V: np.ndarray
     truncated: bool
+    size: np.ndarray
+    zeta: np.ndarray | None = None
+    cv: np.ndarray | None = None
 
     @property
     def m(self) -> int:
@@ -93,5 +103,9 @@ def padded(prob: Problem) -> Padded:
     V[0, :-1, :m1] = s.V1
     V[1, :, :m2] = s.V2
     S = float("nan") if s.truncated else s.impact_mass
+    size = np.sum(np.abs(c * f) / (w * w), axis=1) + np.abs(rq)
+    damped = bool(getattr(s, "damped", False))
+    zeta = np.vstack([_pad(s.zeta1, (m,)), _pad(s.zeta2, (m,))]) if damped else None
+    cv = np.vstack([_pad(-np.asarray(s.r_v, float), (m,)), np.zeros(m)]) if damped else None
     return Padded(w, f, c, rq, _pad(s.P12, (m, m)), _pad(s.P21, (m, m)), _pad(s.Q21, (m, m)), _pad(s.gap_row, (m,)),
-                  S, V, bool(s.truncated))
+                  S, V, bool(s.truncated), size, zeta, cv)

@@ -59,7 +59,9 @@ class Run:
     events : dict of ndarray
         The recorded window's events: ``traj``, ``time`` (absolute), ``kind`` (1 opening, 2 impact), ``loss``.
     work, losses, energy0, energy_end : ndarray, shape (B,)
-        Totals over the whole run: the energy budget is ``work - losses - (energy_end - energy0)``.
+        Totals over the whole run: the energy budget is ``work - losses - viscous - (energy_end - energy0)``.
+    viscous, viscous_rec : ndarray, shapes (B,), (B, R)
+        Energy taken by inherent damping over the whole run and per recorded period (0 undamped).
     final : Start
         The state at the end (to continue from).
     rounds : int
@@ -89,12 +91,15 @@ class Run:
     energy_end: np.ndarray
     final: Start
     rounds: int
+    viscous: np.ndarray = None
+    viscous_rec: np.ndarray = None
 
     @property
     def energy_residual(self) -> np.ndarray:
-        """``(work - losses - (energy_end - energy0)) / max(|work|, energies)``: zero up to round-off."""
+        """``(work - losses - viscous - (energy_end - energy0)) / max(|work|, energies)``: zero up to round-off."""
         scale = np.maximum.reduce([np.abs(self.work), self.energy0, self.energy_end, np.full(self.T.size, 1e-300)])
-        return (self.work - self.losses - (self.energy_end - self.energy0)) / scale
+        visc = 0.0 if self.viscous is None else self.viscous
+        return (self.work - self.losses - visc - (self.energy_end - self.energy0)) / scale
 
     def __repr__(self) -> str:
         return build("Run", {"B": self.T.size, "T": rng(self.T), "periods": self.periods, "record": self.record,
@@ -113,10 +118,11 @@ class _Recorder:
         self.size = 0
         z = np.zeros((B, R))
         self.impacts, self.openings = np.zeros((B, R), int), np.zeros((B, R), int)
-        self.loss, self.d_eq, self.d_w, self.work_rec, self.stuck, self.amp = (z.copy() for _ in range(6))
+        self.loss, self.d_eq, self.d_w, self.work_rec, self.stuck, self.amp, self.visc_rec = \
+            (z.copy() for _ in range(7))
         self.sx, self.sv = np.zeros((B, R + 1, n)), np.zeros((B, R + 1, n))
         self.ss = np.zeros((B, R + 1), int)
-        self.work, self.losses = np.zeros(B), np.zeros(B)
+        self.work, self.losses, self.visc = np.zeros(B), np.zeros(B), np.zeros(B)
         self.ev: list[tuple] = []
 
     def boundary(self, idx, k, state, eta, vel):
@@ -157,7 +163,9 @@ class _Recorder:
         full = pcs.period >= self.first
         acc = account(self.pad, pcs, self.b.W, self.b.phi, full)
         np.add.at(self.work, pcs.traj, acc.work)
+        np.add.at(self.visc, pcs.traj, acc.viscous)
         i, r = pcs.traj[full], pcs.period[full] - self.first
+        np.add.at(self.visc_rec, (i, r), acc.viscous[full])
         for name in ("d_eq", "d_w", "stuck"):
             np.add.at(getattr(self, name), (i, r), getattr(acc, name)[full])
         np.add.at(self.work_rec, (i, r), acc.work[full])
@@ -222,7 +230,7 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
     events = {k: v[order] for k, v in events.items()}
     return Run(T, phi, periods, record, b.status, rec.impacts, rec.openings, rec.loss, rec.d_eq, rec.d_w,
                rec.work_rec, rec.stuck, rec.amp, rec.sx, rec.sv, rec.ss, events, rec.work, rec.losses, e0, e_end,
-               Start(b.state.copy(), b.eta.copy(), b.vel.copy()), rounds)
+               Start(b.state.copy(), b.eta.copy(), b.vel.copy()), rounds, rec.visc, rec.visc_rec)
 
 
 def _loop(b: Batch, rec: _Recorder, progress) -> int:

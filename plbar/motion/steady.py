@@ -63,6 +63,7 @@ class Steady(Batch):
     stuck_fraction: np.ndarray
     work_per_T: np.ndarray
     energy_residual: np.ndarray
+    viscous_per_T: np.ndarray = None
 
     def __len__(self) -> int:
         return self.T.size
@@ -129,4 +130,5 @@ def steady(r: Run, m_max: int = M_MAX, tol: float = PERIODIC_TOL) -> Steady:
     stuck = np.array([r.stuck[b][use[b]].sum() / (use[b].sum() * r.T[b]) for b in range(r.T.size)])
     amp_max = np.array([r.amp[b][use[b]].max() for b in range(r.T.size)])
     return Steady(r.T, kind, m, dist, per_T(r.impacts.astype(float)), loss, l_min, l_max, l_std, xi, x_min, x_max,
-                  x_std, xi_w, per_T(r.amp), amp_max, stuck, per_T(r.work_rec), r.energy_residual)
+                  x_std, xi_w, per_T(r.amp), amp_max, stuck, per_T(r.work_rec), r.energy_residual,
+                  per_T(r.viscous_rec) if r.viscous_rec is not None else np.zeros(r.T.size))

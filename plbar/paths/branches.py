@@ -113,6 +113,16 @@ class Branch:
         return self.damping.xi_w
 
     @property
+    def viscous(self):
+        """Energy the Rayleigh dampers dissipate per period (0 without damping)."""
+        return self.damping.viscous
+
+    @property
+    def xi_total(self):
+        """Rayleigh ratio at the forcing frequency plus ``xi_eq``."""
+        return self.damping.xi_total
+
+    @property
     def grazing(self):
         return self.adm.grazing
 

@@ -1,6 +1,7 @@
 """Periodic responses at given ``(T^I, T^II, phi)``: flows, the one-period map, orbits, energy, checks.
 
-* :mod:`.flow` -- closed-form modal flows (Appendix 1) and ``Psi`` (Eq. (20), Appendix 2);
+* :mod:`.flow` -- closed-form modal flows (Appendix 1) and ``Psi`` (Eq. (20), Appendix 2), damped with ``zeta=``;
+* :mod:`.damped` -- the damped (Rayleigh) modal flows, kernels and ``Psi`` in closed form;
 * :mod:`.onemap` -- the one-period map, the residual coefficients and the ONE scan function ``G``;
 * :mod:`.orbit` -- :class:`Orbits`: time histories, reaction, gap, impact of periodic responses;
 * :mod:`.energy` -- ``Delta_PL`` and ``xi_eq`` (Eqs. (14), (21), (22));
@@ -11,9 +12,9 @@
 """
 
 from .admissible import Admissibility, check, check_both
-from .energy import Damping, damping, impact_loss, kinetic_energy_loss, psi_sums, work_quadrature
+from .energy import Damping, damping, impact_loss, kinetic_energy_loss, psi_modes, psi_sums, work_quadrature
 from .find import NoResponseError, Response, find_response
-from .flow import forced_coeffs, free_flow, kernels, psi, segment
+from .flow import flow_matrix, forced_coeffs, free_flow, kernels, psi, segment
 from .onemap import Coefficients, PeriodMap, coefficients, period_map, phase, scan_function, states
 from .onemap import G as scan_G
 from .orbit import Orbits, orbits
@@ -21,8 +22,8 @@ from .power import segment_work, work_closed_form
 from .stability import Stability, monodromy, monodromy_modal, multipliers, periodic_state, stability
 
 __all__ = ["Admissibility", "check", "check_both", "Damping", "damping", "impact_loss", "kinetic_energy_loss",
-           "psi_sums", "work_quadrature", "NoResponseError", "Response", "find_response", "forced_coeffs", "free_flow",
-           "kernels", "psi", "segment", "segment_work", "work_closed_form", "Coefficients", "PeriodMap", "coefficients",
-           "period_map", "phase", "scan_function",
+           "psi_sums", "psi_modes", "flow_matrix", "work_quadrature", "NoResponseError", "Response", "find_response",
+           "forced_coeffs", "free_flow", "kernels", "psi", "segment", "segment_work", "work_closed_form", "Coefficients",
+           "PeriodMap", "coefficients", "period_map", "phase", "scan_function",
            "states", "scan_G", "Orbits", "orbits", "Stability", "monodromy", "monodromy_modal", "multipliers",
            "periodic_state", "stability"]

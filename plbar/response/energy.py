@@ -7,6 +7,12 @@ lost near grazing); ``Psi_j^alpha`` is the
 integral of the squared modal velocity over the state's interval (Eq. (20),
 closed form of Appendix 2); ``xi_eq`` solves ``Delta_d = Delta_PL``
 (Eqs. (21)-(22)).
+
+With Rayleigh damping (FORMULATION §8) the velocities are the damped ones, the
+dampers dissipate ``Delta_v = sum_alpha sum_j 2 zeta_j w_j Psi_j^alpha`` per period,
+and the work of the load over a period equals ``Delta_PL + Delta_v``.  ``xi_eq``
+(Eq. (22) on the damped velocities) is then the impact's own equivalent ratio;
+added to the Rayleigh ratio at the forcing frequency it gives the total.
 """
 
 from __future__ import annotations
@@ -24,7 +30,7 @@ from ..util.reprs import build, count, rng
 from .flow import gauss, psi
 from .orbit import Orbits
 
-__all__ = ["Damping", "damping", "impact_loss", "kinetic_energy_loss", "work_quadrature"]
+__all__ = ["Damping", "damping", "impact_loss", "kinetic_energy_loss", "work_quadrature", "psi_sums", "psi_modes"]
 
 
 @dataclass(frozen=True)
@@ -52,6 +58,16 @@ class Damping(Batch):
         norm of the velocity that grows like ``ln N`` for the velocity jump an
         impact leaves; ``xi_w``'s denominator is the time integral of twice the
         kinetic energy, finite in the continuum.
+    viscous : ndarray
+        Energy dissipated by the Rayleigh dampers over the period,
+        ``sum_alpha sum_j 2 zeta_j^alpha w_j^alpha Psi_j^alpha`` (0 without damping).
+        On a periodic orbit the work of the load is ``dPL + viscous``.
+    zeta_rayleigh : ndarray
+        Rayleigh damping ratio at the forcing frequency, ``alpha / (2 W) + beta W / 2``.
+    xi_total : ndarray
+        ``zeta_rayleigh + xi``: the equivalent viscous ratio of the structure with
+        its impact, for a linear analysis at this forcing frequency (README,
+        "Inherent damping").
     """
 
     dPL: np.ndarray
@@ -60,10 +76,16 @@ class Damping(Batch):
     closed_form: np.ndarray
     kinetic: np.ndarray
     xi_w: np.ndarray
+    viscous: np.ndarray
+    zeta_rayleigh: np.ndarray
+    xi_total: np.ndarray
 
     def __repr__(self) -> str:
-        return build("Damping", {"P": self.xi.size, "xi": rng(self.xi), "xi_w": rng(self.xi_w), "dPL": rng(self.dPL),
-                                 "closed_form": count(self.closed_form)})
+        items = {"P": self.xi.size, "xi": rng(self.xi), "xi_w": rng(self.xi_w), "dPL": rng(self.dPL),
+                 "closed_form": count(self.closed_form)}
+        if np.any(self.viscous):
+            items.update(viscous=rng(self.viscous), zeta_rayleigh=rng(self.zeta_rayleigh))
+        return build("Damping", items)
 
 
 def impact_loss(orb: Orbits) -> np.ndarray:
@@ -89,17 +111,25 @@ def kinetic_energy_loss(orb: Orbits) -> np.ndarray:
     return 0.5 * np.sum(v_end ** 2, axis=1) - 0.5 * np.sum(v_plus ** 2, axis=1)
 
 
+def psi_modes(orb: Orbits) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``Psi_j^I`` (P, m1) and ``Psi_j^II`` (P, m2) of every mode (Eq. (20)), and the closed-form flag (P,)."""
+    s, p = orb.prob.system, orb.prob
+    z1, z2 = s.zeta
+    W = orb.W[:, None]
+    c, sn = np.cos(orb.phi)[:, None], np.sin(orb.phi)[:, None]
+    psi1, ok1 = psi(s.w1[None], p.f1[None], W, 0.0, orb.T1[:, None], orb.eta0, orb.v0, c, sn, z1)
+    psi2, ok2 = psi(s.w2[None], p.f2[None], W, orb.T1[:, None], orb.T2[:, None], orb.eta_s, orb.v_s, c, sn, z2)
+    return psi1, psi2, ok1.all(axis=1) & ok2.all(axis=1)
+
+
 def psi_sums(orb: Orbits, weighted: bool = True):
     """``sum_j Psi_j^alpha w_j^alpha`` for both states and the closed-form flag (``weighted=False``: plain sums too).
 
     Returns ``(s1, s2, ok)``, or ``(s1, s2, ok, k1, k2)`` with the plain sums ``sum_j Psi_j^alpha``.
     """
-    s, p = orb.prob.system, orb.prob
-    W = orb.W[:, None]
-    c, sn = np.cos(orb.phi)[:, None], np.sin(orb.phi)[:, None]
-    psi1, ok1 = psi(s.w1[None], p.f1[None], W, 0.0, orb.T1[:, None], orb.eta0, orb.v0, c, sn)
-    psi2, ok2 = psi(s.w2[None], p.f2[None], W, orb.T1[:, None], orb.T2[:, None], orb.eta_s, orb.v_s, c, sn)
-    out = (psi1 @ s.w1, psi2 @ s.w2, ok1.all(axis=1) & ok2.all(axis=1))
+    s = orb.prob.system
+    psi1, psi2, ok = psi_modes(orb)
+    out = (psi1 @ s.w1, psi2 @ s.w2, ok)
     return out if weighted else out + (psi1.sum(axis=1), psi2.sum(axis=1))
 
 
@@ -119,19 +149,24 @@ def damping(orb: Orbits) -> Damping:
                       "large; use them to locate paths only and the full model (no modes=) for xi_eq",
                       TruncationWarning, stacklevel=2)
     dpl = impact_loss(orb)
-    s1, s2, ok, k1, k2 = psi_sums(orb, weighted=False)
-    denom = s1 + s2
+    psi1, psi2, ok = psi_modes(orb)
+    denom = psi1 @ s.w1 + psi2 @ s.w2
     xi = np.divide(dpl, 2 * denom, out=np.zeros_like(dpl), where=denom > 0)
-    kin = k1 + k2
+    kin = psi1.sum(axis=1) + psi2.sum(axis=1)
     xi_w = np.divide(dpl, 2 * orb.W * kin, out=np.zeros_like(dpl), where=kin > 0)
-    return Damping(dpl, denom, xi, ok, kin, xi_w)
+    if s.damped:
+        viscous = 2 * (psi1 @ (s.zeta1 * s.w1) + psi2 @ (s.zeta2 * s.w2))
+        zr = s.rayleigh_ratio(orb.W)
+    else:
+        viscous, zr = np.zeros_like(dpl), np.zeros_like(dpl)
+    return Damping(dpl, denom, xi, ok, kin, xi_w, viscous, zr, zr + xi)
 
 
 def work_quadrature(orb: Orbits, n: int | None = None) -> np.ndarray:
     """Work of the load over one period, ``int q(t) . v(t) dt``, by Gauss-Legendre.
 
     Independent of :func:`impact_loss`; on a periodic orbit the two agree
-    (the impact is the only loss).
+    (the impact is the only loss); with damping the work is ``dPL + viscous``.
     """
     p = orb.prob
     if n is None:

@@ -71,6 +71,11 @@ class Response:
     prob : Problem
     eta_s, v_s : ndarray
         Modal state II just after the gap opens (``t = T^I``).
+    viscous : float
+        Energy dissipated by the Rayleigh dampers over the period (0 without damping);
+        the work of the load is ``dPL + viscous``.
+    zeta_rayleigh : float
+        Rayleigh damping ratio at the forcing frequency (``xi_total = zeta_rayleigh + xi``).
 
     ``x0, xdot0`` (physical state at ``t = 0``) and ``orbit`` (a one-orbit
     :class:`~plbar.orbit.Orbits` for time histories, energies and
@@ -93,6 +98,13 @@ class Response:
     prob: Problem
     eta_s: np.ndarray
     v_s: np.ndarray
+    viscous: float = 0.0
+    zeta_rayleigh: float = 0.0
+
+    @property
+    def xi_total(self) -> float:
+        """``zeta_rayleigh + xi``: the equivalent ratio of the damped structure with its impact."""
+        return self.zeta_rayleigh + self.xi
 
     def __repr__(self) -> str:
         return build("Response", {k: getattr(self, k) for k in ("T", "T1", "T2", "phi", "xi", "dPL", "v_impact", "e1",
@@ -165,8 +177,10 @@ class _Lean:
     def __init__(self, prob: Problem):
         s = prob.system
         self.nr = float(np.linalg.norm(s.r_eta))
+        self.nrv = float(np.linalg.norm(s.r_v))
         self.ng = float(np.abs(s.gap_row).max())
-        self.small = _scalar.Small(prob) if s.w1.size + s.w2.size <= SMALL else None
+        # the plain-float pass is undamped only; damped systems take the batched (damped) flows
+        self.small = _scalar.Small(prob) if s.w1.size + s.w2.size <= SMALL and not s.damped else None
 
 
 def _lean(prob: Problem) -> _Lean:
@@ -177,9 +191,9 @@ def _lean(prob: Problem) -> _Lean:
 def _assemble(prob: Problem, T: float, T1: float, a, Z, evaluations: int) -> Response:
     """The response at ``T1`` from its coefficients ``a = (a1, b1, a2, b2)`` and states ``Z`` (2 n1, 2).
 
-    Small systems: one plain-float pass (:mod:`plbar._scalar`).  Otherwise (and
-    near resonance, where ``Psi`` needs quadrature) the batched orbit and
-    energy code on a one-orbit batch.
+    Small undamped systems: one plain-float pass (:mod:`plbar._scalar`).  Otherwise
+    (damped systems, and near resonance, where ``Psi`` needs quadrature) the
+    batched orbit and energy code on a one-orbit batch.
     """
     k = _lean(prob)
     if k.small is not None:
@@ -199,10 +213,12 @@ def _assemble(prob: Problem, T: float, T1: float, a, Z, evaluations: int) -> Res
     if v_imp <= 0:
         orb = orbits(prob, co.T1, co.T2, phi + np.pi, co=co)
         v_imp = -v_imp
-    e, _ = orb.state_I(co.T1[:, None])
+    e, ve = orb.state_I(co.T1[:, None])
     eT, _ = orb.end()
     r1, r2 = orb.residuals()
     sc1 = k.nr * max(np.abs(e).max(), np.abs(orb.eta0).max()) + abs(prob.r_q)
+    if prob.system.damped:
+        sc1 += k.nrv * max(np.abs(ve).max(), np.abs(orb.v0).max())
     sc2 = k.ng * max(np.abs(eT).max(), np.abs(orb.eta_s).max())
     ep, vp = orb.after_impact()
     z0, z1 = np.c_[orb.eta0, orb.v0], np.c_[ep, vp]
@@ -211,7 +227,8 @@ def _assemble(prob: Problem, T: float, T1: float, a, Z, evaluations: int) -> Res
     return Response(T=float(T), T1=float(T1), T2=float(T2), phi=float(np.mod(orb.phi[0], 2 * np.pi)),
                     eta0=orb.eta0[0], v0=orb.v0[0], e1=abs(float(r1[0])) / sc1, e2=abs(float(r2[0])) / sc2,
                     periodicity=per, v_impact=v_imp, dPL=float(d.dPL[0]), xi=float(d.xi[0]),
-                    evaluations=evaluations, prob=prob, eta_s=orb.eta_s[0], v_s=orb.v_s[0])
+                    evaluations=evaluations, prob=prob, eta_s=orb.eta_s[0], v_s=orb.v_s[0],
+                    viscous=float(d.viscous[0]), zeta_rayleigh=float(d.zeta_rayleigh[0]))
 
 
 def _ok(r: Response) -> bool:

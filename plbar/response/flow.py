@@ -14,6 +14,13 @@ free-vibration amplitudes ``a, b`` of Eqs. (26)-(27) are ``eta0`` and ``v0/w``
 after subtracting the particular solution, here folded into ``C`` and ``S``.
 
 All functions broadcast over leading axes.
+
+**Damping** (FORMULATION §8).  Every function takes an optional per-mode damping
+ratio ``zeta`` (broadcast like ``w``): with it each mode is the damped oscillator
+``eta'' + 2 zeta w eta' + w^2 eta = f cos(W t - phi)``, in closed form for the
+under-, critically and over-damped modes alike (:mod:`plbar.response.damped`).
+``zeta=None`` (the default) is the undamped code path, unchanged bit for bit;
+``zeta = 0`` gives the same numbers to round-off.
 """
 
 from __future__ import annotations
@@ -22,8 +29,10 @@ from functools import lru_cache
 
 import numpy as np
 
-__all__ = ["free_flow", "kernels", "forced_coeffs", "segment", "psi", "psi_closed_form", "psi_quadrature", "sinc",
-           "gauss", "CANCEL_LIMIT"]
+from . import damped as _damped
+
+__all__ = ["free_flow", "flow_matrix", "kernels", "forced_coeffs", "segment", "psi", "psi_closed_form",
+           "psi_quadrature", "sinc", "gauss", "CANCEL_LIMIT"]
 
 
 def sinc(x):
@@ -36,7 +45,7 @@ def sinc(x):
     return np.divide(np.sin(x), x, out=np.ones_like(x), where=x != 0)
 
 
-def free_flow(w, tau):
+def free_flow(w, tau, zeta=None):
     """The free modal flow over ``tau``: ``[[cos w tau, sin w tau / w], [-w sin w tau, cos w tau]]``.
 
     The homogeneous part of Appendix 1 (Eqs. (26)-(27) without the load),
@@ -48,13 +57,31 @@ def free_flow(w, tau):
         ``cos w tau``, ``sin w tau / w``, ``-w sin w tau`` (the matrix entries,
         row by row, with ``co`` on the diagonal) and ``sin w tau`` (for the
         Duhamel kernels of :func:`kernels`).
+    p11, p12, p21, p22 : ndarray
+        With ``zeta``: the four entries of the damped flow matrix
+        ``exp(tau [[0, 1], [-w^2, -2 zeta w]])`` row by row (the diagonal entries
+        differ under damping).  :func:`flow_matrix` returns the four entries in
+        both cases.
     """
+    if zeta is not None:
+        return _damped.flow_matrix(w, zeta, tau)
     wt = w * tau
     co, si = np.cos(wt), np.sin(wt)
     return co, si / w, -w * si, si
 
 
-def kernels(w, W, tau, swt=None):
+def flow_matrix(w, tau, zeta=None):
+    """The entries ``p11, p12, p21, p22`` of the free modal flow over ``tau``, damped or not.
+
+    ``eta(tau) = p11 eta0 + p12 v0`` and ``eta'(tau) = p21 eta0 + p22 v0``.
+    """
+    if zeta is not None:
+        return _damped.flow_matrix(w, zeta, tau)
+    co, si_w, mwsi, _ = free_flow(w, tau)
+    return co, si_w, mwsi, co
+
+
+def kernels(w, W, tau, swt=None, zeta=None):
     """Duhamel kernels ``C, S, C'`` at ``tau`` (``S' = W C``).
 
     Parameters
@@ -66,13 +93,18 @@ def kernels(w, W, tau, swt=None):
     tau : array_like
         Time since the segment start.
     swt : array_like, optional
-        ``sin(w tau)`` if the caller has it already.
+        ``sin(w tau)`` if the caller has it already (undamped only).
+    zeta : array_like, optional
+        Damping ratio of the mode(s): the kernels of the damped oscillator
+        (:func:`plbar.response.damped.kernels`; ``S' = W C`` still holds).
 
     Returns
     -------
     C, S, Cp : ndarray
         Broadcast shapes of the inputs.
     """
+    if zeta is not None:
+        return _damped.kernels(w, W, tau, zeta)
     wp = w + W
     ht = 0.5 * tau
     snc = tau * sinc((w - W) * ht)
@@ -84,27 +116,34 @@ def kernels(w, W, tau, swt=None):
     return C, S, Cp
 
 
-def forced_coeffs(w, f, W, ts, tau):
+def forced_coeffs(w, f, W, ts, tau, zeta=None):
     """Forced part of a segment, split into its ``cos(phi)`` and ``sin(phi)`` parts.
 
     The forced response at ``ts + tau`` from rest is
-    ``eta_F = eta_c cos(phi) + eta_s sin(phi)`` and likewise for the velocity.
+    ``eta_F = eta_c cos(phi) + eta_s sin(phi)`` and likewise for the velocity
+    (damped modes with ``zeta``).
 
     Returns
     -------
     eta_c, eta_s, v_c, v_s : ndarray
     """
-    C, S, Cp = kernels(w, W, tau)
+    C, S, Cp = kernels(w, W, tau, zeta=zeta)
     c0, s0 = np.cos(W * ts), np.sin(W * ts)
     return (f * (c0 * C - s0 * S), f * (s0 * C + c0 * S),
             f * (c0 * Cp - s0 * W * C), f * (s0 * Cp + c0 * W * C))
 
 
-def segment(w, f, W, ts, tau, eta0, v0, cphi, sphi):
+def segment(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta=None):
     """Exact modal displacement and velocity at ``ts + tau``.
 
-    ``cphi, sphi`` are ``cos(phi), sin(phi)`` of the forcing phase.
+    ``cphi, sphi`` are ``cos(phi), sin(phi)`` of the forcing phase; ``zeta``
+    (optional) the damping ratio of each mode.
     """
+    if zeta is not None:
+        p11, p12, p21, p22 = _damped.flow_matrix(w, zeta, tau)
+        ec, es, vc, vs = forced_coeffs(w, f, W, ts, tau, zeta)
+        return (p11 * eta0 + p12 * v0 + ec * cphi + es * sphi,
+                p21 * eta0 + p22 * v0 + vc * cphi + vs * sphi)
     co, si_w, mwsi, _ = free_flow(w, tau)
     ec, es, vc, vs = forced_coeffs(w, f, W, ts, tau)
     eta = co * eta0 + si_w * v0 + ec * cphi + es * sphi
@@ -112,7 +151,7 @@ def segment(w, f, W, ts, tau, eta0, v0, cphi, sphi):
     return eta, v
 
 
-def psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi):
+def psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta=None):
     """Closed-form ``Psi = int_0^tau etadot^2`` (Eq. (20), Appendix 2).
 
     The velocity is written as ``A cos w u + B sin w u + Cc cos W u + Cs sin W u``
@@ -125,7 +164,11 @@ def psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi):
     cancel : ndarray
         Cancellation factor ``(|A|+|B|+|Cc|+|Cs|)^2 tau / psi``; large near
         resonance, where :func:`psi` switches to quadrature.
+
+    With ``zeta``: the damped closed form of :func:`plbar.response.damped.psi_closed_form`.
     """
+    if zeta is not None:
+        return _damped.psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta)
     cw, sw = np.cos(W * ts), np.sin(W * ts)
     th_c = cw * cphi + sw * sphi     # cos(W ts - phi)
     th_s = sw * cphi - cw * sphi     # sin(W ts - phi)
@@ -174,13 +217,24 @@ def gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
     return x, w
 
 
-def psi_quadrature(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None):
+def psi_quadrature(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None, zeta=None):
     """``int_0^tau etadot^2`` by Gauss-Legendre on the exact velocity.
 
-    The integrand is a trigonometric polynomial of frequency at most
+    Undamped, the integrand is a trigonometric polynomial of frequency at most
     ``2 max(w, W)``; ``n`` nodes are chosen so the rule is exact to round-off.
+
+    With ``zeta`` the integrand is a sum of exponentials ``e^{m u}`` with
+    ``|m| <= 2 max(|lambda|, W)`` (``|lambda| = w`` under-damped, the fast root of an
+    over-damped mode).  The interval is cut into ``p`` equal pieces with
+    ``k = 2 max(|lambda|, W) tau / p <= 100``; mapped to ``[-1, 1]`` each exponential
+    of a piece has ``|c| <= k / 2``, and the ``n``-point rule errs by at most
+    ``|c|^{2n} 2^{2n+1} (n!)^4 / ((2n+1) ((2n)!)^3)``, about ``(e |c| / (4 n))^{2n}``,
+    times the integrand's size on the piece: with ``n >= 0.6 k + 40`` that is below
+    ``0.57^{80}`` (exact to round-off), and no piece needs more than 100 nodes.
     """
     w, f, W, ts, tau, eta0, v0, cphi, sphi = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi)
+    if zeta is not None:
+        return _psi_pieces(w, f, W, ts, tau, eta0, v0, cphi, sphi, np.broadcast_to(zeta, w.shape))
     if n is None:
         k = float(np.max(2 * np.maximum(w, W) * tau)) if w.size else 0.0
         n = int(np.ceil(0.6 * k)) + 40
@@ -192,11 +246,27 @@ def psi_quadrature(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None):
     return 0.5 * tau * np.sum(wt * v * v, axis=-1)
 
 
+def _psi_pieces(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
+    """Composite Gauss-Legendre of the damped ``int_0^tau etadot^2`` (see :func:`psi_quadrature`)."""
+    k = float(np.max(2 * np.maximum(_damped.rate(w, zeta), W) * tau)) if w.size else 0.0
+    p = max(1, int(np.ceil(k / 100.0)))
+    n = 20 * int(np.ceil((int(np.ceil(0.6 * k / p)) + 40) / 20))
+    x, wt = gauss(n)
+    u = tau[..., None] / p * (np.arange(p)[:, None] + 0.5 * (x + 1)).ravel()    # p pieces of n nodes
+    e = lambda a: a[..., None]  # noqa: E731
+    _, v = segment(e(w), e(f), e(W), e(ts), u, e(eta0), e(v0), e(cphi), e(sphi), e(zeta))
+    return 0.5 * tau / p * np.sum(np.tile(wt, p) * v * v, axis=-1)
+
+
 CANCEL_LIMIT = 1e4   #: cancellation factor above which Psi is taken by quadrature (here and in .scalar)
 
 
-def psi(w, f, W, ts, tau, eta0, v0, cphi, sphi):
+def psi(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta=None):
     """``Psi`` of Eq. (20): closed form, or quadrature where it would cancel.
+
+    With ``zeta`` (damped modes) the closed form cancels near resonance with
+    little damping and near critical damping; quadrature (exact to round-off, see
+    :func:`psi_quadrature`) takes over there.
 
     Returns
     -------
@@ -204,11 +274,11 @@ def psi(w, f, W, ts, tau, eta0, v0, cphi, sphi):
     closed : ndarray of bool
         True where the closed form was used (False near resonance).
     """
-    p, cancel = psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi)
+    p, cancel = psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta)
     bad = ~(cancel < CANCEL_LIMIT)
     if np.any(bad):
-        b = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi)
-        q = psi_quadrature(*[a[bad] for a in b])
+        b = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi, *(() if zeta is None else (zeta,)))
+        q = psi_quadrature(*[a[bad] for a in b[:9]], zeta=None if zeta is None else b[9][bad])
         p = np.array(p, copy=True)
         p[bad] = q
     return p, ~bad

@@ -11,6 +11,11 @@ impact (Eq. (10)).  Periodicity gives ``(Id - A) z0 = c(phi)`` with
 
 vanish together iff ``D = a1 b2 - a2 b1 = 0``; then ``phi`` is exact.  Every
 function here is batched over arrays of ``(T^I, T^II)``.
+
+With Rayleigh damping (FORMULATION §8) the flows are the damped ones and the
+reaction has its damper part, ``R = r_eta . eta + r_v . eta' + r_q cos(W t - phi)``;
+the map stays affine in ``z`` and ``c(phi)`` linear in ``cos(phi), sin(phi)``, so
+the phase elimination is unchanged.
 """
 
 from __future__ import annotations
@@ -141,9 +146,12 @@ class _Consts:
         self.Q21T = np.ascontiguousarray(s.Q21.T)
         self.UT = self.P12T
         self.r_eta = np.asarray(s.r_eta, float)
+        self.r_v = np.asarray(s.r_v, float)
+        self.zeta = None if not s.damped else np.concatenate([s.zeta1, s.zeta2])
         self.gap_row = np.asarray(s.gap_row, float)
         self.r_q = float(prob.r_q)
         self.nr = float(np.linalg.norm(s.r_eta))
+        self.nrv = float(np.linalg.norm(s.r_v))
         self.ng = float(np.abs(s.gap_row).max())
         self.eye = np.eye(2 * self.m1)
         self.f = np.concatenate([self.f1, self.f2])
@@ -229,10 +237,15 @@ def _blocks(k: _Consts, T1: np.ndarray, T2: np.ndarray) -> dict:
     W = 2 * np.pi / (T1 + T2)
     Wc = W[:, None]
     tau = np.where(k.is1, T1[:, None], T2[:, None])              # (B, m)
-    co, si_w, mwsi, si = free_flow(k.w, tau)
-    C, S, Cp = kernels(k.w, Wc, tau, si)
-    # flows as stacked rows: R[b, p, q, j] = [[cos, sin/w], [-w sin, cos]]
-    R = np.array([co, si_w, mwsi, co]).reshape(2, 2, B, m1 + m2).transpose(2, 0, 1, 3)
+    if k.zeta is None:
+        co, si_w, mwsi, si = free_flow(k.w, tau)
+        C, S, Cp = kernels(k.w, Wc, tau, si)
+        flows = [co, si_w, mwsi, co]
+    else:                                                         # damped modes (FORMULATION §8)
+        flows = list(free_flow(k.w, tau, k.zeta))
+        C, S, Cp = kernels(k.w, Wc, tau, zeta=k.zeta)
+    # flows as stacked rows: R[b, p, q, j] = [[cos, sin/w], [-w sin, cos]] (undamped)
+    R = np.array(flows).reshape(2, 2, B, m1 + m2).transpose(2, 0, 1, 3)
     R1, R2 = R[..., :m1], R[..., m1:]
     X = k.PP * R1.reshape(B, 2, 1, n)
     Y = R2[:, :, 0, :, None] * X[:, None, 0] + R2[:, :, 1, :, None] * X[:, None, 1]
@@ -257,12 +270,12 @@ def _residuals(k: _Consts, Z: np.ndarray, b: dict):
     Zr = Z.reshape(B, 2, m1, 2).transpose(0, 1, 3, 2)              # (B, q, c, m1)
     zI = R1[:, :, :1] * Zr[:, None, 0] + R1[:, :, 1:] * Zr[:, None, 1] + b["g1"]   # state I at T1
     eI = zI[:, 0]
-    e1 = -(eI @ k.r_eta)
+    e1 = -(eI @ k.r_eta) if k.zeta is None else -(eI @ k.r_eta + zI[:, 1] @ k.r_v)
     e1[:, 0] -= k.r_q * b["c0"]
     e1[:, 1] -= k.r_q * b["s0"]
     hI = np.matmul(zI, k.UT)
     eII = R2[:, 0, :1] * hI[:, 0] + R2[:, 0, 1:] * hI[:, 1] + b["g2"][:, 0]       # state II displacement at T-
-    return e1, eII @ k.gap_row, eI, eII
+    return e1, eII @ k.gap_row, eI, eII, zI
 
 
 def period_map(prob: Problem, T1, T2, *, signs: bool = True, scales: bool = True) -> PeriodMap:
@@ -287,10 +300,12 @@ def period_map(prob: Problem, T1, T2, *, signs: bool = True, scales: bool = True
             Z, sign = _solve(b["IA"], b["c"])
         else:
             Z, sign = np.linalg.solve(b["IA"], b["c"]), None
-        e1, e2, eI, eII = _residuals(k, Z, b)
+        e1, e2, eI, eII, zI = _residuals(k, Z, b)
     sc1 = sc2 = None
     if scales:
         sc1 = k.nr * np.sqrt(np.einsum("bkj,bkj->bk", eI, eI)).max(axis=1) + abs(k.r_q)
+        if k.zeta is not None:                                       # the damper part of the reaction
+            sc1 = sc1 + k.nrv * np.sqrt(np.einsum("bkj,bkj->bk", zI[:, 1], zI[:, 1])).max(axis=1)
         sc2 = k.ng * np.sqrt(np.einsum("bkj,bkj->bk", eII, eII)).max(axis=1)
     return PeriodMap(T1, T2, e1, e2, Z, sign, None if signs else b["IA"], sc1, sc2)
 

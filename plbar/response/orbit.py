@@ -3,7 +3,9 @@
 An :class:`Orbits` holds ``P`` periodic responses of one :class:`Problem`
 (each a triplet ``(T^I, T^II, phi)`` with its periodic initial state) and
 evaluates, at any times, the modal and physical displacements and velocities,
-the state I contact reaction and the state II gap, and the impact.
+the state I contact reaction and the state II gap, and the impact.  With
+Rayleigh damping (``prob.system.damped``) every flow is the damped one and the
+reaction has its damper part (FORMULATION §8).
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ import numpy as np
 from ..model import Problem
 from ..util.batch import Batch
 from ..util.reprs import build, rng
-from .flow import segment
+from .flow import flow_matrix, segment
 from .onemap import coefficients, states
 
 __all__ = ["Orbits", "orbits"]
@@ -70,7 +72,7 @@ class Orbits(Batch):
         c, sn = self._cs()
         tau = np.asarray(tau, float)[..., None]
         return segment(s.w1, self.prob.f1, self.W[:, None, None], 0.0, tau,
-                       self.eta0[:, None, :], self.v0[:, None, :], c, sn)
+                       self.eta0[:, None, :], self.v0[:, None, :], c, sn, s.zeta[0])
 
     def state_II(self, tau):
         """Modal ``eta^II, etadot^II`` at ``t = T^I + tau``, tau in ``[0, T^II]``; (P, K) -> (P, K, n)."""
@@ -78,7 +80,7 @@ class Orbits(Batch):
         c, sn = self._cs()
         tau = np.asarray(tau, float)[..., None]
         return segment(s.w2, self.prob.f2, self.W[:, None, None], self.T1[:, None, None], tau,
-                       self.eta_s[:, None, :], self.v_s[:, None, :], c, sn)
+                       self.eta_s[:, None, :], self.v_s[:, None, :], c, sn, s.zeta[1])
 
     def _signal(self, tau, state: int, c: np.ndarray):
         """``sum_j c_j eta_j`` and ``sum_j c_j etadot_j`` in one state at times ``tau`` (P, K).
@@ -87,9 +89,12 @@ class Orbits(Batch):
         plus its particular part, and the particular parts of all modes sum
         into one harmonic (one ``cos``/``sin`` per sample instead of a kernel
         per mode).  Modes within ``|w - W| tau_max < 0.05`` of resonance use
-        the exact kernels of :mod:`plbar.flow` (no cancellation).
+        the exact kernels of :mod:`plbar.flow` (no cancellation).  Damped modes
+        take the damped flow of every mode (:func:`plbar.response.flow.segment`).
         """
         s, p = self.prob.system, self.prob
+        if s.damped:
+            return self._signal_damped(np.asarray(tau, float), state, c)
         if state == 1:
             w, f, ts, e0, v0 = s.w1, p.f1, np.zeros_like(self.T1), self.eta0, self.v0
             span = self.T1
@@ -123,10 +128,55 @@ class Orbits(Batch):
             v[rows] += np.sum(np.where(sel, ev, 0.0) * c, axis=-1)
         return x, v
 
+    def _signal_damped(self, tau, state: int, c: np.ndarray, cv: np.ndarray | None = None):
+        """:meth:`_signal` of damped modes: free decay of each mode plus one summed steady harmonic.
+
+        Each mode is ``flow(u) (z0 - z_p(0)) + z_p(u)`` with the steady state
+        ``eta_p = Re(f H e^{i(W (ts + u) - phi)})``, ``H = 1 / (w^2 - W^2 + 2 i zeta w W)``;
+        the steady parts of all modes sum into one complex amplitude.  Modes with
+        ``|w - W + i zeta w| span < 0.05`` (near resonance, little damping, where the
+        split would cancel) take the exact kernels of :func:`plbar.response.flow.segment`.
+        The velocity signal uses the weights ``cv`` if given (default ``c``).
+        """
+        cv = c if cv is None else cv
+        s, p = self.prob.system, self.prob
+        if state == 1:
+            w, z, f, ts, e0, v0, span = s.w1, s.zeta1, p.f1, np.zeros_like(self.T1), self.eta0, self.v0, self.T1
+        else:
+            w, z, f, ts, e0, v0, span = s.w2, s.zeta2, p.f2, self.T1, self.eta_s, self.v_s, self.T2
+        W = self.W[:, None]
+        den = w * w - W * W + 2j * z * w * W                                    # (P, n)
+        near = np.abs(den) * span[:, None] < 0.1 * w
+        P = np.where(near, 0.0, f / np.where(near, 1.0, den)) * np.exp(1j * (W * ts[:, None] - self.phi[:, None]))
+        h0 = np.where(near, 0.0, e0 - P.real)                                  # transient's initial state
+        hv0 = np.where(near, 0.0, v0 - (1j * W * P).real)
+        p11, p12, p21, p22 = flow_matrix(w, tau[..., None], z)                  # (P, K, n)
+        x = np.einsum("pkj,pj->pk", p11, h0 * c) + np.einsum("pkj,pj->pk", p12, hv0 * c)
+        v = np.einsum("pkj,pj->pk", p21, h0 * cv) + np.einsum("pkj,pj->pk", p22, hv0 * cv)
+        eW = np.exp(1j * W * tau)                                               # summed steady parts
+        x, v = x + ((P @ c)[:, None] * eW).real, v + (1j * W * (P @ cv)[:, None] * eW).real
+        if near.any():
+            rows = np.flatnonzero(near.any(axis=1))
+            cph, sph = np.cos(self.phi[rows])[:, None, None], np.sin(self.phi[rows])[:, None, None]
+            ex, ev = segment(w, f, self.W[rows, None, None], ts[rows, None, None], tau[rows][..., None],
+                             e0[rows, None, :], v0[rows, None, :], cph, sph, z)
+            sel = near[rows][:, None, :]
+            x[rows] += np.sum(np.where(sel, ex, 0.0) * c, axis=-1)
+            v[rows] += np.sum(np.where(sel, ev, 0.0) * cv, axis=-1)
+        return x, v
+
     def reaction_margin(self, tau):
-        """``-R`` in state I at ``t = tau`` (``>= 0`` while in compression, Eq. (4)); (P, K)."""
+        """``-R`` in state I at ``t = tau`` (``>= 0`` while in compression, Eq. (4)); (P, K).
+
+        With damping ``R = r_eta . eta + r_v . eta' + r_q cos(W t - phi)`` (FORMULATION §8).
+        """
         tau = np.asarray(tau, float)
-        x, _ = self._signal(tau, 1, self.prob.system.r_eta)
+        s = self.prob.system
+        if s.damped:
+            x, xv = self._signal_damped(tau, 1, s.r_eta, s.r_v)
+            x = x + xv
+        else:
+            x, _ = self._signal(tau, 1, s.r_eta)
         cosf = np.cos(self.W[:, None] * tau - self.phi[:, None])
         return -(x + self.prob.r_q * cosf)
 
@@ -208,5 +258,5 @@ def orbits(prob: Problem, T1, T2, phi, co=None) -> Orbits:
     s = prob.system
     W = 2 * np.pi / (T1 + T2)
     e, v = segment(s.w1, prob.f1, W[:, None], 0.0, T1[:, None], eta0, v0,
-                   np.cos(phi)[:, None], np.sin(phi)[:, None])
+                   np.cos(phi)[:, None], np.sin(phi)[:, None], s.zeta[0])
     return Orbits(prob, T1, T2, phi, eta0, v0, e @ s.P12.T, v @ s.P12.T)

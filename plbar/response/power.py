@@ -78,19 +78,28 @@ def work_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi):
     return work, cancel
 
 
-def work_quadrature_segment(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None):
-    """The work of :func:`work_closed_form` by Gauss-Legendre on the exact velocity (any frequencies)."""
-    w, f, W, ts, tau, eta0, v0, cphi, sphi = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi)
-    if n is None:
-        k = float(np.max((np.maximum(w, W) + W) * np.abs(tau))) if w.size else 0.0
-        n = 20 * int(np.ceil((0.6 * k + 40) / 20))
+def work_quadrature_segment(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None, zeta=None):
+    """The work of :func:`work_closed_form` by Gauss-Legendre on the exact velocity (any frequencies; damped
+    modes with ``zeta``).
+
+    The integrand is a sum of products of ``cos(W u)``, ``sin(W u)`` and the modal exponentials; pieces of at
+    most two periods of the fastest frequency with ``n`` nodes each (at least 40) integrate it to round-off.
+    """
+    arrays = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi, 0.0 if zeta is None else zeta)
+    w, f, W, ts, tau, eta0, v0, cphi, sphi, z = arrays
+    span = float(np.max((np.maximum(w, W) + W) * np.abs(tau))) if w.size else 0.0
+    pieces = max(1, int(np.ceil(span / (4 * np.pi))))
+    n = n or 40
     x, wt = gauss(n)
-    u = 0.5 * tau[..., None] * (x + 1)
-    _, v = segment(w[..., None], f[..., None], W[..., None], ts[..., None], u,
-                   eta0[..., None], v0[..., None], cphi[..., None], sphi[..., None])
-    force = cphi[..., None] * np.cos(W[..., None] * (ts[..., None] + u)) + \
-        sphi[..., None] * np.sin(W[..., None] * (ts[..., None] + u))
-    return 0.5 * tau * np.sum(wt * f[..., None] * force * v, axis=-1)
+    edges = np.linspace(0.0, 1.0, pieces + 1)
+    u = (edges[:-1, None] + 0.5 * np.diff(edges)[:, None] * (x + 1)).ravel()      # (pieces n,) in [0, 1]
+    wts = (0.5 * np.diff(edges)[:, None] * wt).ravel()
+    t = tau[..., None] * u
+    _, v = segment(w[..., None], f[..., None], W[..., None], ts[..., None], t, eta0[..., None], v0[..., None],
+                   cphi[..., None], sphi[..., None], zeta=None if zeta is None else z[..., None])
+    force = cphi[..., None] * np.cos(W[..., None] * (ts[..., None] + t)) + \
+        sphi[..., None] * np.sin(W[..., None] * (ts[..., None] + t))
+    return tau * np.sum(wts * f[..., None] * force * v, axis=-1)
 
 
 def segment_work(w, f, W, ts, tau, eta0, v0, cphi, sphi):

@@ -32,6 +32,12 @@ of ``Phi_II S_open Phi_I`` (a ``2(n-1)``-dimensional subspace of the
 rank and no multiplier is forced to zero; small ones do appear near grazing
 impacts.  Multipliers are invariant under the choice of coordinates (modal
 or physical) and of the section's phase.
+
+With Rayleigh damping (FORMULATION §8) the flows are the damped ones, the
+accelerations carry ``-C v``, and the opening's event ``h = -R`` depends on the
+velocities too (``R = rho . x_r + rho_v . v_r + r_q cos``, ``rho_v = C_cr -
+M_cr M_rr^{-1} C_rr``; modally ``r_eta . eta + r_v . eta'``), so its gradient and
+rate include the damper term.
 """
 
 from __future__ import annotations
@@ -44,7 +50,7 @@ from ..util.batch import Batch
 from ..util.reprs import build, count, rng
 
 from ..errors import InputError
-from .flow import free_flow
+from .flow import flow_matrix
 
 __all__ = ["Stability", "monodromy", "monodromy_modal", "multipliers", "stability", "periodic_state", "TOL"]
 
@@ -58,61 +64,67 @@ def periodic_state(orbits):
     return orbits.eta0 @ V1.T, orbits.v0 @ V1.T
 
 
-def _flow_matrix(w, V, B, tau):
+def _flow_matrix(w, V, B, tau, zeta=None):
     """Physical free flow over ``tau`` (P,): ``(P, 2m, 2m)`` acting on ``(x, v)``.
 
     ``x = V eta``, ``eta = B x`` (``B = V^T M``); per mode
-    ``[[cos, sin / w], [-w sin, cos]]`` (Appendix 1 without the load).
+    ``[[cos, sin / w], [-w sin, cos]]`` (Appendix 1 without the load), or the
+    damped flow with ``zeta``.
     """
-    c, s_w, mws, _ = free_flow(w[None, :], np.asarray(tau, float)[:, None])
+    p11, p12, p21, p22 = flow_matrix(w[None, :], np.asarray(tau, float)[:, None], zeta)
     m = w.size
-    P = c.shape[0]
+    P = p11.shape[0]
     A = np.zeros((P, 2 * m, 2 * m))
     VB = lambda d: np.einsum("ij,pj,jk->pik", V, d, B)  # noqa: E731
-    A[:, :m, :m] = VB(c)
-    A[:, :m, m:] = VB(s_w)
-    A[:, m:, :m] = VB(mws)
-    A[:, m:, m:] = VB(c)
+    A[:, :m, :m] = VB(p11)
+    A[:, :m, m:] = VB(p12)
+    A[:, m:, :m] = VB(p21)
+    A[:, m:, m:] = VB(p22)
     return A
 
 
-def _accel_I(M, K, q, xr, cf):
-    """State I accelerations ``M_rr^{-1} (q_r cos - K_rr x_r)``; xr (P, m), cf (P,)."""
+def _accel_I(M, K, q, xr, cf, C=None, vr=None):
+    """State I accelerations ``M_rr^{-1} (q_r cos - K_rr x_r - C_rr v_r)``; xr (P, m), cf (P,)."""
     rhs = q[None, :-1] * cf[:, None] - xr @ K[:-1, :-1].T
+    if C is not None:
+        rhs = rhs - vr @ C[:-1, :-1].T
     return np.linalg.solve(M[:-1, :-1], rhs.T).T
 
 
-def _accel_II(M, K, q, x, cf):
-    """State II accelerations ``M^{-1} (q cos - K x)``; x (P, n)."""
+def _accel_II(M, K, q, x, cf, C=None, v=None):
+    """State II accelerations ``M^{-1} (q cos - K x - C v)``; x (P, n)."""
     rhs = q[None, :] * cf[:, None] - x @ K.T
+    if C is not None:
+        rhs = rhs - v @ C.T
     return np.linalg.solve(M, rhs.T).T
 
 
-def _saltation_open(M, K, q, xr, vr, t, W, phi):
+def _saltation_open(M, K, q, xr, vr, t, W, phi, C=None):
     """``S_open`` (P, 2n, 2m) at the gap opening with state I ``xr, vr`` (P, m) at times ``t``."""
     P, m = xr.shape
     n = m + 1
     H = np.linalg.solve(M[:-1, :-1].T, M[-1, :-1])            # M_cr M_rr^{-1} as a vector
     rho = K[-1, :-1] - H @ K[:-1, :-1]                          # R = rho . x_r + r_q cos(W t - phi)
+    mrho_v = np.zeros(m) if C is None else H @ C[:-1, :-1] - C[-1, :-1]   # -rho_v, R = ... + rho_v . v_r
     r_q = H @ q[:-1] - q[-1]
     arg = W * t - phi
     cf = np.cos(arg)
     E = np.zeros((2 * n, 2 * m))
     E[:m, :m] = np.eye(m)
     E[n:n + m, m:] = np.eye(m)
-    dh = np.concatenate([-rho, np.zeros(m)])                   # gradient of h = -R in z = (x_r, v_r)
+    dh = np.concatenate([-rho, mrho_v])                        # gradient of h = -R in z = (x_r, v_r)
     h_t = r_q * W * np.sin(arg)                                 # dh/dt at fixed z
-    aI = _accel_I(M, K, q, xr, cf)
+    aI = _accel_I(M, K, q, xr, cf, C, vr)
     fI = np.concatenate([vr, aI], axis=1)                       # (P, 2m)
     x = np.concatenate([xr, np.zeros((P, 1))], axis=1)
     v = np.concatenate([vr, np.zeros((P, 1))], axis=1)
-    fII = np.concatenate([v, _accel_II(M, K, q, x, cf)], axis=1)  # (P, 2n)
+    fII = np.concatenate([v, _accel_II(M, K, q, x, cf, C, v)], axis=1)  # (P, 2n)
     jump = fII - fI @ E.T
     hdot = fI @ dh + h_t
     return E[None] + jump[:, :, None] * dh[None, None, :] / hdot[:, None, None]
 
 
-def _saltation_impact(M, K, q, x, v, t, W, phi):
+def _saltation_impact(M, K, q, x, v, t, W, phi, C=None):
     """``S_imp`` (P, 2m, 2n) at the plastic impact with state II ``x, v`` (P, n) at times ``t``."""
     P, n = x.shape
     m = n - 1
@@ -121,9 +133,9 @@ def _saltation_impact(M, K, q, x, v, t, W, phi):
     Dg[:m, :m] = np.eye(m)
     Dg[m:, n:] = G
     cf = np.cos(W * t - phi)
-    fII = np.concatenate([v, _accel_II(M, K, q, x, cf)], axis=1)
+    fII = np.concatenate([v, _accel_II(M, K, q, x, cf, C, v)], axis=1)
     xr, vr = x[:, :m], v @ G.T
-    fI = np.concatenate([vr, _accel_I(M, K, q, xr, cf)], axis=1)
+    fI = np.concatenate([vr, _accel_I(M, K, q, xr, cf, C, vr)], axis=1)
     vc = v[:, -1]
     S = np.repeat(Dg[None], P, axis=0)
     S[:, :, m] += (fI - fII @ Dg.T) / vc[:, None]              # column of x_c (event gradient e_{x_c})
@@ -154,26 +166,27 @@ def monodromy(orbits) -> np.ndarray:
     T = T1 + T2
     W = 2 * np.pi / T
     B1, B2 = s.V1.T @ M[:-1, :-1], s.V2.T @ M
-    F1 = _flow_matrix(s.w1, s.V1, B1, T1)
-    F2 = _flow_matrix(s.w2, s.V2, B2, T2)
+    C = s.C if s.damped else None
+    F1 = _flow_matrix(s.w1, s.V1, B1, T1, s.zeta[0])
+    F2 = _flow_matrix(s.w2, s.V2, B2, T2, s.zeta[1])
     eI, vI = orbits.state_I(T1[:, None])
     xr, vr = eI[:, 0] @ s.V1.T, vI[:, 0] @ s.V1.T
-    S_open = _saltation_open(M, K, q, xr, vr, T1, W, phi)
+    S_open = _saltation_open(M, K, q, xr, vr, T1, W, phi, C)
     eII, vII = orbits.end()
-    S_imp = _saltation_impact(M, K, q, eII @ s.V2.T, vII @ s.V2.T, T, W, phi)
+    S_imp = _saltation_impact(M, K, q, eII @ s.V2.T, vII @ s.V2.T, T, W, phi, C)
     return S_imp @ F2 @ S_open @ F1
 
 
-def _modal_flow(w, tau):
+def _modal_flow(w, tau, zeta=None):
     """Modal free flow over ``tau`` (P,): ``(P, 2m, 2m)`` with 2 x 2 blocks per mode on ``(eta, etadot)``."""
-    c, s_w, mws, _ = free_flow(w[None, :], np.asarray(tau, float)[:, None])
-    P, m = c.shape
+    p11, p12, p21, p22 = flow_matrix(w[None, :], np.asarray(tau, float)[:, None], zeta)
+    P, m = p11.shape
     A = np.zeros((P, 2 * m, 2 * m))
     i = np.arange(m)
-    A[:, i, i] = c
-    A[:, i, m + i] = s_w
-    A[:, m + i, i] = mws
-    A[:, m + i, m + i] = c
+    A[:, i, i] = p11
+    A[:, i, m + i] = p12
+    A[:, m + i, i] = p21
+    A[:, m + i, m + i] = p22
     return A
 
 
@@ -194,44 +207,65 @@ def monodromy_modal(orbits) -> np.ndarray:
     """
     prob = orbits.prob
     s = prob.system
-    w1, w2 = s.w1, s.w2
-    m1, m2 = w1.size, w2.size
+    m1 = s.w1.size
     P = len(orbits)
     if P == 0:
         return np.zeros((0, 2 * m1, 2 * m1))
-    f1, f2 = np.asarray(prob.f1, float), np.asarray(prob.f2, float)
-    T1, T2, phi = orbits.T1, orbits.T2, orbits.phi
-    T = T1 + T2
-    W = 2 * np.pi / T
-    F1 = _modal_flow(w1, T1)
-    F2 = _modal_flow(w2, T2)
-    # opening at T1: S_open = E + jump dh^T / hdot
-    eI, vI = orbits.state_I(T1[:, None])
+    T1, T2 = orbits.T1, orbits.T2
+    F1 = _modal_flow(s.w1, T1, s.zeta[0])
+    F2 = _modal_flow(s.w2, T2, s.zeta[1])
+    return _modal_impact(orbits) @ F2 @ _modal_open(orbits) @ F1
+
+
+def _modal_accel(w, zeta, f, eta, v, cf):
+    """Modal accelerations ``-w^2 eta - 2 zeta w eta' + f cos`` (``zeta`` None: undamped); (P, m)."""
+    a = -w ** 2 * eta + f * cf[:, None]
+    return a if zeta is None else a - 2 * zeta * w * v
+
+
+def _modal_open(orbits) -> np.ndarray:
+    """``S_open`` (P, 2 m2, 2 m1) in modal coordinates: ``E + jump dh^T / hdot`` (event ``h = -R``)."""
+    prob = orbits.prob
+    s = prob.system
+    m1, m2 = s.w1.size, s.w2.size
+    z1, z2 = s.zeta
+    W = orbits.W
+    eI, vI = orbits.state_I(orbits.T1[:, None])
     e1, v1 = eI[:, 0], vI[:, 0]
-    arg = W * T1 - phi
+    arg = W * orbits.T1 - orbits.phi
     cf = np.cos(arg)
     E = np.zeros((2 * m2, 2 * m1))
     E[:m2, :m1] = s.P12
     E[m2:, m1:] = s.P12
-    aI = -w1 ** 2 * e1 + f1 * cf[:, None]
-    jump = np.zeros((P, 2 * m2))
-    jump[:, m2:] = -w2 ** 2 * (e1 @ s.P12.T) + f2 * cf[:, None] - aI @ s.P12.T
-    dh = np.concatenate([-np.asarray(s.r_eta, float), np.zeros(m1)])
+    aI = _modal_accel(s.w1, z1, prob.f1, e1, v1, cf)
+    jump = np.zeros((len(orbits), 2 * m2))
+    jump[:, m2:] = _modal_accel(s.w2, z2, prob.f2, e1 @ s.P12.T, v1 @ s.P12.T, cf) - aI @ s.P12.T
+    # h = -R = -(r_eta . eta + r_v . eta' + r_q cos(W t - phi))  (r_v = 0 without damping)
+    dh = np.concatenate([-np.asarray(s.r_eta, float), -np.asarray(s.r_v, float)])
     hdot = -(v1 @ s.r_eta) + prob.r_q * W * np.sin(arg)
-    S_open = E[None] + jump[:, :, None] * dh[None, None, :] / hdot[:, None, None]
-    # impact at T: S_imp = Dg + (f_I(g(y)) - Dg f_II(y)) e_xc^T / v_c
+    if z1 is not None:
+        hdot = hdot - aI @ s.r_v
+    return E[None] + jump[:, :, None] * dh[None, None, :] / hdot[:, None, None]
+
+
+def _modal_impact(orbits) -> np.ndarray:
+    """``S_imp`` (P, 2 m1, 2 m2) in modal coordinates: ``Dg + (f_I(g(y)) - Dg f_II(y)) e_xc^T / v_c``."""
+    prob = orbits.prob
+    s = prob.system
+    m1, m2 = s.w1.size, s.w2.size
+    z1, z2 = s.zeta
     e2, v2 = orbits.end()
-    cfT = np.cos(W * T - phi)
+    cfT = np.cos(orbits.W * orbits.T - orbits.phi)
     Dg = np.zeros((2 * m1, 2 * m2))
     Dg[:m1, :m2] = s.P21
     Dg[m1:, m2:] = s.Q21
     eP, vP = e2 @ s.P21.T, v2 @ s.Q21.T
-    fI = np.concatenate([vP, -w1 ** 2 * eP + f1 * cfT[:, None]], axis=1)
-    fII = np.concatenate([v2, -w2 ** 2 * e2 + f2 * cfT[:, None]], axis=1)
+    fI = np.concatenate([vP, _modal_accel(s.w1, z1, prob.f1, eP, vP, cfT)], axis=1)
+    fII = np.concatenate([v2, _modal_accel(s.w2, z2, prob.f2, e2, v2, cfT)], axis=1)
     vc = v2 @ s.gap_row
-    S_imp = np.repeat(Dg[None], P, axis=0)
+    S_imp = np.repeat(Dg[None], len(orbits), axis=0)
     S_imp[:, :, :m2] += ((fI - fII @ Dg.T) / vc[:, None])[:, :, None] * np.asarray(s.gap_row, float)[None, None, :]
-    return S_imp @ F2 @ S_open @ F1
+    return S_imp
 
 
 def multipliers(orbits) -> np.ndarray:

@@ -40,9 +40,10 @@ from ..errors import InputError
 from ..response import Orbits, damping
 from ..response.flow import gauss, psi
 from ..util.blas import single_thread_blas
-from .loadmax import RCOND, ElementMax, Worst, _elements, _Elements, element_max, worst
+from .loaddamped import DampedLoadForms, damped_forms
+from .loadmax import RCOND, ElementMax, PointLoads, Worst, element_max, worst
 
-__all__ = ["LoadForms", "Worst", "ElementMax", "load_forms", "HZERO_TOL", "RCOND"]
+__all__ = ["LoadForms", "DampedLoadForms", "Worst", "ElementMax", "load_forms", "HZERO_TOL", "RCOND"]
 
 HZERO_TOL = 1e-10   #: |h(q)| / (|H e_c| |q|) below which a load has no path at that point
 QUAD_ELEMENTS = 4e6  #: largest (points x nodes x modes) array of one quadrature chunk
@@ -144,7 +145,7 @@ def _as_loads(q, n: int):
 
 
 @dataclass(frozen=True, eq=False)
-class LoadForms:
+class LoadForms(PointLoads):
     """``b`` and ``G`` at every path point: ``xi_eq(q) = (b . q)^2 / (2 q^T G q)``.
 
     Attributes
@@ -233,25 +234,7 @@ class LoadForms:
         """True where ``h(q) = 0`` (relative ``tol``): the load has no periodic response there."""
         return self.h_relative(q) < tol
 
-    # -- point forces ------------------------------------------------------------------------
-    def _elems(self) -> _Elements:
-        if self.asm is None:
-            raise InputError("point loads need the assembled bar: build the LoadForms from Paths or Orbits "
-                             "whose Problem carries its Assembled (plbar.problem / Case.problem)")
-        cache = self.__dict__.get("_elements_cache")
-        if cache is None:
-            cache = _elements(self.asm)
-            object.__setattr__(self, "_elements_cache", cache)
-        return cache
-
-    def point_vectors(self, s):
-        """Load vectors of unit point forces at positions ``s`` (S,): shape (S, n) (shape-function values)."""
-        el = self._elems()
-        e, t = el.locate(np.atleast_1d(s))
-        Q = np.zeros((e.size, self.n + 1))
-        np.add.at(Q, (np.arange(e.size)[:, None], el.dofs[e]), el.values(e, t))
-        return Q[:, :-1]
-
+    # -- point forces (_elems, point_vectors: loadmax.PointLoads) --------------------------------
     def _local(self):
         """``b`` and ``G`` padded with a zero dummy DOF ``n`` (the clamped DOF of element tables)."""
         cache = self.__dict__.get("_local_cache")
@@ -297,8 +280,11 @@ class LoadForms:
         return LoadForms(**f)
 
 
-def load_forms(source) -> LoadForms:
+def load_forms(source) -> LoadForms | DampedLoadForms:
     """The quadratic forms ``b, G`` at every path point of ``source``.
+
+    With Rayleigh damping: :class:`plbar.studies.loaddamped.DampedLoadForms` (the same interface;
+    ``xi_eq(q)`` through the complex contact response, the worst load by a phase scan).
 
     Parameters
     ----------
@@ -316,9 +302,11 @@ def load_forms(source) -> LoadForms:
         return _load_forms(*_points(source))
 
 
-def _load_forms(orb, branch, point, dPL, denom) -> LoadForms:
+def _load_forms(orb, branch, point, dPL, denom):
     prob = orb.prob
     s = prob.system
+    if s.damped and not s.truncated and len(orb):
+        return damped_forms(orb, branch, point, dPL, denom)
     if s.truncated:
         raise InputError("load studies on the exact structure need the full modal model: with modes = "
                          f"({s.w1.size}, {s.w2.size}) of ({s.n - 1}, {s.n}) the two states live in different "

@@ -16,7 +16,7 @@ import numpy as np
 from ..errors import InputError
 from ..util.blas import single_thread_blas
 
-__all__ = ["Worst", "ElementMax", "element_max", "worst", "RCOND"]
+__all__ = ["Worst", "ElementMax", "PointLoads", "element_max", "worst", "RCOND"]
 
 RCOND = 1e-12       #: relative eigenvalue cutoff of the scaled Gram matrix (its numerical null space)
 
@@ -112,6 +112,28 @@ def _elements(asm) -> _Elements:
         raise InputError("the mesh has an element with non-increasing vertex order; cannot map load positions")
     order = np.argsort(left)
     return _Elements(dofs[order], C[order], left[order], right[order])
+
+
+class PointLoads:
+    """Unit point forces anywhere on the bar for the load forms (needs the assembled bar, ``self.asm``)."""
+
+    def _elems(self) -> _Elements:
+        if self.asm is None:
+            raise InputError("point loads need the assembled bar: build the load forms from Paths or Orbits "
+                             "whose Problem carries its Assembled (plbar.problem / Case.problem)")
+        cache = self.__dict__.get("_elements_cache")
+        if cache is None:
+            cache = _elements(self.asm)
+            object.__setattr__(self, "_elements_cache", cache)
+        return cache
+
+    def point_vectors(self, s):
+        """Load vectors of unit point forces at positions ``s`` (S,): shape (S, n) (shape-function values)."""
+        el = self._elems()
+        e, t = el.locate(np.atleast_1d(s))
+        Q = np.zeros((e.size, self.n + 1))
+        np.add.at(Q, (np.arange(e.size)[:, None], el.dofs[e]), el.values(e, t))
+        return Q[:, :-1]
 
 
 # -- small batched polynomial helpers (ascending coefficients on the last axis) ---------------------

@@ -202,8 +202,12 @@ def _summary(lf, fam, wcols, pairs_rows, positions, no_path, times) -> dict:
     return {"path_points": len(lf), "dofs": lf.n, "positions": int(np.size(positions)),
             "reference_load": lf.q_ref.tolist(), "families": fams, "no_path": no_path,
             "h_zero_tol": HZERO_TOL, "times": {k: round(v, 6) for k, v in times.items()},
-            "note": "xi_worst = b^T G^+ b / 2 is the largest xi_eq over every in-phase load distribution at that "
-                    "path point (docs/load_structure.md); loads with h(q) = 0 have no periodic path there"}
+            "note": ("xi_worst = b^T G^+ b / 2 is the largest xi_eq over every in-phase load distribution at that "
+                     "path point (docs/load_structure.md); loads with h(q) = 0 have no periodic path there"
+                     if not hasattr(lf, "dPL_ref") else
+                     "with Rayleigh damping every load with h(q) != 0 has the reference paths at the phase "
+                     "phi + arg(h(q) / h_ref); xi_worst is the largest xi_eq over every in-phase load distribution "
+                     "(a phase scan, docs/load_structure.md section 9); loads with h(q) = 0 have no periodic path")}
 
 
 def _blank(col):

@@ -39,7 +39,7 @@ PLOTTED = ("T0_I_L", "T0_II_L", "S/M_e", "T_mid_T0I", "T_spread_T0I", "xi_max")
 
 #: Case fields a series may set (everything but the size)
 SERIES_FIELDS = ("model", "element", "mass", "length", "EA", "rhoA", "m", "k", "grading", "end_mass",
-                 "end_mass_absolute", "load_nodes", "load_points")
+                 "end_mass_absolute", "load_nodes", "load_points", "rayleigh")
 
 
 def parse_series(name: str) -> dict:
@@ -60,6 +60,8 @@ def series_name(base: dict) -> str:
     me = base.get("end_mass", 0.0)
     if me:
         name += f"+Me{me:g}" + ("abs" if base.get("end_mass_absolute") else "")
+    if base.get("rayleigh"):                     # inherent damping (issue 21): the same (alpha, beta) at every N
+        name += "+rayleigh{:g},{:g}".format(*base["rayleigh"])
     return name
 
 

@@ -19,12 +19,12 @@ def test_run_default_writes_exact_header_and_summary(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "branch" in out and "T0_I = 10.1664" in out and str(tmp_path) in out
     header, rows = _csv(tmp_path / "paths.csv")
-    assert header == ("branch,T1,T2,phi,T,dPL,xi,grazing,stable,max_abs_multiplier,max_abs_xc,omega,xi_w,m,k,"
-                      "signature,loss_per_T,durations")
+    assert header == ("branch,T1,T2,phi,T,dPL,xi,grazing,stable,max_abs_multiplier,max_abs_xc,omega,xi_w,"
+                      "viscous_loss,zeta_rayleigh,xi_total,m,k,signature,loss_per_T,durations")
     assert header.split(",")[:8] == "branch,T1,T2,phi,T,dPL,xi,grazing".split(",")
     assert header.split(",") == CSV_HEADER
-    assert {r[15] for r in rows} == {"1P"} and {r[13] for r in rows} == {"1"}   # the paper's class by default
-    vals = np.array([[float(v) for v in r[:15] + r[16:17]] for r in rows])
+    assert {r[18] for r in rows} == {"1P"} and {r[16] for r in rows} == {"1"}   # the paper's class by default
+    vals = np.array([[float(v) for v in r[:18] + r[19:20]] for r in rows])
     assert np.all(np.isfinite(vals))
     assert np.all((vals[:, 3] >= 0) & (vals[:, 3] < 2 * np.pi))
     np.testing.assert_allclose(vals[:, 4], vals[:, 1] + vals[:, 2], rtol=1e-15)
@@ -105,4 +105,4 @@ def test_every_example_case_file_runs(tmp_path, path):
     s = json.loads((tmp_path / "summary.json").read_text())
     assert s["n_branches"] >= 1
     _, rows = _csv(tmp_path / "paths.csv")
-    assert rows and np.all(np.isfinite(np.array([[float(v) for v in r[:15] + r[16:17]] for r in rows])))
+    assert rows and np.all(np.isfinite(np.array([[float(v) for v in r[:18] + r[19:20]] for r in rows])))

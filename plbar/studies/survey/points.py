@@ -17,13 +17,14 @@ from ...app import Case
 from ...motion import KINDS, Padded, Start, padded, run, steady
 from ...errors import PlbarError
 from ...hybrid import from_motion
+from ...response import NoResponseError, find_response
 
 __all__ = ["COLUMNS", "survey_chunk", "start_of", "start_json"]
 
 #: the columns of survey.csv, in order (the first thirteen are the issue's minimum)
 COLUMNS = ("T", "kind", "m", "impacts_per_T", "loss_per_T", "loss_min", "loss_max", "xi_eq", "xi_min", "xi_max",
            "xi_w", "amp_c", "stuck_fraction", "loss_std", "xi_std", "amp_c_max", "work_per_T", "distance",
-           "energy_residual", "exact_loss", "exact_xi", "signature", "status")
+           "energy_residual", "exact_loss", "exact_xi", "signature", "status", "viscous_per_T", "xi_total")
 
 
 def start_json(s: Start, i: int) -> dict:
@@ -38,7 +39,13 @@ def start_of(rows: list[dict]) -> Start:
 
 
 def _polish(prob, r, b: int, m: int, loss: float) -> dict:
-    """The exact orbit of trajectory ``b``'s periodic motion (or no fields if Newton does not get there)."""
+    """The exact orbit of trajectory ``b``'s periodic motion (or no fields if Newton does not get there).
+
+    Undamped: any signature (:func:`plbar.hybrid.from_motion`).  With inherent damping (which the signature
+    chain does not take yet): the paper's class, by :func:`plbar.find_response` from the simulated stuck time.
+    """
+    if getattr(prob.system, "damped", False):
+        return _polish_paper(prob, r, b, m, loss)
     first = r.periods - r.record
     sel = r.events["traj"] == b
     te, ke = r.events["time"][sel], r.events["kind"][sel]
@@ -53,6 +60,20 @@ def _polish(prob, r, b: int, m: int, loss: float) -> dict:
     if not abs(o.loss_per_T - loss) <= 1e-5 * max(loss, 1e-300):
         return {}                                 # Newton went to another orbit: not the motion simulated
     return {"exact_loss": float(o.loss_per_T), "exact_xi": float(o.xi), "signature": str(o.sig.canonical())}
+
+
+def _polish_paper(prob, r, b: int, m: int, loss: float) -> dict:
+    """A damped periodic motion of the paper's class (m = 1, one impact, a stuck phase) as its exact response."""
+    if m != 1 or r.impacts[b].mean() != 1 or r.stuck[b].mean() <= 0:
+        return {}
+    T = float(r.T[b])
+    try:
+        o = find_response(prob, T, float(r.stuck[b].mean()))
+    except (NoResponseError, PlbarError, ValueError, ArithmeticError):
+        return {}
+    if not abs(o.dPL - loss) <= 1e-5 * max(loss, 1e-300):
+        return {}
+    return {"exact_loss": float(o.dPL), "exact_xi": float(o.xi), "signature": "1P"}
 
 
 def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None = None, pad: Padded | None = None,
@@ -76,7 +97,10 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
     rows = []
     for i in range(T.size):
         row = {c: float(getattr(s, c)[i]) for c in COLUMNS if hasattr(s, c) and c not in ("kind", "m")}
-        row.update(kind=KINDS[int(s.kind[i])], m=int(s.m[i]), status=int(r.status[i]), signature="")
+        row.update(kind=KINDS[int(s.kind[i])], m=int(s.m[i]), status=int(r.status[i]), signature="",
+                   viscous_per_T=float(s.viscous_per_T[i]),
+                   xi_total=float(prob.system.rayleigh_ratio(2 * np.pi / T[i]) + s.xi_eq[i])
+                   if getattr(prob.system, "damped", False) else float(s.xi_eq[i]))
         if row["kind"] == "periodic":
             row.update(_polish(prob, r, i, row["m"], row["loss_per_T"]))
         rows.append(row)

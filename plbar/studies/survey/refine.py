@@ -92,6 +92,9 @@ def _rates(rows: list[dict], TL, record: int) -> dict:
             vals = np.array([r[q] for r in sel], float)
             noise = float(max((r[spread] for r in sel), default=0.0)) / np.sqrt(record) if spread else 0.0
             c = converge(q, h, vals, n=n, noise=noise).as_dict()
+            if noise > 0 and "round-off" in c.get("why", ""):
+                c["why"] = c["why"].replace("differences at round-off", "differences below the standard error of "
+                                            "the means: the motion is irregular")
             if len(sel) < MIN_MESHES:
                 c.update(rate=None, limit=None, error=None, fitted=None,
                          why=f"{len(sel)} meshes: a rate needs at least {MIN_MESHES}")
