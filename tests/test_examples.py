@@ -90,6 +90,7 @@ def test_refinement_example(tmp_path):
     assert len(steps) == 4 and steps[-1] == pytest.approx(2 / 3.141592653589793, rel=2e-3)
 
 
+@pytest.mark.slow
 def test_inherent_damping_example(tmp_path):
     """Issue 21: xi_eq of the impact with 0, 1, 2, 5 % Rayleigh damping, chain and FE bar; the figure."""
     out = _run("inherent_damping.py", tmp_path)

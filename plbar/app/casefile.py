@@ -40,7 +40,7 @@ from pathlib import Path
 
 from ..errors import CaseFileError, InputError
 from ..model import rayleigh_from_ratio
-from .schema import FORMATS, HELP, REQUIRED, SCHEMA, schema_table
+from .schema import HELP, REQUIRED, SCHEMA, schema_table
 
 __all__ = ["OutputSettings", "load_case", "loads_case", "dump_case", "schema_table", "SCHEMA", "HELP"]
 

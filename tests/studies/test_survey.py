@@ -76,6 +76,7 @@ def _table_bytes(folder):
     return (folder / "survey.csv").read_bytes()
 
 
+@pytest.mark.slow
 def test_same_command_twice_and_dask_give_identical_files(tmp_path):
     pytest.importorskip("dask.distributed")
     T = np.linspace(8.3, 9.3, 6)
@@ -96,6 +97,7 @@ run_survey(plbar.Case(), np.linspace(8.0, 9.0, 8), 150, 20, sys.argv[1], ("rest"
 """
 
 
+@pytest.mark.slow
 def test_kill_and_resume(tmp_path):
     """kill -9 in the middle of a sweep: checkpoints are whole files; the rerun resumes and gives the same table."""
     killed = tmp_path / "killed"
