@@ -6,7 +6,7 @@
 2. The same bar without an end mass: xi_eq falls faster (Delta_PL itself ~ h).
 3. The paper's chain (N is the model): its path 2, N = 5 ... 48.
 4. Why xi_eq falls: the damping denominator of Eq. (22) on the velocity jump that the impact leaves in the
-   bar grows like (4 / pi) rhoA c ln N (printed against N).
+   bar (0 at the clamp, v_c stopped at the contact) grows like (2 / pi) rhoA c v_c^2 ln N (printed against N).
 
 PLBAR_NMAX limits the largest N (default 256; the example test uses 32).  Resumable study folders under
 argv[1] (default ./plbar-refinement).  Prints the tables and the continuum check.
@@ -41,22 +41,27 @@ def table(title: str, r: dict) -> None:
             for name in ("T0_I_L", "T0_II_L", "S/M_e", "T_mid_T0I", "T_spread_T0I", "xi_max"):
                 if name in q:
                     c = q[name]
-                    fit = f" (fitted {c['fitted']:.3f})" if c["fitted"] is not None else ""
-                    rate = f"rate {c['rate']:.3f}{fit}" if c["rate"] is not None else f"no rate: {c['why']}"
-                    lim = f"-> {c['limit']:.6g}: " if c["limit"] is not None else ""
-                    print(f"    {name:13s} {lim}{rate}")
-            if q["xi_decay"].get("model"):
+                    if c["rate"] is None:
+                        print(f"    {name:13s} no rate: {c['why']}")
+                    elif c["caution"]:                      # too few meshes, or values that wander
+                        print(f"    {name:13s} no rate stated: {c['caution']}")
+                    else:
+                        fit = f", fitted {c['fitted']:.3f}" if c["fitted"] is not None else ""
+                        lim = f"-> {c['limit']:.6g}: " if c["limit"] is not None else ""
+                        print(f"    {name:13s} {lim}rate {c['rate']:.3f} ({c['meshes']} meshes{fit})")
+            if q["xi_decay"].get("model") and len(q["xi_decay"]["h"]) >= 4:
                 print(f"    xi_max decays like {q['xi_decay']['formula']}")
 
 
 def jump_energy() -> None:
-    print("damping denominator of a unit velocity jump, sum_j w_j etadot_j^2 (rhoA = c = 1):")
+    print("damping denominator of the velocity v = x (a unit jump at the contact), sum_j w_j etadot_j^2 "
+          "(rhoA = c = 1):")
     prev = None
     for n in (16, 32, 64, 128, 256):
         s = plbar.Case(model="fe", n=n, end_mass=0.5).problem().system
-        ed = s.V1.T @ (s.M[:-1, :-1] @ np.ones(s.n - 1))
+        ed = s.V1.T @ (s.M[:-1, :-1] @ s.x[:-1])
         e = float(np.sum(s.w1 * ed ** 2))
-        step = "" if prev is None else f"   step / ln 2 = {(e - prev) / math.log(2):.5f} (4/pi = {4 / math.pi:.5f})"
+        step = "" if prev is None else f"   step / ln 2 = {(e - prev) / math.log(2):.5f} (2/pi = {2 / math.pi:.5f})"
         print(f"  N = {n:4d}: {e:.5f}{step}")
         prev = e
 

@@ -21,8 +21,7 @@ from .model import (Bar, Load, Problem, TwoStateSystem, assemble, chain, graded_
                     rayleigh_from_ratio, two_state, uniform_bar, uniform_nodes)
 from .paths import Branch, Domain, Paths, default_domain, find_paths
 from .response import Orbits, Response, damping, find_response, impact_loss, orbits, stability
-
-__version__ = "0.1.0"
+from .util.version import __version__
 
 __all__ = [
     "Bar", "assemble", "chain", "graded_nodes", "uniform_bar", "uniform_nodes", "Case", "damping",

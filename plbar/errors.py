@@ -14,7 +14,7 @@ results, such as a scan grid too coarse to resolve the branches.
 from __future__ import annotations
 
 __all__ = ["PlbarError", "InputError", "CaseFileError", "OutputExistsError", "NonFiniteError",
-           "PlbarWarning", "CoarseGridWarning", "TruncationWarning"]
+           "PlbarWarning", "CoarseGridWarning", "TruncationWarning", "LargeOutputWarning"]
 
 
 class PlbarError(ValueError):
@@ -47,3 +47,7 @@ class CoarseGridWarning(PlbarWarning):
 
 class TruncationWarning(PlbarWarning):
     """``Delta_PL`` and ``xi_eq`` of a modally truncated model: the impact loses the energy outside the kept modes."""
+
+
+class LargeOutputWarning(PlbarWarning):
+    """A result table is about to be very large (the warning names the options that make it smaller)."""

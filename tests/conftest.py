@@ -30,6 +30,19 @@ def fe_p2_result():
 
 
 @pytest.fixture(scope="session")
+def fe_p2_coarse():
+    """The case of ``fe_p2_result`` on a 60 x 60 grid (a few seconds: for the tests not marked slow)."""
+    import warnings
+
+    import plbar
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", plbar.errors.CoarseGridWarning)
+        return plbar.solve(plbar.Case(model="fe", n=8, element="P2", mass="consistent", load_points=((0.37, 1.0),),
+                                      grid=(60, 60)))
+
+
+@pytest.fixture(scope="session")
 def small():
     """The default case on a coarse grid (export and render tests)."""
     import plbar

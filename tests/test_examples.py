@@ -69,6 +69,7 @@ def test_load_sweep_example(tmp_path):
     assert (tmp_path / "worst_load.csv").read_text().startswith("branch,point,T1,T2,phi,T,xi_worst,")
 
 
+@pytest.mark.slow
 def test_refinement_example(tmp_path):
     env = dict(os.environ, MPLBACKEND="agg", PLBAR_NMAX="16")
     p = subprocess.run([sys.executable, str(EX / "refinement.py"), str(tmp_path)], capture_output=True, text=True,
@@ -82,12 +83,14 @@ def test_refinement_example(tmp_path):
         assert line, n
         if not line[0].rstrip().endswith("-"):
             assert float(line[0].split()[-1]) == pytest.approx(1 + 1 / n, rel=1e-9)
-    assert "S/M_e         -> 1: rate 1.000" in out and "T0_I_L        -> 2: rate 2.0" in out
-    assert "xi_max        -> 0: rate" in out
+    # N = 8, 16 (and the chain's 5, 6, 8): too few meshes to state a rate (README: from 4 on)
+    assert "S/M_e         no rate stated: rests on 2 meshes" in out and "-> 2: rate" not in out
+    assert "T0_I_L        no rate stated: rests on 3 meshes" in out
     steps = [float(ln.split("step / ln 2 = ")[1].split()[0]) for ln in out.splitlines() if "step / ln 2" in ln]
-    assert len(steps) == 4 and steps[-1] == pytest.approx(4 / 3.141592653589793, rel=2e-3)
+    assert len(steps) == 4 and steps[-1] == pytest.approx(2 / 3.141592653589793, rel=2e-3)
 
 
+@pytest.mark.slow
 def test_inherent_damping_example(tmp_path):
     """Issue 21: xi_eq of the impact with 0, 1, 2, 5 % Rayleigh damping, chain and FE bar; the figure."""
     out = _run("inherent_damping.py", tmp_path)

@@ -26,6 +26,18 @@ SIGNATURES = ("paper", "default", "all")    #: which periodic responses a solve 
 DEFAULT_FE_LOAD = 0.5
 
 
+#: the options of an FE bar and their defaults: on a chain, any other value is refused (it would be ignored)
+FE_ONLY = {"element": "P1", "mass": "lumped", "EA": 1.0, "rhoA": 1.0, "grading": 1.0, "mesh_file": None,
+           "point_masses": ()}
+#: the command-line spelling of the Case fields named in messages
+FLAGS = {"n": "-N", "element": "--element", "mass": "--mass", "grading": "--grading", "mesh_file": "--mesh-file",
+         "length": "no CLI option", "EA": "no CLI option", "rhoA": "no CLI option", "point_masses": "no CLI option"}
+
+
+def _flag(name: str) -> str:
+    return FLAGS.get(name, "no CLI option")
+
+
 @dataclass(frozen=True)
 class Case:
     """Everything that defines a run.
@@ -116,8 +128,6 @@ class Case:
         choice("mass", self.mass, MASSES)
         choice("method", self.method, ("continuation", "grid"))
         choice("signatures", self.signatures, SIGNATURES)
-        if self.model == "chain" and (self.element, self.mass) != ("P1", "lumped"):
-            raise InputError("model = 'chain' is always P1 lumped; use model = 'fe' for element/mass choices")
         if self.modes is not None:
             object.__setattr__(self, "modes", integer("modes", self.modes, 1))
         object.__setattr__(self, "rayleigh", check_rayleigh(self.rayleigh))
@@ -136,6 +146,7 @@ class Case:
             v = getattr(self, nm)
             object.__setattr__(self, nm, () if v is None else pairs(nm, v, what))
         self._check_end_mass()
+        self._check_applies()
         object.__setattr__(self, "grid", check_grid(self.grid, warn=False))
         for nm in ("T1", "T2"):
             if getattr(self, nm) is not None:
@@ -155,6 +166,9 @@ class Case:
 
     @property
     def n_eff(self) -> int:
+        """Masses of the chain / elements of the FE bar (a mesh file's own count; default 5 / 8)."""
+        if self.mesh_file is not None and "_bar" in self.__dict__:
+            return self.bar().n_elements
         return self.n if self.n is not None else (5 if self.model == "chain" else 8)
 
     def bar(self) -> Bar:
@@ -171,6 +185,32 @@ class Case:
             raise InputError(f"end_mass_absolute = {show(self.end_mass_absolute)} must be True or False "
                              "(end_mass is an absolute mass, or a fraction of the bar's mass)")
         object.__setattr__(self, "end_mass_absolute", bool(self.end_mass_absolute))
+
+    def _check_applies(self) -> None:
+        """The one rule of which options apply to which model: one that would be ignored is refused."""
+        if self.model == "chain":
+            fe_only = [(k, getattr(self, k)) for k, v in FE_ONLY.items() if getattr(self, k) != v]
+            if self.length not in (1.0, float(self.n_eff)):
+                fe_only.insert(0, ("length", self.length))
+            if fe_only:
+                k, v = fe_only[0]
+                raise InputError(f"{k} = {show(v)} does not apply to model = 'chain' (a P1 lumped chain of N "
+                                 f"masses m and springs k, L = N); use model = 'fe' (--model fe) or drop {k} "
+                                 f"({_flag(k)})")
+        elif (self.m, self.k) != (1.0, 1.0):
+            k = "m" if self.m != 1.0 else "k"
+            raise InputError(f"{k} = {show(getattr(self, k))} does not apply to model = 'fe'; give the section "
+                             "with EA and rhoA, or use model = 'chain'")
+        if self.mesh_file is not None:
+            given = [(k, getattr(self, k)) for k, v in (("n", None), ("grading", 1.0), ("length", 1.0))
+                     if getattr(self, k) != v]
+            if given:
+                k, v = given[0]
+                raise InputError(f"{k} = {show(v)} conflicts with mesh_file = {self.mesh_file!r}, which fixes the "
+                                 f"mesh (its elements, grading and length); drop {k} ({_flag(k)}) or the mesh file")
+        if self.end_mass_absolute and self.end_mass == 0:
+            raise InputError("end_mass_absolute = True needs an end mass: give end_mass > 0 (--end-mass M), or drop "
+                             "end_mass_absolute (--end-mass-absolute)")
 
     @property
     def end_mass_value(self) -> float:
@@ -215,17 +255,21 @@ class Case:
         return Domain(self.T1 or d.T1, self.T2 or d.T2)
 
     def to_dict(self) -> dict:
-        """The fields as plain data (``n`` filled in; ``length`` is the bar's, ``N`` for the chain).
+        """The fields that apply to the model, as plain data (what ``summary.json`` records; ``Case(**d)`` rebuilds it).
 
-        ``rayleigh`` appears only for a damped case (an undamped case's dict is that of
-        earlier releases, so their result folders still match).
+        ``n`` is filled in and ``length`` is the bar's (``N`` for the chain); a chain has no FE fields, an FE bar
+        no ``m, k``, and a mesh file stands for ``n``, ``grading`` and ``length``; ``rayleigh`` appears only for a
+        damped case.
         """
         d = asdict(self)
         d["n"] = self.n_eff
         d["length"] = self.bar().length
         d.pop("label")
+        drop = tuple(FE_ONLY) if self.model == "chain" else ("m", "k")
+        if self.mesh_file is not None:
+            drop += ("n", "grading", "length")
         if d["rayleigh"] is None:
-            d.pop("rayleigh")
+            drop += ("rayleigh",)
         else:
             d["rayleigh"] = list(d["rayleigh"])
-        return d
+        return {k: v for k, v in d.items() if k not in drop}

@@ -6,7 +6,7 @@ A case file::
     [bar]                               # required
     model = "chain"                     # chain | fe
     n = 5
-    [[load]]                            # at least one
+    [[load]]                            # optional: without one, the default load of Case (as the CLI)
     node = 1                            # free DOF K (1-based from the clamp) ...
     amplitude = 1.0
     [[load]]
@@ -40,8 +40,9 @@ from pathlib import Path
 
 from ..errors import CaseFileError, InputError
 from ..model import rayleigh_from_ratio
+from .schema import HELP, REQUIRED, SCHEMA, schema_table
 
-__all__ = ["OutputSettings", "load_case", "loads_case", "dump_case", "SCHEMA"]
+__all__ = ["OutputSettings", "load_case", "loads_case", "dump_case", "schema_table", "SCHEMA", "HELP"]
 
 try:  # Python >= 3.11
     import tomllib as _toml
@@ -50,26 +51,6 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10 with tomli install
         import tomli as _toml
     except ModuleNotFoundError:
         _toml = None
-
-FORMATS = ("pvd", "xdmf", "both")
-
-#: expected types: "int", "float" (int accepted), "str", "bool", ("choice", values), "pair", "grid", "pairs"
-SCHEMA = {
-    "": {"title": "str", "bar": "table", "load": "tables", "search": "table", "output": "table"},
-    "bar": {"model": ("choice", ("chain", "fe")), "n": "int", "element": ("choice", ("P1", "P2")),
-            "mass": ("choice", ("lumped", "consistent")), "length": "float", "EA": "float", "rhoA": "float",
-            "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs",
-            "end_mass": "float", "end_mass_absolute": "bool", "modes": "int", "rayleigh": "pair",
-            "damping_ratio": "float", "damping_at": "pair"},
-    "load": {"node": "int", "at": "float", "amplitude": "float"},
-    "search": {"grid": "grid", "T1": "pair", "T2": "pair", "method": ("choice", ("continuation", "grid")),
-               "signatures": ("choice", ("paper", "default", "all"))},
-    "output": {"dir": "str", "vtk": "bool", "format": ("choice", FORMATS), "render": "bool", "field": "str",
-               "periods": ("choice", (1, 2)), "steps": "int", "snapshots": "int", "gif": "bool",
-               "branch": "int", "index": "int", "overwrite": "bool"},
-}
-REQUIRED = ("bar", "load")
-
 
 @dataclass(frozen=True)
 class OutputSettings:
@@ -226,8 +207,8 @@ def _table(ctx: _Ctx, data: dict, name: str) -> dict:
 
 
 def _loads(ctx: _Ctx, loads) -> tuple[list, list]:
-    """The ``[[load]]`` tables as nodal forces and point forces."""
-    if not isinstance(loads, list) or not loads or not all(isinstance(x, dict) for x in loads):
+    """The ``[[load]]`` tables as nodal forces and point forces (none: the default load of :class:`Case`)."""
+    if not isinstance(loads, list) or not all(isinstance(x, dict) for x in loads):
         raise ctx.err("", "load must be an array of tables: write each force as [[load]] with node = K or at = S")
     nodes, points = [], []
     for i, raw in enumerate(loads, 1):
@@ -277,32 +258,21 @@ def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
     except _toml.TOMLDecodeError as exc:
         raise CaseFileError(f"{fname}: invalid TOML: {' '.join(str(exc).split())}") from None
     ctx.keys("", data)
-    for sec in REQUIRED:
-        if sec not in data:
-            hint = " (one [[load]] table per force: node = K or at = S)" if sec == "load" else ""
-            raise ctx.err("", f"missing required section {'[[load]]' if sec == 'load' else f'[{sec}]'}{hint}")
     title = data.get("title", "")
     if not isinstance(title, str):
         raise ctx.err("", f"title = {_fmt(title)} has the wrong type ({_tname(title)}); expected a string")
-    bar = _table(ctx, data, "bar")
-    if "model" not in bar:
-        raise ctx.err("bar", 'missing required key "model"; choose "chain" or "fe"')
-    nodes, points = _loads(ctx, data["load"])
+    bar = _table(ctx, data, "bar")                 # every type first, then what is missing
+    nodes, points = _loads(ctx, data.get("load", []))
     search = _table(ctx, data, "search")
     out = _table(ctx, data, "output")
+    for sec in REQUIRED:
+        if sec not in data:
+            raise ctx.err("", f"missing required section [{sec}]")
+    if "model" not in bar:
+        raise ctx.err("bar", 'missing required key "model"; choose "chain" or "fe"')
     if "mesh_file" in bar:
         bar["mesh_file"] = _mesh_path(ctx, bar["mesh_file"], base)
     _damping_keys(ctx, bar)
-    if bar["model"] == "chain":
-        extra = sorted(set(bar) & {"element", "mass", "length", "EA", "rhoA", "grading", "mesh_file",
-                                   "point_masses"})
-        if extra:
-            raise ctx.err("bar", f'{extra[0]} does not apply to model = "chain" (a P1 lumped chain of masses m '
-                                 'and springs k); use model = "fe"')
-    else:
-        extra = sorted(set(bar) & {"m", "k"})
-        if extra:
-            raise ctx.err("bar", f'{extra[0]} does not apply to model = "fe"; use EA and rhoA')
     try:        # Case is the one validator of values (ranges, the mesh, the load against the bar)
         case = Case(load_nodes=tuple(nodes), load_points=tuple(points), label=title, **bar, **search)
     except InputError as exc:

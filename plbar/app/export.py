@@ -17,11 +17,12 @@ from ..errors import InputError
 from ..io import FORMATS, ResponseData, load_pvd, response_data, write_data
 from ..io.vtk import ResponseFiles
 from ..response import Orbits, damping, orbits
-from ..util.outputs import check_writable, clear_owned, require
+from ..util.outputs import claim_folder, clear_owned, fingerprint, require
 from .case import Case
-from .run import read_paths
+from .run import case_fingerprint, read_paths
 
-__all__ = ["select", "from_run", "write_response", "write_response_data", "response_of", "render_response",
+__all__ = ["select", "from_run", "case_of_run", "write_response", "write_response_data", "response_of",
+           "render_response",
            "export_owned", "RENDER_OWNED"]
 
 #: what :func:`plbar.visuals.render` writes (cleared before a new render)
@@ -128,14 +129,10 @@ def from_run(folder, branch: int | None = None, index: int | None = None):
     info : dict
     """
     folder = Path(folder)
-    sfile, cfile = folder / "summary.json", folder / "paths.csv"
-    for f in (sfile, cfile):
-        if not f.is_file():
-            raise InputError(f"{str(f)!r} does not exist; give the --out folder of a previous 'plbar run'")
-    try:
-        case = Case(**_tuples(json.loads(sfile.read_text())["case"]))
-    except (KeyError, TypeError, ValueError) as exc:
-        raise InputError(f"{str(sfile)!r} does not hold a valid case: {exc}") from None
+    cfile = folder / "paths.csv"
+    case = case_of_run(folder)
+    if not cfile.is_file():
+        raise InputError(f"{str(cfile)!r} does not exist; give the --out folder of a previous 'plbar run'")
     cols = read_paths(cfile)
     if cols["branch"].size == 0:
         raise InputError(f"{str(cfile)!r} has no periodic path; nothing to export")
@@ -162,6 +159,17 @@ def from_run(folder, branch: int | None = None, index: int | None = None):
     return case, orb, info
 
 
+def case_of_run(folder) -> Case:
+    """The case of a previous ``plbar run`` in ``folder`` (from its ``summary.json``)."""
+    sfile = Path(folder) / "summary.json"
+    if not sfile.is_file():
+        raise InputError(f"{str(sfile)!r} does not exist; give the --out folder of a previous 'plbar run'")
+    try:
+        return Case(**_tuples(json.loads(sfile.read_text())["case"]))
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"{str(sfile)!r} does not hold a valid case: {' '.join(str(exc).split())}") from None
+
+
 def _hybrid_row(case, cols, k: int, branch: int, index: int):
     """The orbit of row ``k`` of another signature, as an :class:`plbar.hybrid.OrbitSeries`, and its info."""
     from ..hybrid import OrbitSeries, from_row, signature
@@ -184,8 +192,16 @@ def _tuples(o):
 
 
 
+def _owner(case, data) -> str:
+    """The fingerprint an export or render records: its case's (to join that run's folder), else the response's."""
+    if isinstance(case, Case):
+        return case_fingerprint(case)
+    return fingerprint({k: v for k, v in data.info.items() if k in ("T1", "T2", "phi", "T")})
+
+
 def write_response(source, folder, *, branch: int | None = None, index: int | None = None, periods: int = 1,
-                   steps: int = 40, format: str = "pvd", name: str = "response") -> ResponseFiles:
+                   steps: int = 40, format: str = "pvd", name: str = "response",
+                   overwrite: bool = False) -> ResponseFiles:
     """Write one periodic response for ParaView.
 
     Parameters
@@ -201,6 +217,8 @@ def write_response(source, folder, *, branch: int | None = None, index: int | No
         Time steps per period.
     format, name
         As in :func:`plbar.io.write_data` (which writes the files).
+    overwrite : bool
+        Replace what another command or case owns in ``folder`` (see :func:`write_response_data`).
 
     Returns
     -------
@@ -209,17 +227,24 @@ def write_response(source, folder, *, branch: int | None = None, index: int | No
     if format not in FORMATS:
         raise InputError(f"format = {format!r} is not allowed; choose one of {', '.join(FORMATS)}")
     orb, info = select(source, branch, index)
-    return write_response_data(response_data(orb, info, periods, steps), folder, format=format, name=name)
+    return write_response_data(response_data(orb, info, periods, steps), folder, format=format, name=name,
+                               case=getattr(source, "case", None), overwrite=overwrite)
 
 
-def write_response_data(data: ResponseData, folder, *, format: str = "pvd", name: str = "response") -> ResponseFiles:
-    """:func:`plbar.io.write_data` into a folder cleared of an earlier export (optional packages checked first)."""
+def write_response_data(data: ResponseData, folder, *, format: str = "pvd", name: str = "response", case=None,
+                        overwrite: bool = False) -> ResponseFiles:
+    """:func:`plbar.io.write_data` into a folder cleared of an earlier export (optional packages checked first).
+
+    The folder is claimed for ``export`` (:func:`plbar.util.outputs.claim_folder`): a folder of another command
+    or case is refused unless ``overwrite``; the folder of the ``run`` of the same ``case`` is joined (the export's
+    files become that run's, so a later run of another case removes them).
+    """
     if format not in FORMATS:
         raise InputError(f"format = {format!r} is not allowed; choose one of {', '.join(FORMATS)}")
     _requirements(format, "the ParaView export")
-    folder = check_writable(folder)
-    clear_owned(folder, export_owned(name))
-    return write_data(data, folder, format=format, name=name)
+    with claim_folder(folder, "export", _owner(case, data), export_owned(name), overwrite, joins=("run",)):
+        clear_owned(folder, export_owned(name))
+        return write_data(data, Path(folder), format=format, name=name)
 
 
 def response_of(source, branch: int | None = None, index: int | None = None, steps: int = 40) -> ResponseData:
@@ -245,13 +270,18 @@ def response_of(source, branch: int | None = None, index: int | None = None, ste
 
 
 def render_response(source, out, *, branch: int | None = None, index: int | None = None, steps: int = 40,
-                    **options):
-    """:func:`plbar.visuals.render` of the response :func:`response_of` picks from ``source``."""
+                    case=None, overwrite: bool = False, **options):
+    """:func:`plbar.visuals.render` of the response :func:`response_of` picks from ``source``.
+
+    ``out`` is claimed for ``render`` as :func:`write_response_data` claims its folder (``case``: the run's case).
+    """
     from ..visuals.render import render
 
     require("pyvista", "rendering")
     require("PIL", "rendering")
     data = response_of(source, branch, index, steps)
-    out = check_writable(out)
-    clear_owned(out, RENDER_OWNED)
-    return render(data, out, **options)
+    claim = claim_folder(out, "render", _owner(case if case is not None else getattr(source, "case", None), data),
+                         RENDER_OWNED, overwrite, joins=("run",))
+    with claim:
+        clear_owned(out, RENDER_OWNED)
+        return render(data, Path(out), **options)

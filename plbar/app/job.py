@@ -61,5 +61,5 @@ def _extras(res, st: OutputSettings, out: Path) -> dict:
         src = out / "vtk" / "response.pvd" if st.vtk and st.format in ("pvd", "both") else res
         files.update({f"render_{k}": v for k, v in files_of(
             render_response(src, out / "render", field=st.field, snapshots=st.snapshots, gif=st.gif,
-                            branch=st.branch, index=st.index, steps=st.steps)).items()})
+                            branch=st.branch, index=st.index, steps=st.steps, case=res.case)).items()})
     return files

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
-import json
 import time
 import warnings
 from dataclasses import dataclass
@@ -11,18 +9,19 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import CoarseGridWarning, InputError, OutputExistsError
+from ..errors import CoarseGridWarning, InputError
 from ..paths import Paths, find_paths
 from ..util.check import MIN_BRANCH_POINTS, show
 from ..util.check import grid as check_grid
 from ..util.files import check_finite, write_csv, write_json
-from ..util.outputs import check_writable, clear_owned
+from ..util.outputs import Claim, check_folder, clear_owned, fingerprint
+from ..util.version import __version__
 from ..visuals.plots import contact_amplitude
 from .case import Case
 from .signatures import hybrid_branches, hybrid_rows, hybrid_summary
 
-__all__ = ["Result", "solve", "write_results", "read_paths", "check_output", "PATHS_COLUMNS", "CSV_HEADER",
-           "CSV_FORMATS", "TEXT_COLUMNS"]
+__all__ = ["Result", "solve", "write_results", "read_paths", "check_output", "case_fingerprint", "PATHS_COLUMNS",
+           "CSV_HEADER", "CSV_FORMATS", "TEXT_COLUMNS", "RUN_FILES"]
 
 #: the columns of ``paths.csv`` (name, printf format): the one definition, for writers and readers
 PATHS_COLUMNS = (("branch", "%d"), ("T1", "%.17g"), ("T2", "%.17g"), ("phi", "%.17g"), ("T", "%.17g"),
@@ -36,6 +35,10 @@ TEXT_COLUMNS = ("signature", "durations")
 CSV_HEADER = [c for c, _ in PATHS_COLUMNS]
 #: what ``plbar run`` owns in its folder besides paths.csv and summary.json (cleared before new results)
 RUN_OWNED = ("vtk", "render", "frequency_response.png", "frequency_response.pdf", "paths_T1_T2.png", "paths_T1_T2.pdf")
+#: temporaries of a run killed while writing
+RUN_TEMPS = (".paths.*.part.csv", ".summary.*.part.json")
+#: everything ``plbar run`` owns in its folder (its owner marker lists these)
+RUN_FILES = ("paths.csv", "summary.json") + RUN_OWNED + RUN_TEMPS
 CSV_FORMATS = [f for _, f in PATHS_COLUMNS]
 
 
@@ -95,6 +98,7 @@ class Result:
             "other_signatures": hybrid_summary(self.hybrid, _first_hybrid_id(self)),
             "scan": stats,
             "run_time": round(self.solver_time, 6),
+            "plbar_version": __version__,
         }
 
 
@@ -116,7 +120,9 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
     short = [b.id for b in paths.branches if len(b) < MIN_BRANCH_POINTS]
     if short:
         ids = ", ".join(str(i) for i in short[:8]) + (f" and {len(short) - 8} more" if len(short) > 8 else "")
-        warnings.warn(f"{len(short)} branch(es) ({ids}) have fewer than {MIN_BRANCH_POINTS} points on grid = "
+        many = len(short) != 1
+        warnings.warn(f"{len(short)} branch{'es' if many else ''} ({ids}) {'have' if many else 'has'} fewer than "
+                      f"{MIN_BRANCH_POINTS} points on grid = "
                       f"{case.grid}; refine the grid (or narrow T1/T2) to resolve them", CoarseGridWarning,
                       stacklevel=2)
     hybrid = tuple(hybrid_branches(paths, case.signatures))
@@ -176,37 +182,33 @@ def read_paths(path) -> dict[str, np.ndarray]:
     return out
 
 
-def check_output(case: Case, out, overwrite: bool = False) -> None:
-    """Raise unless results of ``case`` may be written into ``out`` (see :func:`write_results`).
+def case_fingerprint(case: Case) -> str:
+    """The identity of a case in an owner marker (:func:`plbar.util.outputs.fingerprint` of ``case.to_dict()``)."""
+    return fingerprint(case.to_dict())
+
+
+def check_output(case: Case, out, overwrite: bool = False) -> Claim:
+    """Raise unless results of ``case`` may be written into ``out`` (the one ownership rule; nothing is written).
 
     Cheap: call it before a long solve so that a bad ``--out`` fails at once (the
-    folder is created and a file written and removed there).
+    folder is created and a file written and removed there).  Returns the
+    :class:`~plbar.util.outputs.Claim` (a context manager: a folder it created is
+    removed again if the solve fails or is interrupted before anything is written).
     """
-    out = check_writable(out)
-    old = out / "summary.json"
-    if old.is_dir():
+    out = Path(out)
+    if (out / "summary.json").is_dir():
         raise InputError(f"output folder {str(out)!r} holds a folder named summary.json; choose another --out")
-    if old.exists() and not overwrite:
-        try:
-            prev = json.loads(old.read_text())
-            prev = prev.get("case") if isinstance(prev, dict) else None
-        except (OSError, ValueError):
-            prev = None
-        if prev is None:
-            raise OutputExistsError(f"output folder {str(out)!r} holds a summary.json that is not a plbar "
-                                    "summary; choose another --out or pass --overwrite")
-        if prev != json.loads(json.dumps(case.to_dict(), default=str)):
-            raise OutputExistsError(f"output folder {str(out)!r} holds results of another case; "
-                                    "choose another --out or pass --overwrite")
+    return check_folder(out, "run", case_fingerprint(case), RUN_FILES, overwrite)
 
 
 def write_results(res: Result, out, overwrite: bool = False) -> dict[str, Path]:
     """Write ``paths.csv`` and ``summary.json`` into ``out`` (atomically).
 
-    Rerunning the same case into ``out`` replaces its results.  An existing
-    ``summary.json`` of a *different* case (or one that is not a plbar
-    summary) is kept and an :class:`OutputExistsError` raised unless
-    ``overwrite``.  What an earlier run left there (:data:`RUN_OWNED`: its ParaView
+    Rerunning the same case into ``out`` replaces its results.  A folder that
+    belongs to another command or case (its owner marker, ``.plbar-owner.json``,
+    :func:`plbar.util.outputs.check_folder`) is kept and an
+    :class:`OutputExistsError` raised unless ``overwrite`` (then what the old
+    owner owned is removed).  What an earlier run left there (:data:`RUN_OWNED`: its ParaView
     export, renders and plots) is removed first, so no file of another case stays
     beside the new results.  Both tables are checked before either is written: a nan or
     inf raises :class:`plbar.errors.NonFiniteError` and writes nothing.  Each
@@ -217,17 +219,13 @@ def write_results(res: Result, out, overwrite: bool = False) -> dict[str, Path]:
     if not isinstance(res, Result):
         raise InputError(f"res = {show(res)} is not a plbar.Result; get one from plbar.solve(case)")
     out = Path(out)
-    check_output(res.case, out, overwrite)
+    claim = check_output(res.case, out, overwrite)
     rows = _rows(res)
     summary = res.summary()
     check_finite("paths.csv", dict(zip(CSV_HEADER, rows)))
     check_finite("summary.json", summary)
-    clear_owned(out, RUN_OWNED)                         # derived outputs of an earlier run: never stale
-    for name in ("paths.csv", "summary.json"):           # temporaries of a killed run of this case
-        stem, suffix = name.split(".")
-        for tmp in out.glob(f".{stem}.*.part.{suffix}"):
-            with contextlib.suppress(OSError):
-                tmp.unlink()
+    claim.take()                                         # another owner's files go only now (with overwrite)
+    clear_owned(out, RUN_OWNED + RUN_TEMPS)              # derived outputs of an earlier run: never stale
     files = {
         "paths": write_csv(out / "paths.csv", CSV_HEADER, rows, CSV_FORMATS, allow_nan=False),
     }

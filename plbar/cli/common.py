@@ -1,7 +1,8 @@
 """The one vocabulary of the command line: options every command shares, and how they become a Case.
 
 * ``--out DIR`` is where a command writes; ``--from DIR`` is a previous run it reads;
-* ``--overwrite`` lets a command replace another case's results (never silently);
+* ``--overwrite`` lets a command replace what another command or case owns in its ``--out``
+  (:func:`plbar.util.outputs.claim_folder`, never silently);
 * ``--quiet`` prints nothing on success, ``--json`` prints the result as JSON (both without progress bars);
 * the model is ``--model``, ``-N/--elements``, ``--element``, ``--mass``, ``--end-mass``; the inherent damping
   ``--rayleigh A B`` or ``--damping-ratio XI --at T_A T_B`` (``--damping-at``); the load ``--load-node`` /
@@ -18,7 +19,7 @@ from ..app import Case, load_case
 from ..errors import InputError
 from ..model import rayleigh_from_ratio
 
-__all__ = ["output_args", "case_args", "case_from_args", "progress", "report", "hidden"]
+__all__ = ["output_args", "case_args", "case_from_args", "progress", "report", "hidden", "plural"]
 
 hidden = argparse.SUPPRESS
 
@@ -35,16 +36,19 @@ def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None
     """``--out``, ``--overwrite``, ``--quiet``, ``--json``."""
     g = p.add_argument_group("output")
     g.add_argument("--out", default=default_out, metavar="DIR", help=f"{what} [{default_out}]")
-    g.add_argument("--overwrite", action="store_true", help="replace results of another case in DIR")
+    g.add_argument("--overwrite", action="store_true",
+                   help="replace what another command or case owns in DIR (its owner marker .plbar-owner.json)")
     g.add_argument("--quiet", "-q", action="store_true", help="print nothing on success (no progress bars)")
     g.add_argument("--json", action="store_true", help="print the result as JSON (no progress bars)")
 
 
-def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", sizes=None, at: bool = True) -> None:
+def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", sizes=None, at: bool = True,
+              refused=()) -> None:
     """The model, damping, load and search options (all default to None: given ones are known) and ``--case``.
 
     ``sizes`` (a default list) makes ``-N/--elements`` a list of sizes (``a.sizes``; ``plbar refine``);
     ``at=False`` leaves ``--at`` to the command (the damping periods are then ``--damping-at`` only).
+    ``refused`` (dest names): options the command refuses (with a line saying what to do); left out of its help.
     """
     g = p.add_argument_group("model")
     g.add_argument("--case", default=None, metavar="FILE.toml",
@@ -89,6 +93,9 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
     g.add_argument("--method", choices=("continuation", "grid"), default=None,
                    help="branches by pseudo-arclength continuation seeded by the scan, or by linking the "
                         "scan's crossings only (faster, may fragment) [continuation]")
+    for act in p._actions:                   # refused options: still parsed (to say why), not offered
+        if act.dest in refused:
+            act.help = hidden
 
 
 def _damping_args(p: argparse.ArgumentParser, at: bool) -> None:
@@ -144,3 +151,10 @@ def report(a, payload: dict, text: str) -> None:
         print(json.dumps(payload, default=str))
     elif not a.quiet:
         print(text)
+
+
+def plural(n: int, word: str, width: int = 0) -> str:
+    """``"1 point"``, ``"2 points"``, ``"3 branches"`` (``n`` right-aligned in ``width``)."""
+    if n != 1:
+        word += "es" if word.endswith(("ch", "sh", "s", "x")) else "s"
+    return f"{n:{width}d} {word}"

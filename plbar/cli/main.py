@@ -11,8 +11,13 @@ import sys
 import warnings
 
 from ..errors import NonFiniteError, PlbarError, PlbarWarning
+from ..util.progress import message
 
 __all__ = ["main", "entry", "build_parser"]
+
+#: what an interrupted command says: a study (``resumable`` set by its parser) keeps its finished tasks
+RESUMABLE = "(finished study tasks are kept; rerun the same command to continue)"
+NOT_RESUMABLE = "(no results written)"
 
 
 class _Parser(argparse.ArgumentParser):
@@ -55,16 +60,16 @@ def main(argv=None) -> int:
         try:
             return a.func(a)
         except NonFiniteError as exc:
-            print(f"plbar: failed: {_one_line(exc)}", file=sys.stderr)
+            message(f"plbar: failed: {_one_line(exc)}")
             return 1
         except PlbarError as exc:
-            print(f"plbar: error: {_one_line(exc)}", file=sys.stderr)
+            message(f"plbar: error: {_one_line(exc)}")
             return 2
         except KeyboardInterrupt:
-            print("plbar: interrupted (finished results are kept; rerun to continue a study)", file=sys.stderr)
+            message("plbar: interrupted " + (RESUMABLE if getattr(a, "resumable", False) else NOT_RESUMABLE))
             return 130
         except Exception as exc:  # pragma: no cover - reported, not hidden
-            print(f"plbar: failed: {type(exc).__name__}: {_one_line(exc)}", file=sys.stderr)
+            message(f"plbar: failed: {type(exc).__name__}: {_one_line(exc)}")
             return 1
         finally:
             warnings.showwarning = old_show
@@ -75,12 +80,15 @@ def _one_line(exc) -> str:
 
 
 def _show_warning(fallback):
-    """``warnings.showwarning`` that prints plbar's warnings as one line on stderr."""
-    def show(message, category, filename, lineno, file=None, line=None):
+    """``warnings.showwarning`` that prints plbar's warnings as one line on stderr (others as Python formats them),
+    through :func:`plbar.util.progress.message`."""
+    def show(text, category, filename, lineno, file=None, line=None):
         if issubclass(category, PlbarWarning):
-            print(f"plbar: warning: {_one_line(message)}", file=sys.stderr)
+            message(f"plbar: warning: {_one_line(text)}")
+        elif file is None:                    # stderr: through the one message path (never on a progress bar)
+            message(warnings.formatwarning(text, category, filename, lineno, line).rstrip("\n"))
         else:
-            fallback(message, category, filename, lineno, file, line)
+            fallback(text, category, filename, lineno, file, line)
     return show
 
 

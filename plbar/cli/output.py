@@ -10,14 +10,14 @@ there is cleared first.  ``--dest`` is the old spelling of ``--out``.
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
-from ..app import (OutputSettings, check_output, files_of, from_run, load_case, render_response, solve,
+from ..app import (OutputSettings, case_of_run, check_output, files_of, from_run, load_case, render_response, solve,
                    write_response, write_response_data, write_results)
 from ..errors import InputError
-from ..io import response_data
-from ..util.outputs import check_writable, require
+from ..io import CELL_FIELDS, POINT_FIELDS, response_data
+from ..util.outputs import require
+from ..util.progress import message
 from .common import hidden, report
 
 __all__ = ["register"]
@@ -30,9 +30,13 @@ def _source_args(p, kind: str) -> None:
     p.add_argument("--out", default=None, metavar="DIR", help=f"where to write [DIR/{kind}]")
     p.add_argument("--dest", dest="out", default=None, help=hidden)
     p.add_argument("--branch", type=int, default=None, help="branch id [the branch with the largest xi_eq]")
-    p.add_argument("--index", type=int, default=None, help="point along the branch [the largest xi_eq]")
+    p.add_argument("--index", type=int, default=None,
+                   help="point along the branch, 0 = its first; negative counts from its end (-1: its last point) "
+                        "[the largest xi_eq]")
     p.add_argument("--steps", type=int, default=None, help="time steps per period [40]")
-    p.add_argument("--overwrite", action="store_true", help="with --case: replace results of another case")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace what another command or case owns in the output folder (and, with --case, in the "
+                        "run folder)")
     p.add_argument("--quiet", "-q", action="store_true", help="print nothing on success")
     p.add_argument("--json", action="store_true", help="print the written files as JSON")
 
@@ -41,22 +45,44 @@ def _pick(arg, setting):
     return setting if arg is None else arg
 
 
+def _check_options(a) -> None:
+    """Refuse bad --steps, --snapshots, --field, --branch before anything is solved, read or created."""
+    if a.steps is not None and a.steps < 4:
+        raise InputError(f"--steps {a.steps} is not allowed; it must be >= 4 (time steps per period)")
+    if a.branch is not None and a.branch < 0:
+        raise InputError(f"--branch {a.branch} is not allowed; branch ids are >= 0 (see the run's summary.json)")
+    if getattr(a, "snapshots", None) is not None and a.snapshots < 1:
+        raise InputError(f"--snapshots {a.snapshots} is not allowed; it must be >= 1")
+    field = getattr(a, "field", None)
+    names = [f for f in POINT_FIELDS + CELL_FIELDS if not f.endswith("_vec")]
+    if field is not None and field not in names:
+        raise InputError(f"--field {field} is not a field of a response; choose one of {', '.join(names)}")
+
+
 def _source(a, kind: str):
-    """``(settings, run folder, destination)``; the old ``--out DIR`` (a run folder as input) still works."""
+    """``(settings, run folder, case file's Case or None)``; the old ``--out DIR`` (a run folder as input) works."""
+    _check_options(a)
     if a.src is None and a.case is None and a.out is not None and (Path(a.out) / "summary.json").is_file():
-        print(f"plbar: warning: --out {a.out} as the input folder is the old spelling; use --from {a.out} "
-              f"(writing into {a.out}/{kind})", file=sys.stderr)
+        message(f"plbar: warning: --out {a.out} as the input folder is the old spelling; use --from {a.out} "
+                f"(writing into {a.out}/{kind})")
         a.src, a.out = a.out, None
     if a.case:
         case, st = load_case(a.case)
-        run = Path(a.src or st.dir or "plbar-out")
-        check_output(case, run, a.overwrite or st.overwrite)
-        return st, run, case
+        return st, Path(a.src or st.dir or "plbar-out"), case
     run = Path(a.src or "plbar-out")
     if not (run / "summary.json").is_file():
         raise InputError(f"{str(run / 'summary.json')!r} does not exist; give --from DIR of a previous "
                          "'plbar run' or a --case file")
     return OutputSettings(), run, None
+
+
+def _solved(a, st, run: Path, case):
+    """Solve a case file and write its results into ``run`` (checked before the solve), as ``plbar run`` does."""
+    with check_output(case, run, a.overwrite or st.overwrite) as claim:
+        res = solve(case)
+        claim.take()
+        write_results(res, run, overwrite=a.overwrite or st.overwrite)
+    return res
 
 
 def _cmd_export(a) -> int:
@@ -66,16 +92,16 @@ def _cmd_export(a) -> int:
         require("pyvista", "plbar export")
     if fmt in ("xdmf", "both"):
         require("h5py", "plbar export --format xdmf")
-    dest = check_writable(Path(a.out) if a.out else run / "vtk")
+    dest = Path(a.out) if a.out else run / "vtk"
     if case is not None:
-        res = solve(case)
-        write_results(res, run, overwrite=a.overwrite or st.overwrite)
+        res = _solved(a, st, run, case)
         f = write_response(res, dest, branch=_pick(a.branch, st.branch), index=_pick(a.index, st.index),
-                           periods=_pick(a.periods, st.periods), steps=_pick(a.steps, st.steps), format=fmt)
+                           periods=_pick(a.periods, st.periods), steps=_pick(a.steps, st.steps), format=fmt,
+                           overwrite=a.overwrite)
     else:
-        _, orb, info = from_run(run, a.branch, a.index)
+        case, orb, info = from_run(run, a.branch, a.index)           # a bad --branch/--index: nothing created
         data = response_data(orb, info, _pick(a.periods, st.periods), _pick(a.steps, st.steps))
-        f = write_response_data(data, dest, format=fmt)
+        f = write_response_data(data, dest, format=fmt, case=case, overwrite=a.overwrite)
     _report(a, f, "export")
     return 0
 
@@ -84,16 +110,17 @@ def _cmd_render(a) -> int:
     require("pyvista", "plbar render")
     require("PIL", "plbar render")
     st, run, case = _source(a, "render")
-    dest = check_writable(Path(a.out) if a.out else run / "render")
+    dest = Path(a.out) if a.out else run / "render"
     if case is not None:
-        source = solve(case)
-        write_results(source, run, overwrite=a.overwrite or st.overwrite)
+        source = _solved(a, st, run, case)
     else:
         pvd = run / "vtk" / "response.pvd"
         source = pvd if pvd.is_file() and a.branch is None and a.index is None and a.steps is None else run
+        case = case_of_run(run)
     f = render_response(source, dest, field=_pick(a.field, st.field), snapshots=_pick(a.snapshots, st.snapshots),
                         gif=st.gif and not a.no_gif, branch=_pick(a.branch, st.branch),
-                        index=_pick(a.index, st.index), steps=_pick(a.steps, st.steps))
+                        index=_pick(a.index, st.index), steps=_pick(a.steps, st.steps), case=case,
+                        overwrite=a.overwrite)
     _report(a, f, "render")
     return 0
 

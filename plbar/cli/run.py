@@ -3,14 +3,14 @@
 from __future__ import annotations
 
 import importlib.util
-import sys
 from pathlib import Path
 
-from ..app import check_output, run_case_file, solve, write_results
+from ..app import check_output, cost_note, run_case_file, solve, write_results
 from ..errors import InputError
 from ..io import SHIPPED, write_shipped
-from ..util.outputs import check_writable, refuse_existing
-from .common import case_args, case_from_args, output_args, progress, report
+from ..util.outputs import claim_folder, fingerprint
+from ..util.progress import message
+from .common import case_args, case_from_args, output_args, plural, progress, report
 
 __all__ = ["register"]
 
@@ -19,7 +19,7 @@ TOP = 5     #: branches listed by default (the largest xi_eq first); --verbose l
 
 def _line(b: dict, damped: bool = False) -> str:
     tot = (f", with Rayleigh in [{b['xi_total_range'][0]:.4g}, {b['xi_total_range'][1]:.4g}]" if damped else "")
-    return (f"  branch {b['branch']:3d}: {b['points']:4d} points, T in [{b['T_range'][0]:.5g}, "
+    return (f"  branch {b['branch']:3d}: {plural(b['points'], 'point', width=4)}, T in [{b['T_range'][0]:.5g}, "
             f"{b['T_range'][1]:.5g}], xi_eq in [{b['xi_range'][0]:.4g}, {b['xi_range'][1]:.4g}]{tot}, "
             f"{b['stable_points']} stable")
 
@@ -28,7 +28,7 @@ def _human(summary: dict, files: dict, verbose: bool) -> str:
     brs = summary["branches"]
     lines = [f"plbar: {summary['bar']}; load {summary['load']}",
              f"  fundamental periods T0_I = {summary['T0_I']:.6g}, T0_II = {summary['T0_II']:.6g}",
-             f"  {summary['n_branches']} branch(es), {summary['n_points']} admissible path points "
+             f"  {plural(summary['n_branches'], 'branch')}, {plural(summary['n_points'], 'admissible path point')} "
              f"in {summary['run_time']:.3g} s"]
     shown = brs if verbose else sorted(brs, key=lambda b: -b["xi_range"][1])[:TOP]
     if not verbose and len(brs) > TOP:
@@ -39,7 +39,7 @@ def _human(summary: dict, files: dict, verbose: bool) -> str:
     if not verbose and len(brs) > TOP:
         rest = [b for b in brs if b not in shown]
         short = sum(b["points"] < 3 for b in rest)
-        lines.append(f"  ... {len(rest)} more branch(es) with {sum(b['points'] for b in rest)} points "
+        lines.append(f"  ... {plural(len(rest), 'more branch')} with {plural(sum(b['points'] for b in rest), 'point')} "
                      f"(max xi_eq {max(b['xi_range'][1] for b in rest):.4g}; {short} with fewer than 3 points): "
                      "all in paths.csv and summary.json")
     other = summary.get("other_signatures", [])
@@ -66,8 +66,7 @@ def _plots(res, out, a) -> dict:
         return {}
     if importlib.util.find_spec("matplotlib") is None:
         if not (a.quiet or a.json):
-            print('plbar: note: plots skipped: matplotlib is not installed (pip install "plbar[plot]")',
-                  file=sys.stderr)
+            message('plbar: note: plots skipped: matplotlib is not installed (pip install "plbar[plot]")')
         return {}
     from ..visuals import frequency_response, paths_plane
 
@@ -80,16 +79,19 @@ def _cmd_run(a) -> int:
             raise InputError("give the case file once (positional or --case)")
         a.case = a.case_pos
     case, st = case_from_args(a)
-    if st is not None:
-        out = Path(a.out if a.out != "plbar-out" or st.dir is None else st.dir)
-        check_output(case, out, a.overwrite or st.overwrite)          # before the solve: fail fast
-        r = run_case_file(a.case, out, a.overwrite, progress=progress(a), loaded=(case, st))
-        res, files = r["result"], r["files"]
-    else:
-        out = Path(a.out)
-        check_output(case, out, a.overwrite)
-        res = solve(case, progress=progress(a))
-        files = write_results(res, out, overwrite=a.overwrite)
+    out = Path(a.out if st is None or a.out != "plbar-out" or st.dir is None else st.dir)
+    overwrite = a.overwrite or (st is not None and st.overwrite)
+    with check_output(case, out, overwrite) as claim:   # before the solve: fail fast; undone if interrupted
+        note = cost_note(case)
+        if note and not a.quiet:
+            message(note)
+        if st is not None:
+            r = run_case_file(a.case, out, overwrite, progress=progress(a), loaded=(case, st))
+            res, files = r["result"], r["files"]
+        else:
+            res = solve(case, progress=progress(a))
+            claim.take()
+            files = write_results(res, out, overwrite=overwrite)
     files.update(_plots(res, out, a))
     s = res.summary()
     report(a, {"summary": s, "files": {k: str(v) for k, v in files.items()}}, _human(s, files, a.verbose))
@@ -97,11 +99,14 @@ def _cmd_run(a) -> int:
 
 
 def _cmd_mesh(a) -> int:
-    out = check_writable(a.out)
-    if not a.overwrite:
-        refuse_existing([out / name for name in SHIPPED], "plbar mesh")
-    files = write_shipped(out)
-    report(a, {"files": [str(f) for f in files]}, "wrote " + ", ".join(str(f) for f in files))
+    """The shipped meshes: missing ones are written, existing ones kept (replaced with --overwrite)."""
+    claim = claim_folder(a.out, "mesh", fingerprint(sorted(SHIPPED)), tuple(SHIPPED), a.overwrite)
+    kept = [] if a.overwrite else [n for n in SHIPPED if (claim.folder / n).exists()]
+    files = write_shipped(claim.folder, [n for n in SHIPPED if n not in kept])
+    text = ("wrote " + ", ".join(str(f) for f in files)) if files else "wrote nothing"
+    if kept:
+        text += f"; kept {plural(len(kept), 'existing file')} (--overwrite replaces them)"
+    report(a, {"files": [str(f) for f in files], "kept": [str(claim.folder / n) for n in kept]}, text)
     return 0
 
 

@@ -7,56 +7,40 @@ Handlers are thin calls into :mod:`plbar.studies`; they return exit codes
 from __future__ import annotations
 
 import importlib.util
-import json
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, OutputExistsError
-from ..util.outputs import check_writable, clear_owned, require
-from .common import CASE_OPTIONS, case_args, case_from_args, hidden, output_args, progress, report
+from ..errors import InputError
+from ..util.outputs import claim_folder, fingerprint, require
+from ..util.progress import message
+from .common import CASE_OPTIONS, case_args, case_from_args, hidden, output_args, plural, progress, report
 
 __all__ = ["register"]
 
-SWEEP_OWNED = ("xi_positions.csv", "worst_load.csv", "worst_load_shapes.npz", "xi_along_mesh.vtu", "load_pairs.csv",
-               "xi_T_s.png", "summary.json", "sweep.csv", "sweep_max.csv", "sweep_summary.json", "study.json",
-               "tasks")
-
-
-def _sweep_folder(a, case) -> Path:
-    """The study folder, checked and cleared of an earlier sweep (another case's only with --overwrite)."""
-    out = check_writable(a.out)
-    old = out / "summary.json"
-    if old.is_file() and not a.overwrite:
-        try:
-            prev = json.loads(old.read_text()).get("case")
-        except (OSError, ValueError, AttributeError):
-            prev = None
-        if prev != json.loads(json.dumps(case.to_dict(), default=str)):
-            raise OutputExistsError(f"study folder {str(out)!r} holds results of another case; "
-                                    "choose another --out or pass --overwrite")
-    clear_owned(out, SWEEP_OWNED)
-    return out
-
+#: what ``plbar figures`` owns in its folder
+FIGURES_OWNED = ("fig[0-9]*.png", "fig[0-9]*.pdf", ".*.part.*")
 
 def _cmd_sweep(a) -> int:
+    from ..app import cost_note
     from ..studies.loads import sweep_loads
 
     case, _ = case_from_args(a)
-    out = _sweep_folder(a, case)
+    note = cost_note(case)
+    if note and not a.quiet:
+        message(note)
     plot = not a.no_plot and importlib.util.find_spec("matplotlib") is not None
-    r = sweep_loads(case, out, positions=a.positions, per_element=a.per_element, pairs=not a.no_pairs,
-                    progress=progress(a), plot=plot)
+    r = sweep_loads(case, a.out, positions=a.positions, per_element=a.per_element, pairs=not a.no_pairs,
+                    progress=progress(a), plot=plot, positions_csv=a.positions_csv, overwrite=a.overwrite)
     s = r["summary"]
-    lines = [f"plbar sweep-loads: {len(r['forms'])} path points from one solve ({s['times']['solve']:.3g} s), "
-             f"{s['positions']} positions and the worst load in "
+    lines = [f"plbar sweep-loads: {plural(len(r['forms']), 'path point')} from one solve "
+             f"({s['times']['solve']:.3g} s), {plural(s['positions'], 'position')} and the worst load in "
              f"{s['times']['load_study']:.3g} s"]
     for fam, e in s.get("families", {}).items():
         lines.append(f"  {fam:8s}: worst load xi_eq = {e['xi_worst_max']:.4f}, best single force "
                      f"{e['xi_best_single_max']:.4f} at s = {e['s_at_best_single']:.4g}")
     if s.get("no_path"):
-        lines.append(f"  {len(s['no_path'])} load(s) have no path (h(q) = 0): see summary.json 'no_path'")
+        lines.append(f"  {plural(len(s['no_path']), 'load')} with no path (h(q) = 0): see summary.json 'no_path'")
     lines.append("  wrote " + ", ".join(str(f) for f in r["files"].values()))
     report(a, {"summary": s, "files": {k: str(v) for k, v in r["files"].items()}}, "\n".join(lines))
     return 0
@@ -83,7 +67,22 @@ def _refine_cases(a) -> list:
     return cases
 
 
-def _refine_lines(r: dict) -> list[str]:
+def _rate_line(q: str, c: dict, always: bool) -> str:
+    """One quantity of the refine table: its limit and rate with the meshes they rest on, or why none is stated."""
+    n = len(c["h"])
+    on = f"{n} mesh{'' if n == 1 else 'es'}"
+    if c["rate"] is None:
+        return f"    {q:13s} no rate: {c['why']}"
+    if c.get("caution") and not always:
+        return f"    {q:13s} no rate stated: {c['caution']} (--rates-always prints it)"
+    fit = f", fitted over all N: {c['fitted']:.3f}" if c.get("fitted") is not None else ""
+    lim = f"-> {c['limit']:.6g}: " if c.get("limit") is not None else ""
+    warn = f" [{c['caution']}]" if c.get("caution") else ""
+    return f"    {q:13s} {lim}rate {c['rate']:.3f} ({on}{fit}){warn}"
+
+
+def _refine_lines(r: dict, always: bool = False) -> list[str]:
+    from ..studies.convergence import MIN_MESHES
     from ..studies.refinement import PLOTTED
 
     lines = []
@@ -96,16 +95,10 @@ def _refine_lines(r: dict) -> list[str]:
             sm = f"{row['impact_mass'] / row['end_mass']:.5f}" if row["end_mass"] > 0 else "-"
             lines.append(f"  {row['n']:5d}  {row['status']:12s} {row['admissible']:5d}  {rng} {xi}  {sm}")
         rates = r["rates"][key[0]][key[1]]
-        for q in PLOTTED:
-            if q in rates:
-                c = rates[q]
-                fit = f" (fitted over all N: {c['fitted']:.3f})" if c.get("fitted") is not None else ""
-                v = f"rate {c['rate']:.3f}{fit}" if c["rate"] is not None else f"no rate: {c['why']}"
-                lim = f"-> {c['limit']:.6g}: " if c.get("limit") is not None else ""
-                lines.append(f"    {q:13s} {lim}{v}")
+        lines += [_rate_line(q, rates[q], always) for q in PLOTTED if q in rates]
         d = rates["xi_decay"]
-        if d.get("model"):
-            lines.append(f"    xi_max decays like {d['formula']} ({d['model']} law fits best)")
+        if d.get("model") and (always or len(d["h"]) >= MIN_MESHES):
+            lines.append(f"    xi_max decays like {d['formula']} ({d['model']} law fits best, {len(d['h'])} meshes)")
     return lines
 
 
@@ -116,14 +109,14 @@ def _cmd_refine(a) -> int:
     cases = _refine_cases(a)
     grid = tuple(a.grid) if a.grid else (cases[0].grid if a.case else (200, 200))
     st = TrackSettings(width=a.window, grid=grid, pick=a.pick, step=a.step)
-    out = check_writable(a.out)
     kind = "dask" if a.scheduler else a.executor
     if kind == "local" and len(cases) * len(a.family or ["T0_II/2"]) == 1:
         kind = "serial"          # one task: in this process, with its progress per mesh and the thread pool
     with get_executor(kind, a.scheduler, a.workers) as ex:
-        r = run_refine(cases, a.sizes, a.family or ["T0_II/2"], st, out, ex, progress=progress(a),
-                       overwrite=a.overwrite, plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
-    lines = _refine_lines(r) + [f"done in {r['time']:.1f} s; wrote " + ", ".join(
+        r = run_refine(cases, a.sizes, a.family or ["T0_II/2"], st, a.out, ex, progress=progress(a),
+                       overwrite=a.overwrite, plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None,
+                       rates_always=a.rates_always)
+    lines = _refine_lines(r, a.rates_always) + [f"done in {r['time']:.1f} s; wrote " + ", ".join(
         str(f) for v in r["files"].values() for f in (v if isinstance(v, list) else [v]))]
     payload = {"rates": r["rates"], "rows": [{k: (None if isinstance(v, float) and not np.isfinite(v) else v)
                                               for k, v in row.items()} for row in r["rows"]],
@@ -134,10 +127,15 @@ def _cmd_refine(a) -> int:
 
 def _cmd_figures(a) -> int:
     require("matplotlib", "plbar figures")
-    from ..studies.figures import make_all
+    from ..studies.figures import FIGURES, make_all
 
-    files = make_all(check_writable(a.out), grid=tuple(a.grid or (200, 200)), which=a.only, progress=progress(a))
-    report(a, {"files": [str(f) for f in files]}, f"wrote {len(files)} files into {a.out}")
+    bad = [w for w in a.only or () if w not in FIGURES]
+    if bad:
+        raise InputError(f"--only {bad[0]} is not a figure; choose from {', '.join(FIGURES)}")
+    grid = tuple(a.grid or (200, 200))
+    with claim_folder(a.out, "figures", fingerprint({"grid": list(grid)}), FIGURES_OWNED, a.overwrite) as claim:
+        files = make_all(claim.folder, grid=grid, which=a.only, progress=progress(a))
+    report(a, {"files": [str(f) for f in files]}, f"wrote {plural(len(files), 'file')} into {a.out}")
     return 0
 
 
@@ -157,13 +155,16 @@ def register(sub) -> None:
                        description="Solve the case once (its load is the reference: any load with a contact "
                                    "response gives the same paths), then xi_eq and Delta_PL of a unit force at "
                                    "many positions, the node pairs (Fig. 9) and the worst load distribution at "
-                                   "every path point.  Writes DIR/xi_positions.csv, worst_load.csv, "
+                                   "every path point.  Writes DIR/xi_positions.npz, worst_load.csv, "
                                    "worst_load_shapes.npz, load_pairs.csv, xi_along_mesh.vtu, xi_T_s.png, "
                                    "summary.json.")
     output_args(s, "plbar-sweep", "study folder")
     s.add_argument("--positions", "--at", type=float, nargs="+", default=None, metavar="S",
                    help="unit-force positions [--per-element steps over (0, L]]")
     s.add_argument("--per-element", type=int, default=50, metavar="K", help="default positions per element [50]")
+    s.add_argument("--positions-csv", action="store_true",
+                   help="also write the positions table as CSV (xi_positions.csv: one row per path point and "
+                        "position; large: about 85 bytes a row)")
     s.add_argument("--no-pairs", action="store_true", help="skip the node-pair table")
     s.add_argument("--pairs", action="store_true", help=hidden)
     s.add_argument("--no-plot", action="store_true", help="skip xi_T_s.png")
@@ -177,7 +178,8 @@ def register(sub) -> None:
                                    "(observed rates, Richardson limits, continuum limits), DIR/refine_convergence.png "
                                    "and DIR/refine_family.png (with matplotlib).  Resumable (per mesh).")
     output_args(r, "plbar-refine", "study folder (resumable)")
-    case_args(r, "the load, at the same place on every mesh", sizes=(3, 4, 5, 6, 8, 12, 16))
+    case_args(r, "the load, at the same place on every mesh", sizes=(3, 4, 5, 6, 8, 12, 16),
+              refused=("mesh_file", "modes", "T1", "T2", "method"))
     r.add_argument("--family", action="append", default=None, metavar="ANCHOR",
                    help="family anchor: T0_I, T0_II/2, k*T0_I, a*T0_II/b or a period; repeatable [T0_II/2]")
     r.add_argument("--window", type=float, default=0.15, metavar="W",
@@ -187,11 +189,14 @@ def register(sub) -> None:
     r.add_argument("--step", type=float, default=1 / 200, metavar="H",
                    help="largest continuation step, as a fraction of the window [0.005]")
     r.add_argument("--no-plot", action="store_true", help="skip the plots")
+    r.add_argument("--rates-always", action="store_true",
+                   help="state every rate and limit, also those resting on fewer than 4 meshes or on values whose "
+                        "successive differences change sign (marked)")
     r.add_argument("--series", nargs="+", default=None, help=hidden)
     r.add_argument("--frac", type=float, nargs="+", default=None, help=hidden)
     r.add_argument("--T2-frac", type=float, nargs=2, default=None, help=hidden)
     _executor_args(r)
-    r.set_defaults(func=_cmd_refine)
+    r.set_defaults(func=_cmd_refine, resumable=True)
 
     f = sub.add_parser("figures", help="the paper's figures (2-9) for our numbers, PNG and PDF",
                        description="Draw the figure families of the paper's Sec. 4 into DIR (needs matplotlib).")

@@ -155,4 +155,4 @@ def register(sub) -> None:
     from .studies import _executor_args
 
     _executor_args(s)
-    s.set_defaults(func=_cmd_survey)
+    s.set_defaults(func=_cmd_survey, resumable=True)

@@ -5,8 +5,9 @@ need them, so ``import plbar`` does not load them.
 """
 
 from .meshfile import SHIPPED, read_nodes, write_nodes, write_shipped
-from .sampling import FIELD_KEYS, ResponseData, nodal_stress, response_data
+from .sampling import CELL_FIELDS, FIELD_KEYS, POINT_FIELDS, ResponseData, nodal_stress, response_data
 from .vtk import FORMATS, ResponseFiles, load_pvd, write_data, write_xi_along_mesh
 
-__all__ = ["SHIPPED", "read_nodes", "write_nodes", "write_shipped", "FIELD_KEYS", "ResponseData", "nodal_stress", "response_data",
+__all__ = ["SHIPPED", "read_nodes", "write_nodes", "write_shipped", "FIELD_KEYS", "POINT_FIELDS", "CELL_FIELDS",
+           "ResponseData", "nodal_stress", "response_data",
            "FORMATS", "ResponseFiles", "load_pvd", "write_data", "write_xi_along_mesh"]

@@ -125,14 +125,16 @@ def write_nodes(path, nodes) -> None:
     meshio.write(str(path), meshio.Mesh(pts, cells, cell_data=tags), file_format="gmsh22", binary=False)
 
 
-def write_shipped(folder) -> list[Path]:
-    """Regenerate the shipped meshes into ``folder`` (``plbar mesh``)."""
+def write_shipped(folder, names=None) -> list[Path]:
+    """Regenerate the shipped meshes (or those of them in ``names``) into ``folder`` (``plbar mesh``)."""
     from ..util.files import atomic_path
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     out = []
     for name, make in SHIPPED.items():
+        if names is not None and name not in names:
+            continue
         with atomic_path(folder / name) as tmp:
             write_nodes(tmp, make())
         out.append(folder / name)

@@ -16,9 +16,14 @@ import numpy as np
 from ..errors import InputError, PlbarError
 from ..util.reprs import build, rng
 
-__all__ = ["ResponseData", "response_data", "nodal_stress", "FIELD_KEYS", "XDMF_STEP_KEYS"]
+__all__ = ["ResponseData", "response_data", "nodal_stress", "FIELD_KEYS", "XDMF_STEP_KEYS", "POINT_FIELDS",
+           "CELL_FIELDS"]
 
 FIELD_KEYS = ("time", "phase_time", "state", "contact_reaction", "gap", "kinetic_energy", "potential_energy")
+#: the point and cell fields of a response (what ``plbar render --field`` may colour by; ``*_vec`` are 3-vectors)
+POINT_FIELDS = ("displacement", "displacement_vec", "velocity", "velocity_vec", "kinetic_energy_density",
+                "potential_energy_density", "stress_nodal")
+CELL_FIELDS = ("strain", "stress", "strain_energy")
 #: per-step scalars also written into the XDMF as point data constant over the mesh (it has no field data)
 XDMF_STEP_KEYS = FIELD_KEYS[1:]
 

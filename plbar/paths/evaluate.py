@@ -15,6 +15,7 @@ import numpy as np
 from ..model import Problem
 from ..response import Admissibility, Orbits, check_both, orbits, phase
 from ..response.admissible import coarse, n_samples
+from ..util.progress import progress_bar
 from ..util.threads import map_chunks
 from .scan import PAR_CHUNK, chunked_coefficients
 
@@ -102,15 +103,27 @@ def _evaluate_chunk(prob, P, samples) -> Evaluated:
     return Evaluated(orb, adm, zero & periodic & ok, r1, r2, why)
 
 
-def evaluate(prob: Problem, P: np.ndarray) -> Evaluated:
+def evaluate(prob: Problem, P: np.ndarray, progress: bool = False, desc: str = "checking points") -> Evaluated:
     """Everything about the points ``P`` (N, 2) on zero curves of ``G``.
 
     In chunks over threads (:func:`plbar.util.threads.map_chunks`); the sampling
     of the admissibility check is fixed for the whole batch, so the result does
-    not depend on the chunks.
+    not depend on the chunks.  With ``progress``, in about 20 blocks with a
+    progress bar (``desc``).
     """
     ns = n_samples(prob, P.sum(axis=1)) if len(P) else 65
     m = prob.system.w1.size + prob.system.w2.size
     cap = max(16, int(SAMPLE_ELEMENTS // (ns * m)))        # memory: the dense sampling is (points, ns, modes)
-    return Evaluated.concat(map_chunks(lambda a, b: _evaluate_chunk(prob, P[a:b], ns), len(P),
-                                       min(PAR_CHUNK // 4, cap), cap))
+
+    def block(Q):
+        return map_chunks(lambda a, b: _evaluate_chunk(prob, Q[a:b], ns), len(Q), min(PAR_CHUNK // 4, cap), cap)
+
+    if not progress or len(P) < 2 * PAR_CHUNK:
+        return Evaluated.concat(block(P))
+    step = max(PAR_CHUNK, -(-len(P) // 20))
+    parts = []
+    with progress_bar(len(P), True, desc, "point") as bar:
+        for i in range(0, len(P), step):
+            parts += block(P[i:i + step])
+            bar.update(min(step, len(P) - i))
+    return Evaluated.concat(parts)

@@ -56,7 +56,7 @@ def _traced(prob, sc, ev0, progress, stats):
     allP = np.concatenate([c[0] for c in traced]) if traced else np.zeros((0, 2))
     offs = np.r_[0, np.cumsum([len(c[0]) for c in traced])]
     stats["traced_points"] = int(len(allP))
-    ev = evaluate(prob, allP) if len(allP) else None
+    ev = evaluate(prob, allP, progress, "checking path points") if len(allP) else None
     return [(np.arange(offs[i], offs[i + 1]), traced[i][1]) for i in range(len(traced))], ev
 
 
@@ -96,25 +96,21 @@ def find_paths(prob: Problem, domain: Domain | None = None, grid: tuple[int, int
     stats = {"grid": [n1, n2], "method": method, "crossings": int(sc.ids.size), "t_scan": time.perf_counter() - t0}
     branches = []
     if sc.ids.size:
-        with progress_bar(3, progress, "checking crossings", "phase", delay=2.0) as bar:
-            stats["refine_iterations"] = sc.iterations
-            ev0 = evaluate(prob, sc.P)
-            stats["zeros"] = int((ev0.r1 < ZERO_TOL).sum())
-            stats["admissible_crossings"] = int(ev0.good.sum())
-            bar.update(1)
-            t1c = time.perf_counter()
-            if method == "grid":
-                curves = [(np.asarray(ix, int), ends) for ix, ends in curves_grid(sc)]
-                ev = ev0
-            else:
-                bar.set_description("tracing and checking path points")
-                curves, ev = _traced(prob, sc, ev0, progress, stats)
-            stats["t_curves"] = time.perf_counter() - t1c
-            bar.update(1)
-            bar.set_description("damping and stability")
-            runs = admissible_runs(curves, ev.good, ev.why) if ev is not None else []
+        stats["refine_iterations"] = sc.iterations
+        ev0 = evaluate(prob, sc.P, progress, "checking crossings")
+        stats["zeros"] = int((ev0.r1 < ZERO_TOL).sum())
+        stats["admissible_crossings"] = int(ev0.good.sum())
+        t1c = time.perf_counter()
+        if method == "grid":
+            curves = [(np.asarray(ix, int), ends) for ix, ends in curves_grid(sc)]
+            ev = ev0
+        else:
+            curves, ev = _traced(prob, sc, ev0, progress, stats)
+        stats["t_curves"] = time.perf_counter() - t1c
+        runs = admissible_runs(curves, ev.good, ev.why) if ev is not None else []
+        with progress_bar(1, progress, "damping and stability", "batch", delay=2.0) as bar:
             branches = build_branches(ev, runs)
-            stats["admissible"] = int(sum(len(r) for r, _ in runs))
             bar.update(1)
+        stats["admissible"] = int(sum(len(r) for r, _ in runs))
     stats["t_total"] = time.perf_counter() - t0
     return Paths(prob, domain, (n1, n2), tuple(branches), stats)

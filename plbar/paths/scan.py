@@ -70,16 +70,24 @@ def scan_field(prob: Problem, domain, grid: tuple[int, int], progress: bool = Fa
     return t1, t2, out
 
 
-def refine_edges(prob: Problem, Pa, Pb, Ga, Gb):
-    """Exact zeros of ``G`` on the segments ``Pa -> Pb`` (each (E, 2)); returns the points and the rounds used."""
+def refine_edges(prob: Problem, Pa, Pb, Ga, Gb, progress: bool = False):
+    """Exact zeros of ``G`` on the segments ``Pa -> Pb`` (each (E, 2)); returns the points and the rounds used.
+
+    With ``progress``, a bar counts the crossings refined to round-off (a round evaluates every open one).
+    """
     span = np.abs(Pb - Pa).max(axis=1)
     scale = np.maximum(np.abs(Pa).max(axis=1), np.abs(Pb).max(axis=1))
+    with progress_bar(len(Pa), progress, "refining crossings", "crossing") as bar:
+        left = [len(Pa)]
 
-    def f(idx, s):
-        P = Pa[idx] + s[:, None] * (Pb[idx] - Pa[idx])
-        return chunked_G(prob, P[:, 0], P[:, 1])
+        def f(idx, s):
+            bar.update(left[0] - idx.size)                 # the brackets closed since the last round
+            left[0] = idx.size
+            P = Pa[idx] + s[:, None] * (Pb[idx] - Pa[idx])
+            return chunked_G(prob, P[:, 0], P[:, 1])
 
-    r = solve(f, 0.0, 1.0, Ga, Gb, 4 * np.finfo(float).eps * scale / span)
+        r = solve(f, 0.0, 1.0, Ga, Gb, 4 * np.finfo(float).eps * scale / span)
+        bar.update(left[0])
     return Pa + r.x[:, None] * (Pb - Pa), r.iterations
 
 
@@ -116,5 +124,5 @@ def scan(prob: Problem, domain, grid: tuple[int, int], progress: bool = False) -
     Ga = np.concatenate([Gg[hi, hj], Gg[vi, vj]])
     Gb = np.concatenate([Gg[hi + 1, hj], Gg[vi, vj + 1]])
     ids = np.concatenate([hi * n2 + hj, (n1 - 1) * n2 + vi * (n2 - 1) + vj]).astype(int)
-    P, its = refine_edges(prob, Pa, Pb, Ga, Gb) if ids.size else (np.zeros((0, 2)), 0)
+    P, its = refine_edges(prob, Pa, Pb, Ga, Gb, progress) if ids.size else (np.zeros((0, 2)), 0)
     return Scan(t1, t2, Gg, hmask, vmask, ids, P, its)

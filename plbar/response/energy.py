@@ -1,7 +1,9 @@
 """Impact loss and the equivalent viscous damping ratio (paper Sec. 3).
 
 ``Delta_PL`` is the kinetic energy lost at the plastic impact (Eq. (14), in
-the momentum-conserving form of FORMULATION §3); ``Psi_j^alpha`` is the
+the momentum-conserving form of FORMULATION §3), evaluated as ``S v_c^2 / 2``
+(exact with all modes; no difference of two kinetic energies, so no digits are
+lost near grazing); ``Psi_j^alpha`` is the
 integral of the squared modal velocity over the state's interval (Eq. (20),
 closed form of Appendix 2); ``xi_eq`` solves ``Delta_d = Delta_PL``
 (Eqs. (21)-(22)).
@@ -28,7 +30,7 @@ from ..util.reprs import build, count, rng
 from .flow import gauss, psi
 from .orbit import Orbits
 
-__all__ = ["Damping", "damping", "impact_loss", "work_quadrature", "psi_sums", "psi_modes"]
+__all__ = ["Damping", "damping", "impact_loss", "kinetic_energy_loss", "work_quadrature", "psi_sums", "psi_modes"]
 
 
 @dataclass(frozen=True)
@@ -87,7 +89,23 @@ class Damping(Batch):
 
 
 def impact_loss(orb: Orbits) -> np.ndarray:
-    """``Delta_PL = 1/2 v^-T M v^- - 1/2 v^+T M_rr v^+`` in modal form (Eq. (14))."""
+    """``Delta_PL`` of every orbit (Eq. (14)): ``1/2 S v_c(T^-)^2`` with ``S`` the impact mass.
+
+    With all modes Eq. (14), ``1/2 v^-T M v^- - 1/2 v^+T M_rr v^+``, equals ``1/2 S v_c^2`` exactly
+    (:attr:`plbar.TwoStateSystem.impact_mass`, FORMULATION §3), and the product keeps every digit where the
+    difference of two kinetic energies loses them (near grazing, ``Delta_PL << E_K``).  A modally truncated
+    impact loses more than ``1/2 S v_c^2`` (the energy outside the kept modes): there
+    :func:`kinetic_energy_loss`, the difference itself, is returned (and :func:`damping` warns).
+    """
+    s = orb.prob.system
+    if s.truncated:
+        return kinetic_energy_loss(orb)
+    vc = orb.contact_velocity(orb.T2[:, None])[:, 0]
+    return 0.5 * s.impact_mass * vc * vc
+
+
+def kinetic_energy_loss(orb: Orbits) -> np.ndarray:
+    """``1/2 v^-T M v^- - 1/2 v^+T M_rr v^+`` in modal form (Eq. (14) as written: the check of :func:`impact_loss`)."""
     _, v_end = orb.end()
     _, v_plus = orb.after_impact()
     return 0.5 * np.sum(v_end ** 2, axis=1) - 0.5 * np.sum(v_plus ** 2, axis=1)

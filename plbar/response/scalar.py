@@ -79,6 +79,7 @@ class Small:
         self.r_eta, self.gap_row, self.r_q = s.r_eta.tolist(), s.gap_row.tolist(), float(prob.r_q)
         self.nr = sum(v * v for v in self.r_eta) ** 0.5
         self.ng = max(abs(v) for v in self.gap_row)
+        self.S = None if s.truncated else float(s.impact_mass)     # Delta_PL = S v_c^2 / 2 with all modes
 
 
 def _state_I(k: Small, W: float, T1: float, c: float, sn: float, eta0, v0):
@@ -159,7 +160,8 @@ def orbit(k: Small, T: float, T1: float, a, Z):
     ep, vp = _mv(k.P21, eT), _mv(k.Q21, vT)
     zmax = max(map(abs, z))
     per = max(abs(x - y) for x, y in zip(ep + vp, z)) / (zmax if zmax > 0 else 1e-300)
-    dPL = 0.5 * sum(x * x for x in vT) - 0.5 * sum(x * x for x in vp)
+    dPL = 0.5 * k.S * v_imp * v_imp if k.S is not None else \
+        0.5 * sum(x * x for x in vT) - 0.5 * sum(x * x for x in vp)
     den, cancel = _psi_sum(k, W, phi, T1, T2, eta0, v0, es, vs)
     return dict(phi=phi, eta0=eta0, v0=v0, eta_s=es, v_s=vs, r1=r1, r2=r2, sc1=sc1, sc2=sc2, per=per,
                 v_imp=v_imp, dPL=dPL, den=den, cancel=cancel)

@@ -23,7 +23,7 @@ from ..errors import InputError
 from ..paths.follow import Band
 from ..util.check import show
 
-__all__ = ["Anchor", "parse_anchor", "window_band", "DEFAULT_WINDOW", "slug", "family_label"]
+__all__ = ["Anchor", "parse_anchor", "window_band", "DEFAULT_WINDOW", "slug", "family_label", "family_title"]
 
 DEFAULT_WINDOW = 0.15    #: relative half-width of a family's period window (holds the chain's paths at N = 5)
 
@@ -96,3 +96,14 @@ def slug(text: str) -> str:
 def family_label(family: str, k: int, count: int) -> str:
     """``T0_II/2``, or ``T0_II/2#2`` for the second of several families seeded in one window."""
     return family if count == 1 else f"{family}#{k + 1}"
+
+
+def family_title(label: str) -> str:
+    """A family label for a plot title: ``T0_II/2`` -> ``family near $T_0^{II}/2$`` (``#2`` -> ``(seed 2)``)."""
+    base, _, k = label.partition("#")
+    m = _SPEC.match(base)
+    if m:
+        tex = (f"{m['a']} " if m["a"] else "") + f"$T_0^{{{m['s'].upper()}}}" + (f"/{m['b']}$" if m["b"] else "$")
+    else:
+        tex = f"T = {base}"
+    return f"family near {tex}" + (f" (seed {k})" if k else "")

@@ -3,7 +3,8 @@
 ``q(h) = q_inf + C h^p`` on the finest sizes ``h_0 > h_1 > ...`` (``h = L/N``, any refinement ratios):
 :func:`triple_rates` (observed order per triple; Roache's GCI, Celik et al. 2008), :func:`richardson`
 (limit and error estimate), :func:`converge` (all of it, a :class:`Convergence`), :func:`known_limit`
-(orders against an exact limit), :func:`decay_fit` (``C h^p`` against ``a / (b + ln(1/h))``).
+(orders against an exact limit), :func:`caution` (when a rate should not be stated); the decay laws are in
+:mod:`.decay`.
 Pure numpy; nothing divides by zero or takes ``log(0)`` (masked first), and results hold ``None``
 (never nan) with a sentence (``why``) where a number does not exist.
 """
@@ -17,8 +18,8 @@ import numpy as np
 from ..errors import InputError
 from ..util import solve_brackets
 
-__all__ = ["AT_LIMIT", "NON_FINITE", "NOT_CONVERGING", "NO_CHANGE", "OSCILLATORY", "Convergence", "DecayFit",
-           "converge", "decay_fit", "known_limit", "pair_rates", "richardson", "triple_rates"]
+__all__ = ["AT_LIMIT", "NON_FINITE", "NOT_CONVERGING", "NO_CHANGE", "OSCILLATORY", "Convergence", "converge",
+           "known_limit", "pair_rates", "richardson", "triple_rates", "caution", "MIN_MESHES"]
 
 EPS = float(np.finfo(float).eps)
 ROUNDOFF = 100.0            #: a difference at or below ``ROUNDOFF * eps * |q|`` is round-off ("no change")
@@ -227,6 +228,8 @@ class Convergence:
     the finest triple's (pair's) order; ``fitted``: slope of ``log|q - limit|`` against ``log h`` over the sizes
     used; ``expected``: the formal order (recorded only).  ``limit, error``: :func:`richardson`, or the known limit
     and 0.  ``why``: ``""`` when a rate and a limit exist, else one sentence saying what is missing and why.
+    ``meshes``: how many sizes the numbers rest on; ``caution``: why a rate or limit should not be stated even
+    where one was computed (:func:`caution`; ``""`` if it may be).
     """
 
     name: str
@@ -242,6 +245,13 @@ class Convergence:
     expected: float | None = None
     missing: tuple[float, ...] = ()
     method: str = "richardson"
+    meshes: int = 0
+    caution: str = ""
+
+    @property
+    def stated(self) -> bool:
+        """A rate and a limit exist and may be stated (no :attr:`caution`)."""
+        return self.ok and not self.caution
 
     @property
     def ok(self) -> bool:
@@ -287,6 +297,28 @@ def _why(k: int, need: int, last: str, labels: list[str], missing: list[str], un
     return ""
 
 
+#: a rate or limit is stated only when it rests on at least this many meshes (3 give one triple: no check of it)
+MIN_MESHES = 4
+
+
+def caution(h, q, noise: float = 0.0) -> str:
+    """Why a rate or limit of ``q(h)`` should not be stated (``""`` if it may): too few meshes, or no convergence.
+
+    Fewer than :data:`MIN_MESHES` finite values (an order from one triple cannot be checked), or successive
+    differences that change sign (beyond round-off or ``noise``): the values wander, and a rate fitted to them
+    describes the wandering, not a convergence.
+    """
+    q = np.asarray(q, float)
+    q = q[np.isfinite(q)]
+    if q.size < MIN_MESHES:
+        return f"rests on {q.size} mesh{'' if q.size == 1 else 'es'}; a rate is stated from {MIN_MESHES} on"
+    d = q[1:] - q[:-1]
+    d = d[np.abs(d) > _floor(q[1:], q[:-1], noise)]
+    if np.any(np.sign(d[1:]) != np.sign(d[:-1])):
+        return "the successive differences change sign (the values wander; no sign of convergence)"
+    return ""
+
+
 def _study(name, h, q, n, need: int, rater, extrapolate, expected, noise: float, method: str) -> Convergence:
     """Shared by :func:`converge` and :func:`known_limit`: drop missing sizes, rate, limit, fit, reason."""
     h, q, labels = _prepare(h, q, n)
@@ -300,7 +332,7 @@ def _study(name, h, q, n, need: int, rater, extrapolate, expected, noise: float,
     fitted = _slope(hu, qu - limit, _floor(qu, limit, noise)) if limit is not None else None
     return Convergence(str(name), tuple(map(float, hu)), tuple(map(float, qu)), tuple(map(_num, p)),
                        tuple(reasons), rate, fitted, limit, error, why, _num(expected), tuple(map(float, h[~fin])),
-                       method)
+                       method, int(hu.size), caution(hu, qu, noise))
 
 
 def converge(name: str, h, q, expected: float | None = None, *, n=None, noise: float = 0.0) -> Convergence:
@@ -330,71 +362,3 @@ def known_limit(name: str, h, q, limit: float, expected: float | None = None, *,
         raise InputError(f"the known limit must be finite, got {limit}")
     return _study(name, h, q, n, 2, lambda hu, qu: pair_rates(hu, qu, limit, noise=noise),
                   lambda hu, qu, rate: (float(limit), 0.0), expected, noise, "known limit")
-
-
-@dataclass(frozen=True)
-class DecayFit:
-    """Two models of a quantity that tends to 0 (:func:`decay_fit`); ``None`` where a model does not exist.
-
-    ``power``: ``q ~ C h^p`` (``rate = p``, ``coef = C``); ``log``: ``q ~ a / (b + ln(1/h))``.
-    ``*_residual``: rms of ``ln q - ln model(h)``.  ``model`` is the better one (``"power"`` or ``"log"``),
-    ``""`` with ``why`` when neither can be chosen.
-    """
-
-    name: str
-    h: tuple[float, ...]
-    q: tuple[float, ...]
-    rate: float | None
-    coef: float | None
-    power_residual: float | None
-    a: float | None
-    b: float | None
-    log_residual: float | None
-    model: str
-    why: str
-
-    def __repr__(self) -> str:
-        return f"DecayFit({self.name!r}, model={self.model!r}, {self.formula() or self.why})"
-
-    def formula(self) -> str:
-        """The chosen model with its numbers, e.g. ``"q ~ 2 h^1.3"`` or ``"q ~ 0.3 / (1.5 + ln(1/h))"``."""
-        if self.model == "power":
-            return f"q ~ {self.coef:.4g} h^{self.rate:.4g}"
-        if self.model == "log":
-            return f"q ~ {self.a:.4g} / ({self.b:.4g} + ln(1/h))"
-        return ""
-
-    def as_dict(self) -> dict:
-        """Plain JSON-able data; no nan or inf anywhere."""
-        return {**_plain(self), "formula": self.formula()}
-
-
-def decay_fit(h, q, name: str = "") -> DecayFit:
-    """Fit ``q ~ C h^p`` and ``q ~ a / (b + ln(1/h))`` to a positive quantity that tends to 0; pick the better.
-
-    The power law is a line in ``(ln h, ln q)``; the logarithmic law is a line in ``(ln(1/h), 1/q)``:
-    ``1/q = b/a + ln(1/h)/a`` (it needs a positive slope ``1/a`` and ``b + ln(1/h) > 0`` at every size).
-    Both are judged by the rms residual in ``ln q`` (two parameters each), so a table can say "decays like
-    1/ln N" rather than report a small power.  Non-finite ``q`` are dropped; choosing needs >= 3 sizes.
-    """
-    h, q, _ = _prepare(h, q, None)
-    fin = np.isfinite(q)
-    h, q = h[fin], q[fin]
-    out = {"name": str(name), "h": tuple(map(float, h)), "q": tuple(map(float, q)), "rate": None, "coef": None,
-           "power_residual": None, "a": None, "b": None, "log_residual": None, "model": "", "why": ""}
-    if np.any(q <= 0):
-        return DecayFit(**{**out, "why": "q is not positive everywhere; a decay fit needs q > 0"})
-    if h.size < 2:
-        return DecayFit(**{**out, "why": f"only {h.size} size{'' if h.size == 1 else 's'}; a fit needs 2"})
-    c0, p = _line(np.log(h), np.log(q))
-    rms = lambda r: float(np.sqrt(np.mean(r * r)))                # the residual in ln q
-    out.update(rate=p, coef=_num(np.exp(min(c0, 700.0))), power_residual=rms(np.log(q) - c0 - p * np.log(h)))
-    x = -np.log(h)
-    alpha, beta = _line(x, 1.0 / q)
-    den = alpha + beta * x                                     # 1/model = (b + ln(1/h)) / a
-    if beta > 0 and np.all(den > 0):
-        out.update(a=1.0 / beta, b=alpha / beta, log_residual=rms(np.log(q) + np.log(den)))
-    if h.size < 3:
-        return DecayFit(**{**out, "why": "only 2 sizes; choosing a model needs 3"})
-    log = out["log_residual"] is not None and out["log_residual"] < out["power_residual"]
-    return DecayFit(**{**out, "model": "log" if log else "power"})

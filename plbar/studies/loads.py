@@ -4,10 +4,14 @@
 reference; any load with ``h(q) != 0`` has the same paths), builds the
 quadratic forms of :mod:`plbar.loadforms` and writes into ``out``:
 
-``xi_positions.csv``
-    ``branch, point, T, s, xi, dPL`` for a unit point force at each position
-    ``s`` (default: ``per_element`` positions per element, the element ends
-    included, the clamp ``s = 0`` excluded: a force there does nothing).
+``xi_positions.npz``
+    ``xi`` and ``dPL`` (path points x positions) for a unit point force at each
+    position ``s`` (default: ``per_element`` positions per element, the element
+    ends included, the clamp ``s = 0`` excluded: a force there does nothing),
+    with ``s`` and, per path point, ``branch, point, T``: 8 bytes a number,
+    against about 85 characters a row of the tidy CSV, which repeats the
+    path point on every row (``positions_csv=True`` writes that too:
+    ``xi_positions.csv``, ``branch, point, T, s, xi, dPL``).
 ``worst_load.csv``
     ``branch, point, T1, T2, phi, T, xi_worst, xi_best_single, s_best_single``:
     the largest ``xi_eq`` over every load distribution (``b^T G^+ b / 2``)
@@ -30,24 +34,50 @@ quadratic forms of :mod:`plbar.loadforms` and writes into ``out``:
 
 from __future__ import annotations
 
+import contextlib
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, LargeOutputWarning
 from ..util.files import atomic_path, write_csv, write_json
+from ..util.outputs import check_folder, clear_owned
+from ..util.version import __version__
 from .families import FAMILIES, OTHER, assign_families
 from .loadforms import HZERO_TOL, LoadForms, load_forms
 
 __all__ = ["sweep_loads", "mesh_positions", "vertex_loads", "family_labels", "pair_table", "position_table",
-           "worst_table", "POSITIONS_HEADER", "WORST_HEADER", "PAIRS_HEADER"]
+           "tidy_positions", "worst_table", "check_positions", "POSITIONS_HEADER", "WORST_HEADER", "PAIRS_HEADER",
+           "SWEEP_OWNED", "WARN_BYTES"]
 
 POSITIONS_HEADER = ["branch", "point", "T", "s", "xi", "dPL"]
 WORST_HEADER = ["branch", "point", "T1", "T2", "phi", "T", "xi_worst", "xi_best_single", "s_best_single"]
 PAIRS_HEADER = ["load", "s1", "a1", "s2", "a2", "family", "points", "T_min", "T_max", "xi_min", "xi_max",
                 "T_at_max", "T1_at_max", "T2_at_max", "phi_at_max", "dPL_at_max", "no_path_points"]
 G17 = "%.17g"
+#: what ``sweep-loads`` owns in its folder (the old table names too: an earlier sweep's files are never left over)
+SWEEP_OWNED = ("xi_positions.npz", "xi_positions.csv", "worst_load.csv", "worst_load_shapes.npz", "xi_along_mesh.vtu",
+               "load_pairs.csv", "xi_T_s.png", "summary.json", "sweep.csv", "sweep_max.csv", "sweep_summary.json",
+               ".*.part.*")
+WARN_BYTES = 50e6       #: a positions table larger than this is announced (a warning that names the switches)
+CSV_ROW_BYTES = 85      #: about the size of one row of the tidy xi_positions.csv (measured: 81)
+
+
+def check_positions(case, positions=None, per_element: int = 50) -> None:
+    """Refuse bad positions or ``per_element`` before any solve (one line saying what to give instead)."""
+    if positions is None:
+        if isinstance(per_element, bool) or not isinstance(per_element, (int, np.integer)) or per_element < 1:
+            raise InputError(f"per_element = {per_element!r} must be a positive integer (positions per element, "
+                             "--per-element K)")
+        return
+    s = np.asarray(positions, dtype=float).ravel()
+    L = case.bar().length
+    bad = s[~(np.isfinite(s) & (s > 0) & (s <= L * (1 + 1e-12)))]
+    if s.size == 0 or bad.size:
+        what = f"position {bad[0]:g} is outside" if bad.size else "no position given for"
+        raise InputError(f"{what} the bar (0, {L:g}]; give unit-force positions S with 0 < S <= L (--positions)")
 
 
 def mesh_positions(lf: LoadForms, per_element: int = 50) -> np.ndarray:
@@ -109,12 +139,21 @@ def pair_table(lf: LoadForms, fam: np.ndarray, loads) -> dict:
 
 
 def position_table(lf: LoadForms, positions) -> dict:
-    """``xi_eq`` and ``Delta_PL`` of a unit force at every position and path point (tidy columns)."""
-    s = np.asarray(positions, float)
+    """``xi_eq`` and ``Delta_PL`` of a unit force at every position and path point.
+
+    Returns ``branch, point, T`` (P,), ``s`` (S,) and ``xi, dPL`` (P, S) (what ``xi_positions.npz`` holds).
+    """
+    s = np.asarray(positions, float).ravel()
     xi, dpl = lf.point_loads(s)
-    P, S = xi.shape
-    return {"branch": np.repeat(lf.branch, S), "point": np.repeat(lf.point, S), "T": np.repeat(lf.T, S),
-            "s": np.tile(s, P), "xi": xi.ravel(), "dPL": dpl.ravel(), "_xi": xi}
+    return {"branch": np.asarray(lf.branch), "point": np.asarray(lf.point), "T": np.asarray(lf.T), "s": s,
+            "xi": xi, "dPL": dpl}
+
+
+def tidy_positions(pos: dict) -> dict:
+    """The positions table as tidy columns ``branch, point, T, s, xi, dPL``, one row per path point and position."""
+    P, S = pos["xi"].shape
+    return {"branch": np.repeat(pos["branch"], S), "point": np.repeat(pos["point"], S), "T": np.repeat(pos["T"], S),
+            "s": np.tile(pos["s"], P), "xi": pos["xi"].ravel(), "dPL": pos["dPL"].ravel()}
 
 
 def worst_table(lf: LoadForms) -> tuple[dict, object]:
@@ -175,10 +214,32 @@ def _blank(col):
     return ["" if (isinstance(v, float) and np.isnan(v)) else repr(float(v)) for v in col]
 
 
-def _write_tables(out: Path, pos, wcols, w, fam, pairs_rows, lf) -> dict:
+def _table_bytes(pos: dict, csv: bool) -> float:
+    return pos["xi"].size * (CSV_ROW_BYTES if csv else 16)
+
+
+def _write_positions(out: Path, pos: dict, csv: bool) -> dict:
+    """``xi_positions.npz`` (and the tidy ``xi_positions.csv`` if asked), announced above :data:`WARN_BYTES`."""
+    size = _table_bytes(pos, csv)
+    if size > WARN_BYTES:
+        P, S = pos["xi"].shape
+        warnings.warn(f"the positions table holds {P} path points x {S} positions = {P * S} values (about "
+                      f"{size / 1e6:.0f} MB{' of CSV' if csv else ''}); fewer positions: --per-element K or "
+                      "--positions S ...", LargeOutputWarning, stacklevel=3)
     files = {}
-    files["xi_positions"] = write_csv(out / "xi_positions.csv", POSITIONS_HEADER, [pos[k] for k in POSITIONS_HEADER],
-                                      ["%d", "%d", G17, G17, G17, G17], allow_nan=False)
+    with atomic_path(out / "xi_positions.npz") as tmp:
+        np.savez(tmp, **{k: pos[k] for k in ("branch", "point", "T", "s", "xi", "dPL")})
+    files["xi_positions"] = out / "xi_positions.npz"
+    if csv:
+        t = tidy_positions(pos)
+        files["xi_positions_csv"] = write_csv(out / "xi_positions.csv", POSITIONS_HEADER,
+                                              [t[k] for k in POSITIONS_HEADER], ["%d", "%d", G17, G17, G17, G17],
+                                              allow_nan=False)
+    return files
+
+
+def _write_tables(out: Path, pos, wcols, w, fam, pairs_rows, lf, csv: bool = False) -> dict:
+    files = _write_positions(out, pos, csv)
     files["worst_load"] = write_csv(out / "worst_load.csv", WORST_HEADER, [wcols[k] for k in WORST_HEADER],
                                     ["%d", "%d"] + [G17] * 7, allow_nan=False)
     cols = [(_blank(pairs_rows[k]) if k in ("s2", "a2") else pairs_rows[k]) for k in PAIRS_HEADER]
@@ -205,13 +266,13 @@ def _write_mesh(out: Path, lf: LoadForms, fam, bar) -> Path:
 def _plot(out: Path, lf: LoadForms, fam, pos, wcols) -> Path:
     from ..visuals import xi_load_map
 
-    s = np.asarray(pos["s"]).reshape(len(lf), -1)[0]
-    return xi_load_map(out / "xi_T_s.png", lf.T, lf.branch, fam, s, pos["_xi"], wcols["xi_worst"],
+    return xi_load_map(out / "xi_T_s.png", lf.T, lf.branch, fam, pos["s"], pos["xi"], wcols["xi_worst"],
                        wcols["xi_best_single"], [f for f in FAMILIES + (OTHER,) if np.any(fam == f)])
 
 
 def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pairs: bool = True,
-                progress: bool = False, loads=(), plot: bool = True) -> dict:
+                progress: bool = False, loads=(), plot: bool = True, positions_csv: bool = False,
+                overwrite: bool = False) -> dict:
     """One path solve, then every load position, the node pairs and the worst load.
 
     Parameters
@@ -219,15 +280,20 @@ def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pair
     case : plbar.Case, optional
         The bar and the reference load (default: the paper's chain ``N = 5``, DOF 1).
     out : path, optional
-        Study folder; nothing is written if None.
+        Study folder; nothing is written if None.  Claimed for ``sweep-loads``
+        (:func:`plbar.util.outputs.claim_folder`): another command's or case's folder
+        is refused unless ``overwrite``.
     positions : array_like, optional
-        Unit point-force positions; default :func:`mesh_positions` with ``per_element``.
+        Unit point-force positions in ``(0, L]``; default :func:`mesh_positions` with ``per_element``
+        (both checked before the solve).
     pairs : bool
         Also the Fig. 9 table (:func:`vertex_loads`).
     loads : sequence of sequences of (s, a)
         Extra load combinations for the pair table (e.g. ones with ``h(q) = 0``).
     plot : bool
         Write ``xi_T_s.png`` (needs matplotlib).
+    positions_csv : bool
+        Also write the positions table as the tidy ``xi_positions.csv``.
 
     Returns
     -------
@@ -236,12 +302,26 @@ def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pair
         ``forms`` (:class:`plbar.loadforms.LoadForms`), ``result`` (the solve),
         ``tables`` (the columns written).
     """
-    from ..app import Case, solve
+    from ..app import Case, case_fingerprint, solve
 
     case = Case() if case is None else case
-    t0 = time.perf_counter()
-    res = solve(case, progress=progress)
-    times = {"solve": time.perf_counter() - t0}
+    check_positions(case, positions, per_element)
+    claim = None if out is None else \
+        check_folder(out, "sweep-loads", case_fingerprint(case), SWEEP_OWNED, overwrite)   # before the solve
+    files = {}
+    with claim or contextlib.nullcontext():
+        t0 = time.perf_counter()
+        res = solve(case, progress=progress)
+        r = _study(res, positions, per_element, pairs, loads, {"solve": time.perf_counter() - t0})
+        if claim is not None:
+            claim.take()
+            clear_owned(claim.folder, SWEEP_OWNED)
+            files = _write_all(claim.folder, r, res, plot, positions_csv)
+    return {"files": files, **r, "result": res}
+
+
+def _study(res, positions, per_element, pairs, loads, times) -> dict:
+    """The load study of one solve: forms, families, the tables and the summary (no files)."""
     t1 = time.perf_counter()
     lf = load_forms(res.paths)
     fam = family_labels(res.paths, lf)
@@ -255,14 +335,17 @@ def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pair
     no_path = _no_path(lf, named)
     times["load_study"] = time.perf_counter() - t1
     summary = _summary(lf, fam, wcols, prow, pos_s, no_path, times)
-    summary["case"] = case.to_dict()
-    files = {}
-    if out is not None:
-        out = Path(out)
-        files.update(_write_tables(out, pos, wcols, w, fam, prow, lf))
-        files["xi_along_mesh"] = _write_mesh(out, lf, fam, res.paths.prob.bar)
-        if plot:
-            files["plot"] = _plot(out, lf, fam, pos, wcols)
-        files["summary"] = write_json(out / "summary.json", summary)
-    return {"files": files, "summary": summary, "forms": lf, "result": res, "families": fam,
-            "tables": {"positions": pos, "worst": wcols, "pairs": prow}, "worst": w}
+    summary["case"] = res.case.to_dict()
+    summary["plbar_version"] = __version__
+    return {"summary": summary, "forms": lf, "families": fam, "worst": w,
+            "tables": {"positions": pos, "worst": wcols, "pairs": prow}}
+
+
+def _write_all(out: Path, r: dict, res, plot: bool, csv: bool) -> dict:
+    lf, fam, t = r["forms"], r["families"], r["tables"]
+    files = _write_tables(out, t["positions"], t["worst"], r["worst"], fam, t["pairs"], lf, csv)
+    files["xi_along_mesh"] = _write_mesh(out, lf, fam, res.paths.prob.bar)
+    if plot:
+        files["plot"] = _plot(out, lf, fam, t["positions"], t["worst"])
+    files["summary"] = write_json(out / "summary.json", r["summary"])
+    return files

@@ -27,7 +27,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..util.files import write_csv, write_json
-from .convergence import converge, decay_fit, known_limit
+from .convergence import converge, known_limit
+from .decay import decay_fit
 from .anchors import family_label
 from .track import admissible_runs_of
 

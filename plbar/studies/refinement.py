@@ -20,19 +20,19 @@ from dataclasses import asdict, replace
 from pathlib import Path
 
 from ..app import Case
-from ..errors import InputError, OutputExistsError
+from ..errors import InputError
 from ..util.check import show
 from ..util.files import write_json
-from ..util.outputs import clear_owned
+from ..util.outputs import claim_folder, fingerprint
 from ..util.progress import progress_bar
-from .anchors import family_label, parse_anchor, slug
+from .anchors import family_label, family_title, parse_anchor, slug
 from .executor import SerialExecutor
 from .refine_tables import convergence_of, decay_of, refine_rows, write_refine
 from .study import Study, run_study
 from .track import TrackSettings, carry_level, mark_merges, seed_levels
 
 __all__ = ["parse_series", "series_name", "refine_study", "refine_task", "track_family", "run_refine", "case_at",
-           "REFINE_OWNED", "PLOTTED"]
+           "refine_fingerprint", "REFINE_OWNED", "PLOTTED"]
 
 #: the quantities drawn in ``refine_convergence.png``
 PLOTTED = ("T0_I_L", "T0_II_L", "S/M_e", "T_mid_T0I", "T_spread_T0I", "xi_max")
@@ -198,34 +198,37 @@ def refine_task(task: dict) -> dict:
 
 #: what a refinement study owns in its folder (cleared before another study is written there)
 REFINE_OWNED = ("refine.csv", "refine_rates.json", "refine_max.csv", "refine_convergence.png",
-                "refine_convergence.pdf", "refine_family.png", "refine_family.pdf", "study.json", "tasks", "levels")
+                "refine_convergence.pdf", "refine_family.png", "refine_family.pdf", "study.json", "tasks", "levels",
+                ".*.part.*")
+
+#: finished work in a refinement folder (a failed study that has some is kept: a rerun resumes it)
+FINISHED = ("levels/*/N*.json", "tasks/*.json")
 
 _SHOW = contextvars.ContextVar("plbar_refine_progress", default=False)
 
 
-def _claim(folder: Path, study: Study, overwrite: bool) -> None:
-    """Refuse a folder holding another refinement (or other) study unless ``overwrite``; clear it if so."""
-    old = folder / "study.json"
-    if not old.is_file():
-        clear_owned(folder, REFINE_OWNED)
-        return
-    try:
-        prev = json.loads(old.read_text())
-    except (OSError, ValueError):
-        prev = None
-    same = isinstance(prev, dict) and prev.get("study") == "refine" and \
-        prev.get("tasks") == json.loads(json.dumps(study.manifest()["tasks"]))
-    if same:
-        return
-    if not overwrite:
-        raise OutputExistsError(f"study folder {str(folder)!r} holds another study; choose another --out or "
-                                "pass --overwrite")
-    clear_owned(folder, REFINE_OWNED)
+def refine_fingerprint(study: Study) -> str:
+    """The identity of a refinement study: its series and settings, not its sizes or families.
+
+    A study with more sizes or other families is the same study extended: its finished meshes are reused
+    (the checkpoints of :func:`track_family` are keyed by the sizes up to each mesh).
+    """
+    series = [t["base"] for t in study.tasks]
+    return fingerprint({"series": [json.loads(x) for x in dict.fromkeys(json.dumps(b, sort_keys=True)
+                                                                         for b in series)],
+                        "settings": study.tasks[0]["settings"] if study.tasks else {}})
 
 
 def run_refine(cases, ns, families=("T0_II/2",), settings: TrackSettings | None = None, out="plbar-refine",
-               executor=None, progress: bool = False, overwrite: bool = False, plot: bool = True) -> dict:
-    """Run (or resume) a refinement study into ``out`` and write its tables and plots.
+               executor=None, progress: bool = False, overwrite: bool = False, plot: bool = True,
+               rates_always: bool = False) -> dict:
+    """Run (or resume, or extend with more sizes) a refinement study into ``out`` and write its tables and plots.
+
+    The folder is claimed for ``refine`` (:func:`plbar.util.outputs.claim_folder`) with
+    :func:`refine_fingerprint`: the same series and settings with other sizes or families extend the study
+    (finished meshes are reused); another study or command is refused unless ``overwrite``.  A study that fails
+    before any mesh is finished leaves nothing behind.  ``rates_always``: the plot states every rate, also
+    those with a caution (:func:`plbar.studies.convergence.caution`).
 
     Returns
     -------
@@ -235,11 +238,14 @@ def run_refine(cases, ns, families=("T0_II/2",), settings: TrackSettings | None 
     """
     t0 = time.perf_counter()
     folder = Path(out)
-    study = refine_study(cases, ns, families, settings, checkpoints=folder / "levels")
-    _claim(folder, study, overwrite)
+    study = refine_study(cases, ns, families, settings, checkpoints=folder / "levels")   # checks every input
+    claim = claim_folder(folder, "refine", refine_fingerprint(study), REFINE_OWNED, overwrite)
     token = _SHOW.set(progress and (executor is None or isinstance(executor, SerialExecutor)))
     try:
         results = run_study(folder, study, executor, progress=progress, overwrite=True)
+    except BaseException:
+        claim.abandon(FINISHED)                # nothing finished: leave nothing that blocks a corrected rerun
+        raise
     finally:
         _SHOW.reset(token)
     rows = refine_rows(results)
@@ -253,20 +259,27 @@ def run_refine(cases, ns, families=("T0_II/2",), settings: TrackSettings | None 
                                                 "xi_decay": decay_of(fam)}
     files = write_refine(folder, rows, rates)
     if plot:
-        files.update(_plots(folder, results, conv))
+        files.update(_plots(folder, results, conv, rates_always))
     return {"rows": rows, "rates": rates, "files": files, "time": time.perf_counter() - t0}
 
 
-def _plots(folder: Path, results: list[dict], conv: dict) -> dict:
+#: what each plotted quantity is, for plot titles
+TITLES = {"T0_I_L": "$T_0^I / L$", "T0_II_L": "$T_0^{II} / L$", "S/M_e": "impact mass $S / M_e$",
+          "T_mid_T0I": "main stretch: mid period / $T_0^I$", "T_spread_T0I": "main stretch: width / $T_0^I$",
+          "xi_max": r"largest $\xi_{eq}$"}
+
+
+def _plots(folder: Path, results: list[dict], conv: dict, always: bool = False) -> dict:
     from ..visuals import convergence_plot, refine_family_plot
 
     items = []
     for (series, family), cs in conv.items():
         for q, c in cs.items():
             if q in PLOTTED:
-                items.append(replace(c, name=f"{family} {q}" if len(conv) == 1 else f"{series} {family} {q}"))
-    fams = [(f"{r['series']} {family_label(r['family'], k, len(r['chains']))}", ch)
+                where = family_title(family) if len(conv) == 1 else f"{series}, {family_title(family)}"
+                items.append(replace(c, name=f"{TITLES[q]} ({where})"))
+    fams = [(f"{r['series']}, {family_title(family_label(r['family'], k, len(r['chains'])))}", ch)
             for r in results for k, ch in enumerate(r["chains"])]
     return {"convergence": convergence_plot(items, folder, "refine_convergence",
-                                            "observed convergence against h = 1/N"),
+                                            "observed convergence against h = 1/N", always=always),
             "family": refine_family_plot(fams, folder, "refine_family")}

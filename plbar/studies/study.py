@@ -27,6 +27,7 @@ from typing import Callable
 
 from ..errors import OutputExistsError, PlbarError
 from ..util.files import write_json
+from ..util.progress import progress_bar
 from .executor import SerialExecutor
 
 __all__ = ["Study", "StudyError", "task_key", "run_study", "load_results", "call_task"]
@@ -126,7 +127,7 @@ def run_study(folder, study: Study, executor: cf.Executor | None = None, progres
     executor : concurrent.futures.Executor, optional
         Default: a serial executor.  Not shut down here.
     progress : bool
-        Show a tqdm progress bar (on stderr).
+        Show the progress on stderr (:func:`plbar.util.progress.progress_bar`).
     overwrite : bool
         Allow a folder that holds another kind of study.
 
@@ -140,8 +141,6 @@ def run_study(folder, study: Study, executor: cf.Executor | None = None, progres
     StudyError
         If tasks failed; the finished ones stay on disk, so a rerun resumes.
     """
-    from tqdm.auto import tqdm
-
     folder = Path(folder)
     (folder / "tasks").mkdir(parents=True, exist_ok=True)
     _check_manifest(folder, study, overwrite)
@@ -149,8 +148,7 @@ def run_study(folder, study: Study, executor: cf.Executor | None = None, progres
     todo = [(k, t) for k, t in zip(keys, study.tasks) if _read_task(_task_file(folder, k), k) is None]
     todo = list({k: t for k, t in todo}.items())          # duplicate tasks run once
     ex = executor or SerialExecutor()
-    bar = tqdm(total=len(set(keys)), initial=len(set(keys)) - len(todo), desc=study.name, unit="task",
-               disable=not progress, leave=False)
+    bar = progress_bar(len(set(keys)), progress, study.name, "task", initial=len(set(keys)) - len(todo))
     try:
         failed = _collect(ex, study.func, todo, folder, bar)
     finally:

@@ -79,6 +79,9 @@ class TrackSettings:
             raise InputError(f"pick = {show(self.pick)} is not allowed; choose {', '.join(PICKS)}")
         if not 0 < self.step <= 0.1:
             raise InputError(f"step = {show(self.step)} must be in (0, 0.1] (a fraction of the window)")
+        if not 0 < self.width < 1:
+            raise InputError(f"window = {show(self.width)} must be a relative half-width in (0, 1), e.g. 0.15 "
+                             "(--window W)")
 
 
 def _evaluated(prob, P: np.ndarray) -> dict:

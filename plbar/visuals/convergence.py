@@ -69,8 +69,16 @@ def _size_ticks(ax, x: np.ndarray) -> None:
     ax.set_xticklabels(labels)
 
 
-def _panel(ax, item) -> None:
-    """One item: markers, the fitted-slope reference, the final observed rate in the legend."""
+def _panel(ax, item, always: bool = False) -> None:
+    """One item: markers, the fitted-slope reference, the final observed rate in the legend.
+
+    An item with a ``caution`` (too few meshes, wandering values) shows its points only, and says why no
+    rate or limit is stated (unless ``always``).
+    """
+    why = (getattr(item, "caution", "") or "") if not always else ""
+    hidden = bool(why) and _number(item.rate) is not None
+    if why:
+        item = _Unstated(item.name, item.h, item.q)
     x, y, against_limit = _points(item)
     if x.size:
         ax.plot(x, y, "o-", color="tab:blue", ms=4, lw=1.0,
@@ -82,17 +90,28 @@ def _panel(ax, item) -> None:
         ax.text(0.5, 0.5, "no nonzero values to show", ha="center", va="center", transform=ax.transAxes)
     _reference(ax, x, y, _number(item.fitted))
     rate = _number(item.rate)
-    ax.plot([], [], " ", label=f"final observed rate {rate:.3g}" if rate is not None else "final rate: none")
-    ax.legend(loc="best", framealpha=0.8)
+    if hidden:
+        ax.plot([], [], " ", label="no rate stated: " + ("too few meshes" if "mesh" in why else "values wander"))
+    else:
+        ax.plot([], [], " ", label=f"final observed rate {rate:.3g}" if rate is not None else "final rate: none")
+    ax.legend(loc="best", framealpha=0.8, fontsize=7)
     ax.set_xlabel("mesh size $h$" if against_limit else "mesh size $h_{i+1}$")
     title = str(item.name)
     if against_limit:
-        ax.set_title(f"{title}: |q(h) - {_number(item.limit):.6g}|")
+        ax.set_title(f"{title}\n|q(h) - {_number(item.limit):.6g}|", fontsize=8)
     else:
-        ax.set_title(f"{title}: no limit, successive differences")
+        ax.set_title(f"{title}\nno limit stated: successive differences", fontsize=8)
 
 
-def convergence_plot(items, out, name: str = "refine_convergence", title: str = "") -> list[Path]:
+class _Unstated:
+    """An item drawn without its rate and limit (successive differences only)."""
+
+    def __init__(self, name, h, q):
+        self.name, self.h, self.q = name, h, q
+        self.limit = self.rate = self.fitted = None
+
+
+def convergence_plot(items, out, name: str = "refine_convergence", title: str = "", always: bool = False) -> list[Path]:
     """Log-log convergence panels (at most :data:`MAX_COLUMNS` per row), written as PNG and PDF.
 
     Parameters
@@ -108,6 +127,8 @@ def convergence_plot(items, out, name: str = "refine_convergence", title: str = 
         File stem: ``<out>/<name>.png`` and ``.pdf`` (written atomically).
     title : str
         Figure title.
+    always : bool
+        State the rate and limit of items with a ``caution`` too (by default they show their values only).
 
     Returns
     -------
@@ -120,7 +141,7 @@ def convergence_plot(items, out, name: str = "refine_convergence", title: str = 
     nrow = max(1, math.ceil(len(items) / ncol))
     fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.4 * nrow), squeeze=False)
     for ax, item in zip(axes.flat, items):
-        _panel(ax, item)
+        _panel(ax, item, always)
     for ax in list(axes.flat)[len(items):]:
         ax.set_visible(False)
     if title:

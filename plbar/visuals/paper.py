@@ -236,14 +236,15 @@ def draw_fig9(out, allres, families) -> list[Path]:
         if P.size:
             vmax = max(vmax, float(np.quantile(P[:, 2], 0.99)))
     for ax, (n, pos, P, T0II), lab in zip(axes, pts, "abcd"):
+        best = ""
         if P.size:
             sc = ax.scatter(P[:, 0], P[:, 1], c=P[:, 2], s=6, cmap="viridis", vmin=0, vmax=vmax)
             j = int(np.argmax(P[:, 2]))
-            ax.plot(P[j, 0], P[j, 1], "*", color="red", ms=12, mec="k",
-                    label=rf"max $\xi_{{eq}}$ = {P[j, 2]:.4f} at s = {P[j, 1]:.3g}")
-            ax.legend(loc="best", framealpha=0.8, fontsize=7)   # where it hides the fewest points
+            ax.plot(P[j, 0], P[j, 1], "*", color="red", ms=12, mec="k")
+            best = f"\n(star) max $\\xi_{{eq}}$ = {P[j, 2]:.4f} at s = {P[j, 1]:.3g}"    # no legend on the data
         ax.axvline(T0II / 2, color="k", ls=":", lw=0.8)
-        ax.set(xlabel="T", title=f"{lab}) N = {n}")
+        ax.set(xlabel="T")
+        ax.set_title(f"{lab}) N = {n}{best}", fontsize=9)
     axes[0].set_ylabel("load position s (0 = clamp, DOF k at s = k)")
     if sc is not None:
         fig.colorbar(sc, ax=list(axes), label=r"$\xi_{eq}$", shrink=0.9)

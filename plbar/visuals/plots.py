@@ -74,26 +74,46 @@ def _draw_events(ax, pts: dict, cols: tuple[int, int], label: bool = True) -> No
                 label=kind if label else None)
 
 
-#: anchor labels closer than this fraction of the axis span are stacked vertically
+#: anchor lines closer than this fraction of the axis span share one label
 ANCHOR_GAP = 0.03
 
 
 def _anchors(ax, T0I: float, T0II: float, label: bool = True) -> list:
-    """Dashed lines at ``T0^I`` and ``T0^II/2``; their labels above the axes, stacked if they would overlap.
+    """Dashed lines at ``T0^I`` and ``T0^II/2``, labelled above the axes on one line.
 
-    Labels whose periods are closer than :data:`ANCHOR_GAP` of the axis span are stacked 14 pt apart.
+    Lines closer than :data:`ANCHOR_GAP` of the axis span share one label, ``T0^I = T0^II/2`` (a uniform bar
+    without an end mass: ``T0^II = 2 T0^I``) or ``T0^I ~ T0^II/2``, instead of two labels stacked or overlapping.
     """
-    marks = ((T0I, "$T_0^I$"), (T0II / 2, "$T_0^{II}/2$"))
-    for x, _ in marks:
-        ax.axvline(x, color="0.5", ls="--", lw=0.7)
     lo, hi = ax.get_xlim()
-    close = abs(T0I - T0II / 2) < ANCHOR_GAP * max(hi - lo, 1e-300)
+    span = max(hi - lo, 1e-300)
+    gap = abs(T0I - T0II / 2)
+    if gap < ANCHOR_GAP * span:
+        sign = "=" if gap <= 1e-9 * span else r"\approx"
+        marks = [(0.5 * (T0I + T0II / 2), f"$T_0^I {sign} T_0^{{II}}/2$")]
+    else:
+        marks = [(T0I, "$T_0^I$"), (T0II / 2, "$T_0^{II}/2$")]
+    for x in (T0I, T0II / 2):
+        ax.axvline(x, color="0.5", ls="--", lw=0.7)
     texts = []
-    for k, (x, lab) in enumerate(marks):
+    for x, lab in marks:
         if label:
             texts.append(ax.annotate(lab, (x, 1.0), xycoords=ax.get_xaxis_transform(), ha="center", va="bottom",
-                                     xytext=(0, 14 * k if close else 0), textcoords="offset points", fontsize=8))
+                                     xytext=(0, 2), textcoords="offset points", fontsize=8))
     return texts
+
+
+def _plain_log_ticks(ax) -> None:
+    """Tick labels of a log axis as plain numbers (``0.6``, ``6``, ``60``), never ``6x10^0``."""
+    from matplotlib.ticker import FuncFormatter
+
+    fmt = FuncFormatter(lambda v, _: f"{v:g}")
+    ax.yaxis.set_major_formatter(fmt)
+    ax.yaxis.set_minor_formatter(FuncFormatter(lambda v, _: f"{v:g}" if _few_decades(ax) else ""))
+
+
+def _few_decades(ax) -> bool:
+    lo, hi = ax.get_ylim()
+    return lo > 0 and hi / lo < 100
 
 
 def frequency_response(res, out, name: str = "frequency_response") -> Path:
@@ -125,12 +145,18 @@ def frequency_response(res, out, name: str = "frequency_response") -> Path:
     ax1.set_ylabel(r"max $|x_c|$ (contact node)")
     ax2.set_ylabel(r"$\xi_{eq}$ (Eq. 22)")
     ax2.set_xlabel("forcing period $T$")
-    ax1.plot([], [], "o", color="tab:blue", label="1P (paper's class), stable")
-    ax1.plot([], [], "x", color="tab:red", label="1P, unstable (other signatures: hollow)")
-    ax1.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
+    kinds = [(b.stable.any(), (~b.stable).any()) for b in res.branches]
+    hollow = " (other signatures: hollow)" if getattr(res, "hybrid", ()) else ""
+    if any(k[0] for k in kinds):                                   # only the kinds present
+        ax1.plot([], [], "o", color="tab:blue", label="1P (paper's class), stable")
+    if any(k[1] for k in kinds):
+        ax1.plot([], [], "x", color="tab:red", label="1P, unstable" + hollow)
+    if ax1.get_legend_handles_labels()[1]:
+        ax1.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
     if ev:
         ax2.legend(loc="best", framealpha=0.8, title="events")
     ax1.set_yscale("log")
+    _plain_log_ticks(ax1)
     p = res.paths.prob
     fig.suptitle(f"{p.bar.describe() if p.bar else ''}; load {p.load.describe() if p.load else ''}", fontsize=8)
     return _save(fig, out, name)[0]
@@ -173,9 +199,6 @@ def paths_plane(res, out, name: str = "paths_T1_T2") -> Path:
     top = sorted(res.branches, key=lambda b: -float(b.xi.max()) if len(b) else 0.0)[:MAX_BRANCH_LABELS]
     for b in res.branches:
         ax.plot(b.T1, b.T2, "-", lw=1.2)
-    for b in top:
-        j = int(np.argmax(b.xi))
-        ax.annotate(str(b.id), (b.T1[j], b.T2[j]), xytext=(3, 3), textcoords="offset points", fontsize=7)
     ev = _event_points(res.branches)
     _draw_events(ax, ev, (0, 1))
     ax.set_xlabel("$T^I$")
@@ -183,12 +206,33 @@ def paths_plane(res, out, name: str = "paths_T1_T2") -> Path:
     d = res.paths.domain
     ax.set_xlim(*d.T1)
     ax.set_ylim(*d.T2)
+    _branch_labels(ax, fig, top)                      # after the limits: positions in points are final
     if ev:
         ax.legend(fontsize=7, loc="best", framealpha=0.8)
     more = len(res.branches) > len(top)
-    ax.set_title("periodic paths and events (numbers: branch id" +
+    ax.set_title("periodic paths and events (#: branch id" +
                  (f", the {len(top)} with the largest $\\xi_{{eq}}$)" if more else ")"))
     return _save(fig, out, name)[0]
+
+
+#: branch labels closer than this (points) are moved apart, so "1" and "0" never read as "10"
+LABEL_GAP = 11.0
+
+
+def _branch_labels(ax, fig, branches) -> list:
+    """``#id`` at each branch's largest ``xi_eq``; a label that would touch an earlier one is moved up."""
+    to_pt = 72.0 / fig.dpi
+    placed, texts = [], []
+    for b in branches:
+        j = int(np.argmax(b.xi))
+        x, y = (v * to_pt for v in ax.transData.transform((b.T1[j], b.T2[j])))
+        dy = 3.0
+        while any(abs(x - px) < 2.5 * LABEL_GAP and abs(y + dy - py) < LABEL_GAP for px, py in placed):
+            dy += LABEL_GAP
+        placed.append((x, y + dy))
+        texts.append(ax.annotate(f"#{b.id}", (b.T1[j], b.T2[j]), xytext=(3, dy), textcoords="offset points",
+                                 fontsize=7, arrowprops=dict(arrowstyle="-", lw=0.4, color="0.5") if dy > 3 else None))
+    return texts
 
 
 def _edges(v):

@@ -24,7 +24,7 @@ from ..errors import InputError
 from ..io import ResponseData, load_pvd
 from ..util.files import atomic_path
 
-__all__ = ["RenderFiles", "render"]
+__all__ = ["bar_title_position", "RenderFiles", "render"]
 
 SIGNED = ("displacement", "velocity", "strain", "stress")
 
@@ -162,9 +162,7 @@ def _frames(sc: _Scene, ks, window_size) -> dict:
     p = pv.Plotter(off_screen=True, window_size=tuple(window_size))
     try:
         _static(p, sc, ref)
-        sbar = dict(title=sc.field.replace("_", " "), n_labels=3, fmt="%.3g", color="black", vertical=True,
-                    position_x=0.86, position_y=0.1, height=0.62, width=0.035, title_font_size=13,
-                    label_font_size=12)
+        sbar = _scalar_bar(p, sc.field, window_size, x=0.86, y=0.1, height=0.62, width=0.035)
         tube, verts, conn = _geometry(sc, int(sc.first[0]), ref, r)
         nodes, links = pv.PolyData(verts.copy()), pv.line_segments_from_points(conn)
         p.add_mesh(tube, scalars=sc.field, clim=sc.clim, cmap=sc.cmap, scalar_bar_args=sbar, smooth_shading=True,
@@ -255,8 +253,7 @@ def _spacetime(path, data, x, vals, on_points, seg_cell, first, t_loc, T, field,
     try:
         p.set_background("white")
         p.add_mesh(g, scalars=field, clim=clim, cmap=cmap, show_scalar_bar=True, lighting=False,
-                   scalar_bar_args=dict(title=field.replace("_", " "), color="black", n_labels=3, fmt="%.3g",
-                                        vertical=True, position_x=0.88, position_y=0.1, height=0.8, width=0.05))
+                   scalar_bar_args=_scalar_bar(p, field, (900, 760), x=0.88, y=0.1, height=0.76, width=0.05))
         T1 = data.info.get("T1")
         if T1 is not None:
             y = T1 / T * H
@@ -272,6 +269,28 @@ def _spacetime(path, data, x, vals, on_points, seg_cell, first, t_loc, T, field,
     finally:
         p.close()
     return _save_png(path, img)
+
+
+BAR_LABEL_FONT = 12      #: font size of the scalar bar's tick labels
+
+
+TITLE_CHAR = 10.0        #: width of one character of the scalar bar's title (pixels, font size 9)
+
+
+def bar_title_position(window_size, x: float, y: float, height: float, title: str = "") -> tuple[float, float]:
+    """Pixel position of a vertical scalar bar's title: above the bar's top tick label (never on it), and
+    moved left as far as the window needs to show the whole title."""
+    w, h = window_size
+    return min(x * w, w - TITLE_CHAR * len(title) - 4), (y + height) * h + 1.8 * BAR_LABEL_FONT
+
+
+def _scalar_bar(p, field: str, window_size, x: float, y: float, height: float, width: float) -> dict:
+    """The scalar-bar arguments of ``field``; its title is a text above the bar (pyvista draws a bar's own title
+    over its top tick label)."""
+    title = field.replace("_", " ")
+    p.add_text(title, position=bar_title_position(window_size, x, y, height, title), font_size=9, color="black")
+    return dict(title=" ", n_labels=3, fmt="%.3g", color="black", vertical=True, position_x=x, position_y=y,
+                height=height, width=width, label_font_size=BAR_LABEL_FONT)
 
 
 def _fit(p, x0, x1, half_height, window_size, right=0.0, cy=0.0):

@@ -59,8 +59,7 @@ def test_to_dict_has_both_and_reads_back():
 
 
 @pytest.mark.parametrize("kw", [dict(CHAIN, end_mass=0.1), dict(FE, end_mass=0.25),
-                                dict(FE, end_mass=0.7, end_mass_absolute=True), dict(FE, end_mass_absolute=True),
-                                dict(FE)])
+                                dict(FE, end_mass=0.7, end_mass_absolute=True), dict(FE)])
 def test_toml_round_trip(kw):
     case = plbar.Case(**kw)
     text = dump_case(case)

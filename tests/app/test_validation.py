@@ -308,8 +308,9 @@ def test_write_results_refuses_other_case_and_unreadable_summary(tmp_path):
     with pytest.raises(OutputExistsError, match="another case"):
         plbar.write_results(other, tmp_path)
     plbar.write_results(other, tmp_path, overwrite=True)
+    (tmp_path / ".plbar-owner.json").unlink()                     # a folder plbar did not record as its own
     (tmp_path / "summary.json").write_text("{not json")
-    with pytest.raises(OutputExistsError, match="not a plbar summary"):
+    with pytest.raises(OutputExistsError, match="summary.json without a plbar owner marker"):
         plbar.write_results(other, tmp_path)
     with pytest.raises(InputError, match="not a plbar.Result"):
         plbar.write_results("res", tmp_path)

@@ -41,6 +41,7 @@ def _first_divergence(a, b, T):
     return (int(bad[0]) if bad.size else None), float(d[:bad[0] if bad.size else None].max(initial=0.0))
 
 
+@pytest.mark.slow
 def test_events_agree_with_the_independent_simulator_on_20_random_cases():
     """Event times to 1e-9 T over 100 periods, or up to the first divergence of a chaotic motion (reported)."""
     report = []

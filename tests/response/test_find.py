@@ -73,9 +73,9 @@ def test_response_is_admissible_and_its_orbit_is_consistent(default_result):
     assert r.x0[-1] == 0 and r.xdot0[-1] == 0
 
 
-def test_fe_system_both_final_paths_agree(fe_p2_result):
-    prob = fe_p2_result.paths.prob
-    b = max(fe_p2_result.branches, key=len)
+def test_fe_system_both_final_paths_agree(fe_p2_coarse):
+    prob = fe_p2_coarse.paths.prob
+    b = max(fe_p2_coarse.branches, key=len)
     k = len(b) // 2
     r = find_response(prob, b.T[k], b.T1[k] * (1 + 1e-4))
     assert r.T1 == pytest.approx(b.T1[k], rel=1e-9)

@@ -159,11 +159,11 @@ def _similar(prob, Mp, Mm):
 
 
 @pytest.mark.parametrize("which", ["chain", "fe"])
-def test_modal_monodromy_is_the_physical_one_in_modal_coordinates(default_result, fe_p2_result, which):
+def test_modal_monodromy_is_the_physical_one_in_modal_coordinates(default_result, fe_p2_coarse, which):
     """monodromy_modal (used for the multipliers; works for truncated models) vs the physical monodromy."""
     from plbar.response import monodromy_modal
 
-    res = default_result if which == "chain" else fe_p2_result
+    res = default_result if which == "chain" else fe_p2_coarse
     orb = res.paths.points()
     idx = np.linspace(0, len(orb) - 1, 60).astype(int)
     sub = orb.take(idx)

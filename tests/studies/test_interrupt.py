@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from plbar.app import CSV_HEADER
+from plbar.app import CSV_HEADER, TEXT_COLUMNS
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL")
 
@@ -71,14 +71,16 @@ def _kill(proc):
 
 
 def _csv_ok(path: Path) -> int:
-    """``paths.csv`` is complete: the right header, full numeric rows, a final newline; returns the rows."""
+    """``paths.csv`` is complete: the right header, full rows (numbers but the text columns), a final newline;
+    returns the rows."""
     text = path.read_text()
     assert text.endswith("\n")
     lines = text.splitlines()
     assert lines[0] == ",".join(CSV_HEADER)
     for line in lines[1:]:
-        vals = [float(x) for x in line.split(",")]
+        vals = line.split(",")
         assert len(vals) == len(CSV_HEADER)
+        [float(x) for c, x in zip(CSV_HEADER, vals) if c not in TEXT_COLUMNS]
     return len(lines) - 1
 
 
@@ -97,7 +99,7 @@ def _rerun_completes(out: Path):
     assert r.returncode == 0, r.stderr
     n = _csv_ok(out / "paths.csv")
     assert n > 0 and json.loads((out / "summary.json").read_text())["n_points"] == n
-    assert sorted(p.name for p in out.iterdir()) == ["paths.csv", "summary.json"]     # stale temporaries gone
+    assert sorted(p.name for p in out.iterdir()) == [".plbar-owner.json", "paths.csv", "summary.json"]  # no temps
 
 
 def test_kill_when_output_appears(tmp_path):

@@ -59,7 +59,7 @@ def test_old_sweep_tables_reproduced(study):
 
 def test_outputs(study):
     out, res, _ = study
-    for f in ("xi_positions.csv", "worst_load.csv", "worst_load_shapes.npz", "xi_along_mesh.vtu",
+    for f in ("xi_positions.npz", "worst_load.csv", "worst_load_shapes.npz", "xi_along_mesh.vtu",
               "load_pairs.csv", "summary.json", "xi_T_s.png"):
         assert (out / f).stat().st_size > 0, f
     with open(out / "worst_load.csv") as fh:
@@ -70,11 +70,10 @@ def test_outputs(study):
     vals = np.array(rd[1:], float)
     assert np.all(np.isfinite(vals))
     assert np.all(vals[:, 6] >= vals[:, 7] * (1 - 1e-12))          # worst >= best single force
-    with open(out / "xi_positions.csv") as fh:
-        head = fh.readline().strip()
-        body = fh.read()
-    assert head == "branch,point,T,s,xi,dPL" and "nan" not in body
-    assert body.count("\n") == len(lf) * 50                       # 5 elements x 10 positions
+    pos = np.load(out / "xi_positions.npz")
+    assert pos["xi"].shape == pos["dPL"].shape == (len(lf), 50)    # 5 elements x 10 positions
+    assert pos["s"].shape == (50,) and pos["T"].shape == pos["branch"].shape == (len(lf),)
+    assert np.all(np.isfinite(pos["xi"])) and np.array_equal(pos["T"], lf.T)
     z = np.load(out / "worst_load_shapes.npz")
     assert z["q_star"].shape == (len(lf), lf.n)
     assert np.allclose(np.linalg.norm(z["q_star"], axis=1), 1.0)
@@ -91,9 +90,9 @@ def test_zero_contact_response_is_reported(study):
 
 
 def test_single_force_best_matches_positions(study):
-    """The exact best single force is >= every sampled position (xi_positions.csv)."""
+    """The exact best single force is >= every sampled position (xi_positions.npz)."""
     _, res, _ = study
-    xi = res["tables"]["positions"]["_xi"]
+    xi = res["tables"]["positions"]["xi"]
     w = res["tables"]["worst"]
     assert np.all(xi.max(axis=1) <= w["xi_best_single"] + 1e-14)
     assert np.all(w["xi_best_single"] <= w["xi_worst"] * (1 + 1e-12))

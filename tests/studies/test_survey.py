@@ -76,6 +76,7 @@ def _table_bytes(folder):
     return (folder / "survey.csv").read_bytes()
 
 
+@pytest.mark.slow
 def test_same_command_twice_and_dask_give_identical_files(tmp_path):
     pytest.importorskip("dask.distributed")
     T = np.linspace(8.3, 9.3, 6)
@@ -96,6 +97,7 @@ run_survey(plbar.Case(), np.linspace(8.0, 9.0, 8), 150, 20, sys.argv[1], ("rest"
 """
 
 
+@pytest.mark.slow
 def test_kill_and_resume(tmp_path):
     """kill -9 in the middle of a sweep: checkpoints are whole files; the rerun resumes and gives the same table."""
     killed = tmp_path / "killed"
@@ -132,7 +134,7 @@ def test_cli_survey_vocabulary(tmp_path, capsys):
                            "stuck_fraction").split(",")
     assert main(args + ["--quiet"]) == 0 and capsys.readouterr().out == ""          # resumes, same files
     assert main(args[:-1] + ["--num", "4", "-q"]) == 2                             # another survey: refused
-    assert "another study" in capsys.readouterr().err
+    assert "another case (written by 'plbar survey')" in capsys.readouterr().err
     assert main(args + ["--num", "4", "-q", "--overwrite"]) == 0
     assert main(["survey", "--T", "3", "1", "--out", str(tmp_path / "b")]) == 2
     assert main(["survey", "--periods", "10", "--record", "10", "--out", str(tmp_path / "c")]) == 2

@@ -51,7 +51,7 @@ def test_panels_say_what_they_show(figures):
     axes = [ax for ax in fig.axes if ax.get_visible()]
     assert len(axes) == 4 and len(fig.axes) == 6                  # 2 rows of at most 3 columns
     titles = [ax.get_title() for ax in axes]
-    assert titles[0] == "T0_I/L: |q(h) - 1.25|" and "no limit" in titles[1] and "no limit" in titles[3]
+    assert titles[0] == "T0_I/L\n|q(h) - 1.25|" and "no limit" in titles[1] and "no limit" in titles[3]
     legend = [[t.get_text() for t in ax.get_legend().get_texts()] for ax in axes]
     assert f"fitted slope p = {items[0].fitted:.3g}" in legend[0] and legend[0][-1].startswith("final observed rate 2")
     assert "final rate: none" in legend[1] and "fitted slope: none" in legend[1]

@@ -55,24 +55,32 @@ def test_frequency_response_is_bounded_and_legends_kinds_present(fe8, figures, t
 
 
 def test_anchor_labels_do_not_overlap(fe8, figures, tmp_path):
+    """Anchors that (nearly) coincide share one label: not two labels stacked or on top of each other."""
     T0I, T0II = fe8.paths.prob.system.T0
     assert abs(T0I - T0II / 2) < 0.03 * (T0I + T0II)          # FE bar: both near 2
     plots.frequency_response(fe8, tmp_path)
     (fig,) = figures
     fig.canvas.draw()
-    anchors = [t for t in _texts(fig) if t.get_text() in ("$T_0^I$", "$T_0^{II}/2$")]
+    anchors = [t for t in _texts(fig) if "T_0" in t.get_text()]
+    assert [t.get_text() for t in anchors] == ["$T_0^I \\approx T_0^{II}/2$"]
+
+
+def test_separate_anchors_get_one_label_each(default_result, figures, tmp_path):
+    plots.frequency_response(default_result, tmp_path)
+    (fig,) = figures
+    fig.canvas.draw()
+    anchors = [t for t in _texts(fig) if "T_0" in t.get_text()]
     assert sorted(t.get_text() for t in anchors) == ["$T_0^I$", "$T_0^{II}/2$"]
-    a, b = anchors
-    assert a.get_position()[1] != b.get_position()[1]
     r = fig.canvas.get_renderer()
-    assert not a.get_window_extent(r).overlaps(b.get_window_extent(r))
+    assert len({t.get_position()[1] for t in anchors}) == 1                    # one line, not stacked
+    assert not anchors[0].get_window_extent(r).overlaps(anchors[1].get_window_extent(r))
 
 
 def test_paths_plane_labels_only_the_largest_xi(fe8, figures, tmp_path):
     plots.paths_plane(fe8, tmp_path)
     (fig,) = figures
     (ax,) = fig.axes
-    ids = sorted(int(t.get_text()) for t in ax.texts)
+    ids = sorted(int(t.get_text().lstrip("#")) for t in ax.texts)
     top = sorted(b.id for b in sorted(fe8.branches, key=lambda b: -b.xi.max())[:plots.MAX_BRANCH_LABELS])
     assert ids == top and len(ids) == 8 < len(fe8.branches)
     labels = _legend_labels(ax)
@@ -109,11 +117,69 @@ def test_fig9_legend_does_not_hide_data(monkeypatch, tmp_path):
     ax.set_xlim(0.0, 10.5)
     ax.set_ylim(0.0, 5.0)
     fig.canvas.draw()
-    leg = ax.get_legend()
-    box = leg.get_window_extent(fig.canvas.get_renderer())
-    xy = ax.transData.transform(np.c_[T, s])
-    inside = (xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1)
-    assert inside.sum() == 0
+    assert all(a.get_legend() is None for a in fig.axes)         # nothing drawn over the data: the maximum is
+    assert "max" in ax.get_title() and "at s =" in ax.get_title()   # said in the panel's title
     import matplotlib.pyplot as plt
 
     plt.close(fig)
+
+
+# issue 22, "smaller": labels that read as numbers, log ticks, a legend for what is not there ---------------------
+
+def test_branch_labels_never_touch(default_result, figures, tmp_path):
+    """The default case draws branches 0 and 1 side by side: their labels read "10" before."""
+    plots.paths_plane(default_result, tmp_path)
+    (fig,) = figures
+    (ax,) = fig.axes
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    from matplotlib.text import Text
+
+    boxes = [Text.get_window_extent(t, r) for t in ax.texts]             # the text, not its leader line
+    assert all(t.get_text().startswith("#") for t in ax.texts) and len(boxes) >= 8
+    assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1:])
+
+
+def test_log_ticks_are_plain_numbers(fe8, figures, tmp_path):
+    plots.frequency_response(fe8, tmp_path)
+    (fig,) = figures
+    ax1 = fig.axes[0]
+    ax1.set_ylim(0.5, 20.0)                                    # a narrow log range: minor ticks get labels
+    fig.canvas.draw()
+    labels = [t.get_text() for t in ax1.get_yticklabels(minor=True) + ax1.get_yticklabels()]
+    assert any(labels) and not any("times" in x or "^" in x for x in labels), labels
+
+
+def test_stability_legend_lists_only_what_is_there(fe_p2_coarse, figures, tmp_path):
+    res = fe_p2_coarse
+    assert not any(b.stable.any() for b in res.branches)       # this FE bar: no stable point
+    plots.frequency_response(res, tmp_path)
+    (fig,) = figures
+    assert _legend_labels(fig.axes[0]) == ["1P, unstable"]                  # no entry "stable"
+
+
+def test_render_scalar_bar_title_is_above_its_top_label():
+    from plbar.visuals.render import BAR_LABEL_FONT, bar_title_position
+
+    for size, (x, y, h) in (((1200, 340), (0.86, 0.1, 0.62)), ((900, 760), (0.88, 0.1, 0.76))):
+        px, py = bar_title_position(size, x, y, h, "kinetic energy density")
+        assert py >= (y + h) * size[1] + 1.5 * BAR_LABEL_FONT and py < size[1] - 10
+        assert px + 10 * len("kinetic energy density") <= size[0]
+
+
+def test_refine_plot_titles_have_no_internal_names(tmp_path, monkeypatch):
+    from plbar.cli import main
+    from plbar.visuals import convergence as vc
+
+    titles = []
+    real = vc.convergence_plot
+
+    def spy(items, *a, **k):
+        titles.extend(it.name for it in items)
+        return real(items, *a, **k)
+
+    monkeypatch.setattr("plbar.visuals.convergence_plot", spy)
+    assert main(["refine", "-N", "3", "4", "5", "6", "--grid", "30", "30", "--executor", "serial", "-q",
+                 "--out", str(tmp_path)]) == 0
+    assert titles and all("family near $T_0^{II}/2$" in t for t in titles)
+    assert not any(x in t for t in titles for x in ("T0_I_L", "T_mid_T0I", "T0_II/2 ", "xi_max"))

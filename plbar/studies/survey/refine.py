@@ -20,12 +20,15 @@ import numpy as np
 from ...app import Case
 from ...errors import InputError
 from ...util.files import write_csv, write_json
-from ..convergence import converge
+from ...util.outputs import claim_folder, fingerprint
+from ..convergence import MIN_MESHES, converge
 from .study import run_survey
 
 __all__ = ["run_survey_refine", "REFINED", "REFINE_COLUMNS", "MIN_MESHES"]
 
-MIN_MESHES = 4   #: a rate or a limit rests on at least this many meshes (fewer: the reason is said instead)
+#: what a survey refinement owns in its folder (each size's survey is in its own folder, owned by ``survey``)
+REFINE_OWNED = ("survey_refine.csv", "survey_refine.json", "survey_refine.png", "survey_refine.pdf", "N[0-9]*",
+                ".*.part.*")
 
 #: the means whose convergence is measured (with their spread column)
 REFINED = (("loss_per_T", "loss_std"), ("xi_eq", "xi_std"), ("xi_w", None))
@@ -54,6 +57,9 @@ def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int = 1
         raise InputError(f"sizes = {sizes}: give at least two sizes >= 2 for a refinement")
     folder = Path(out)
     T = np.atleast_1d(np.asarray(T, float))
+    what = {"case": {k: v for k, v in case.to_dict().items() if k != "n"}, "T": T.tolist(), "periods": periods,
+            "record": record}                      # not the sizes: more sizes extend the same study
+    claim_folder(folder, "survey-refine", fingerprint(what), REFINE_OWNED, overwrite)
     L0 = case.bar().length
     rows = []
     for n in sizes:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -10,10 +9,10 @@ from pathlib import Path
 import numpy as np
 
 from ...app import Case
-from ...errors import InputError, OutputExistsError
+from ...errors import InputError
 from ...motion import KINDS
 from ...util.files import write_csv, write_json
-from ...util.outputs import clear_owned
+from ...util.outputs import claim_folder, fingerprint
 from ...util.reprs import build, rng
 from ..executor import SerialExecutor
 from ..study import Study, run_study
@@ -23,7 +22,7 @@ from .tasks import MODES, case_fields, make_tasks, survey_task
 __all__ = ["Survey", "survey", "run_survey", "survey_study", "SURVEY_OWNED", "check_forcing_periods"]
 
 #: what a survey owns in its folder (cleared before another survey is written there)
-SURVEY_OWNED = ("survey.csv", "summary.json", "survey.png", "survey.pdf", "study.json", "tasks", "sweeps")
+SURVEY_OWNED = ("survey.csv", "summary.json", "survey.png", "survey.pdf", "study.json", "tasks", "sweeps", ".*.part.*")
 
 _INT = ("m", "status")
 _TEXT = ("kind", "start", "signature")
@@ -104,7 +103,7 @@ def _table(results: list[dict]) -> dict:
 
 
 def _summary(case: Case, table: dict, study: Study, seconds: float) -> dict:
-    from ... import __version__
+    from ...util.version import __version__
 
     kinds = {k: int(np.sum(table["kind"] == k)) for k in KINDS}
     per = {}
@@ -167,27 +166,10 @@ def default_periods(case: Case, num: int = 161) -> np.ndarray:
     return np.linspace(lo, hi, num) * T0
 
 
-def _claim(folder: Path, study: Study, overwrite: bool) -> None:
-    """Refuse a folder holding another study (or a survey of other settings) unless ``overwrite``."""
-    old = folder / "study.json"
-    if not old.is_file():
-        if (folder / "summary.json").is_file() and not overwrite:
-            raise OutputExistsError(f"folder {str(folder)!r} holds results of another command; choose another "
-                                    "--out or pass --overwrite")
-        clear_owned(folder, SURVEY_OWNED)
-        return
-    try:
-        prev = json.loads(old.read_text())
-    except (OSError, ValueError):
-        prev = None
-    same = isinstance(prev, dict) and prev.get("study") == "survey" and \
-        prev.get("tasks") == json.loads(json.dumps(study.manifest()["tasks"]))
-    if same:
-        return
-    if not overwrite:
-        raise OutputExistsError(f"folder {str(folder)!r} holds another study; choose another --out or pass "
-                                "--overwrite")
-    clear_owned(folder, SURVEY_OWNED)
+def _claim(folder: Path, study: Study, overwrite: bool):
+    """The one ownership rule (:func:`plbar.util.outputs.claim_folder`): the same survey resumes; another
+    command's or survey's folder is refused unless ``overwrite``."""
+    return claim_folder(folder, "survey", fingerprint(study.manifest()["tasks"]), SURVEY_OWNED, overwrite)
 
 
 def run_survey(case: Case, T, periods: int = 1000, record: int = 100, out="plbar-survey", modes=("rest",),
@@ -201,8 +183,12 @@ def run_survey(case: Case, T, periods: int = 1000, record: int = 100, out="plbar
     t0 = time.perf_counter()
     folder = Path(out)
     study = survey_study(case, T, periods, record, modes, chunks, checkpoints=folder / "sweeps")
-    _claim(folder, study, overwrite)
-    results = run_study(folder, study, executor, progress=progress, overwrite=True)
+    claim = _claim(folder, study, overwrite)
+    try:
+        results = run_study(folder, study, executor, progress=progress, overwrite=True)
+    except BaseException:
+        claim.abandon(("tasks/*.json", "sweeps/*"))      # nothing finished: nothing left to block a corrected rerun
+        raise
     table = _table(results)
     summary = _summary(case, table, study, time.perf_counter() - t0)
     files = write_survey(folder, table, summary)

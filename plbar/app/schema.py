@@ -1,0 +1,79 @@
+"""The one schema of TOML case files: every key, its type and what it means (read by :mod:`.casefile`).
+
+:func:`schema_table` writes it as the README's table of keys (a test keeps the two in step).
+"""
+
+from __future__ import annotations
+
+__all__ = ["FORMATS", "SCHEMA", "REQUIRED", "HELP", "TYPES", "schema_table"]
+
+FORMATS = ("pvd", "xdmf", "both")
+
+#: expected types: "int", "float" (int accepted), "str", "bool", ("choice", values), "pair", "grid", "pairs"
+SCHEMA = {
+    "": {"title": "str", "bar": "table", "load": "tables", "search": "table", "output": "table"},
+    "bar": {"model": ("choice", ("chain", "fe")), "n": "int", "element": ("choice", ("P1", "P2")),
+            "mass": ("choice", ("lumped", "consistent")), "length": "float", "EA": "float", "rhoA": "float",
+            "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs",
+            "end_mass": "float", "end_mass_absolute": "bool", "modes": "int", "rayleigh": "pair",
+            "damping_ratio": "float", "damping_at": "pair"},
+    "load": {"node": "int", "at": "float", "amplitude": "float"},
+    "search": {"grid": "grid", "T1": "pair", "T2": "pair", "method": ("choice", ("continuation", "grid")),
+               "signatures": ("choice", ("paper", "default", "all"))},
+    "output": {"dir": "str", "vtk": "bool", "format": ("choice", FORMATS), "render": "bool", "field": "str",
+               "periods": ("choice", (1, 2)), "steps": "int", "snapshots": "int", "gif": "bool",
+               "branch": "int", "index": "int", "overwrite": "bool"},
+}
+REQUIRED = ("bar",)
+
+#: what each key means (the README's table is :func:`schema_table`; a test keeps the two and SCHEMA in step)
+HELP = {
+    "": {"title": "a label for the case (optional)", "bar": "the bar (required)",
+         "load": "one `[[load]]` table per force (optional: without one, the default load: DOF 1 of the chain, "
+                 "a unit force at s = L/2 of an FE bar)",
+         "search": "where to look for paths (optional)", "output": "what to write (optional)"},
+    "bar": {"model": "the paper's chain of N masses (L = N) or a finite-element bar; required",
+            "n": "masses of the chain / elements of the FE bar [5 / 8]; not with `mesh_file`",
+            "element": "FE element [P1]; FE only", "mass": "FE mass matrix [lumped]; FE only",
+            "length": "bar length L [1]; FE only, not with `mesh_file`", "EA": "axial stiffness [1]; FE only",
+            "rhoA": "mass per length [1]; FE only", "m": "chain mass [1]; chain only",
+            "k": "chain spring stiffness [1]; chain only",
+            "grading": "last / first element length [1]; FE only, not with `mesh_file`",
+            "mesh_file": "a 1D line mesh (meshio), relative to the TOML file; FE only",
+            "point_masses": "extra point masses m at FE vertices x; FE only",
+            "end_mass": "a rigid mass on the contact node, as a fraction of the bar's mass [0]",
+            "end_mass_absolute": "`true`: `end_mass` is the mass itself [false]; needs `end_mass` > 0",
+            "modes": "keep the lowest modes of each state (locating paths only, never for xi_eq) [all]",
+            "rayleigh": "inherent damping C = alpha M + beta K, `[alpha, beta]` >= 0 [none]",
+            "damping_ratio": "the Rayleigh damping with this ratio at the two periods of `damping_at`; not with "
+                             "`rayleigh`",
+            "damping_at": "the two periods `[T_A, T_B]` where `damping_ratio` holds"},
+    "load": {"node": "a force on free DOF K (1-based from the clamp); or `at`",
+             "at": "a point force at position s in (0, L]; or `node`", "amplitude": "its amplitude [1]"},
+    "search": {"grid": "scan grid over (T1, T2) [200, 200]",
+               "T1": "search range of T1 [(0, T0_I/2]]", "T2": "search range of T2 [(0, T0_II/2]]",
+               "method": "branches by continuation from the scan, or by linking its crossings [continuation]",
+               "signatures": "the paper's class only, also the signatures reached from it, or also those a "
+                             "simulation from rest settles on [paper]"},
+    "output": {"dir": "output folder, relative to the current directory (`--out` overrides it)",
+               "vtk": "also write the ParaView time series of one response [false]",
+               "format": "ParaView file format [pvd]", "render": "also render pictures of it [false]",
+               "field": "the field to colour by [displacement]", "periods": "periods written [1]",
+               "steps": "time steps per period, >= 4 [40]", "snapshots": "snapshots, >= 1 [4]",
+               "gif": "an animated GIF too [true]", "branch": "branch id [the largest xi_eq]",
+               "index": "point along the branch; negative counts from its end, -1 is its last [the largest xi_eq]",
+               "overwrite": "replace what another command or case owns in the folder [false]"},
+}
+TYPES = {"int": "integer", "float": "number", "str": "string", "bool": "boolean", "pair": "[low, high]",
+         "grid": "[N1, N2]", "pairs": "[[x, m], ...]", "table": "table", "tables": "array of tables"}
+
+
+def schema_table() -> str:
+    """The README's table of case-file keys, generated from :data:`SCHEMA` and :data:`HELP` (markdown)."""
+    rows = ["| section | key | type | meaning [default] |", "|---|---|---|---|"]
+    for sec, keys in SCHEMA.items():
+        name = "(top level)" if not sec else ("[[load]]" if sec == "load" else f"[{sec}]")
+        for key, kind in keys.items():
+            t = " \\| ".join(f"`{v}`" for v in kind[1]) if isinstance(kind, tuple) else TYPES[kind]
+            rows.append(f"| {name} | `{key}` | {t} | {HELP[sec][key]} |")
+    return "\n".join(rows)
