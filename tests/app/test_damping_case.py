@@ -103,14 +103,13 @@ def test_sweep_loads_takes_damping_at(tmp_path):
     assert "phase" in s["note"] and s["case"]["rayleigh"] == pytest.approx(list(plbar.rayleigh_from_ratio(0.02, 8, 12)))
 
 
-def test_batched_simulator_and_chain_refuse_damping_until_they_take_zeta():
-    """No silent undamped run of a damped case (issue 21): the survey's simulator and the chain say so."""
-    from plbar.hybrid import Signature, evaluate
+def test_batched_simulator_and_chain_take_damping():
+    """No silent undamped run of a damped case (issue 21): the survey's simulator and the chain carry the
+    damping (their flows take zeta, the margin the damper's share of the reaction)."""
     from plbar.motion import padded
 
     prob = plbar.Case(rayleigh=(0.01, 0.02)).problem()
-    with pytest.raises(InputError, match="damping"):
-        padded(prob)
-    with pytest.raises(InputError, match="damping"):
-        evaluate(prob, Signature(1, (True,)), 10.0, np.zeros(11))
-    assert padded(plbar.Case().problem()) is not None
+    pad = padded(prob)
+    assert pad.zeta is not None and np.allclose(pad.zeta[1], prob.system.zeta2)
+    assert np.allclose(pad.cv[0, :-1], -prob.system.r_v)
+    assert padded(plbar.Case().problem()).zeta is None
