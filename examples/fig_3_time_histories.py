@@ -6,7 +6,7 @@ Environment: PLBAR_GRID="N1,N2" scan grid (default 200,200).
 import os
 import sys
 
-from plbar.studies import figures as plots
+from plbar.studies.paper import figures as plots
 
 GRID = tuple(int(v) for v in os.environ.get("PLBAR_GRID", "200,200").split(","))
 

@@ -18,7 +18,7 @@ GRID = tuple(int(v) for v in os.environ.get("PLBAR_GRID", "200,200").split(","))
 
 OUT = (sys.argv[1] if len(sys.argv) > 1 else "plbar-load-sweep") if __name__ == "__main__" else None
 r = sweep_loads(plbar.Case(grid=GRID), OUT, per_element=50, plot=False)      # the one solve; files if run
-lf, fam = r["forms"], r["families"]
+lf, fam = r.forms, r.families
 s = np.linspace(0.0, 5.0, 501)[1:]
 xi = lf.xi_point(s)                                      # (path points, positions)
 path2 = fam == "T0_II/2"
@@ -28,7 +28,7 @@ w = int(np.argmax(np.where(path2, worst.xi, -1.0)))
 best = {"s": float(s[j]), "xi": float(xi[k, j]), "T": float(lf.T[k])}
 
 if __name__ == "__main__":
-    files = r["files"]
+    files = r.files
     print(f"{len(lf)} path points from one solve (grid {GRID[0]}x{GRID[1]}), {s.size} positions")
     print(f"path 2 (near T0_II/2): max xi_eq of a single force = {best['xi']:.5f} at s = {best['s']:.2f} "
           f"(T = {best['T']:.4f})")

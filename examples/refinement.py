@@ -26,17 +26,17 @@ FE_NS = [n for n in (8, 16, 32, 64, 128, 256) if n <= NMAX]
 CHAIN_NS = [n for n in (5, 6, 8, 12, 16, 24, 32, 48) if n <= max(NMAX // 2, 8)]
 
 
-def table(title: str, r: dict) -> None:
+def table(title: str, r) -> None:
     print(title)
     print("      N  status        adm.  main stretch T/T0_I  largest xi_eq   Delta_PL/(M_e v_c^2/2)")
-    for row in r["rows"]:
+    for row in r.rows:
         t0 = row["T0_I_L"]
         rng = (f"[{row['T_min_L'] / t0:.5f}, {row['T_max_L'] / t0:.5f}]" if np.isfinite(row["T_min_L"])
                else "-").ljust(21)
         xi = f"{row['xi_max']:.3e}" if np.isfinite(row["xi_max"]) else "-".ljust(9)
         lr = f"{row['loss_ratio']:.6f}" if np.isfinite(row["loss_ratio"]) else "-"
         print(f"  {row['n']:5d}  {row['status']:12s} {row['admissible']:5d}  {rng} {xi}       {lr}")
-    for series, fams in r["rates"].items():
+    for series, fams in r.rates.items():
         for fam, q in fams.items():
             for name in ("T0_I_L", "T0_II_L", "S/M_e", "T_mid_T0I", "T_spread_T0I", "xi_max"):
                 if name in q:

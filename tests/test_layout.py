@@ -22,6 +22,7 @@ def test_command_prints_the_graph():
     p = subprocess.run([sys.executable, "-m", "plbar.util.layout"], capture_output=True, text=True, timeout=60)
     assert p.returncode == 0, p.stdout + p.stderr
     assert "response  -> errors, util, model" in p.stdout and "0 violation(s)" in p.stdout
+    assert "studies.survey     -> execution, refine" in p.stdout
 
 
 def _pkg(tmp_path, files: dict):
@@ -58,3 +59,25 @@ def test_checker_finds_long_functions_and_modules(tmp_path):
                            "model/big.py": "def f():\n" + body + "\n" * layout.MAX_MODULE})
     bad = "\n".join(layout.violations(mods))
     assert "f() has" in bad and "(module limit" in bad
+
+
+def test_studies_are_rooms_that_import_one_way_through_front_doors(tmp_path):
+    assert set(layout.ROOMS["studies"]) == {m.split(".")[2] for m in layout.modules()
+                                            if m.startswith("plbar.studies.")}
+    mods = _pkg(tmp_path, {
+        "__init__.py": "",
+        "studies/__init__.py": "from .loads import x\n",
+        "studies/stray.py": "",
+        "studies/execution/__init__.py": "from ..loads import x\n",
+        "studies/loads/__init__.py": "",
+        "studies/survey/__init__.py": "",
+        "studies/survey/a.py": "from ..refine.convergence import converge\nfrom .. import y\n",
+        "studies/refine/__init__.py": "",
+        "studies/refine/convergence.py": "from ..loads import x\n",
+    })
+    bad = "\n".join(layout.violations(mods))
+    assert "plbar.studies.stray is in no room" in bad
+    assert "room studies.execution imports plbar.studies.loads (studies.loads is above studies.execution)" in bad
+    assert "go through the front door plbar.studies.refine" in bad
+    assert "imports its layer's front door plbar.studies" in bad
+    assert "refine/convergence.py" not in bad

@@ -32,8 +32,8 @@ def _cmd_sweep(a) -> int:
     plot = not a.no_plot and importlib.util.find_spec("matplotlib") is not None
     r = sweep_loads(case, a.out, positions=a.positions, per_element=a.per_element, pairs=not a.no_pairs,
                     progress=progress(a), plot=plot, positions_csv=a.positions_csv, overwrite=a.overwrite)
-    s = r["summary"]
-    lines = [f"plbar sweep-loads: {plural(len(r['forms']), 'path point')} from one solve "
+    s = r.summary
+    lines = [f"plbar sweep-loads: {plural(len(r), 'path point')} from one solve "
              f"({s['times']['solve']:.3g} s), {plural(s['positions'], 'position')} and the worst load in "
              f"{s['times']['load_study']:.3g} s"]
     for fam, e in s.get("families", {}).items():
@@ -41,15 +41,15 @@ def _cmd_sweep(a) -> int:
                      f"{e['xi_best_single_max']:.4f} at s = {e['s_at_best_single']:.4g}")
     if s.get("no_path"):
         lines.append(f"  {plural(len(s['no_path']), 'load')} with no path (h(q) = 0): see summary.json 'no_path'")
-    lines.append("  wrote " + ", ".join(str(f) for f in r["files"].values()))
-    report(a, {"summary": s, "files": {k: str(v) for k, v in r["files"].items()}}, "\n".join(lines))
+    lines.append("  wrote " + ", ".join(str(f) for f in r.files.values()))
+    report(a, {"summary": s, "files": {k: str(v) for k, v in r.files.items()}}, "\n".join(lines))
     return 0
 
 
 def _refine_cases(a) -> list:
     """The series of ``plbar refine``: the model options (or a case file), or the old ``--series`` names."""
     from ..app import Case
-    from ..studies.refinement import parse_series
+    from ..studies.refine import parse_series
 
     if a.T2_frac:
         raise InputError("--T2-frac is no longer used: refine follows each family inside its period window "
@@ -81,20 +81,19 @@ def _rate_line(q: str, c: dict, always: bool) -> str:
     return f"    {q:13s} {lim}rate {c['rate']:.3f} ({on}{fit}){warn}"
 
 
-def _refine_lines(r: dict, always: bool = False) -> list[str]:
-    from ..studies.convergence import MIN_MESHES
-    from ..studies.refinement import PLOTTED
+def _refine_lines(r, always: bool = False) -> list[str]:
+    from ..studies.refine import MIN_MESHES, PLOTTED
 
     lines = []
-    for key in dict.fromkeys((row["series"], row["family"]) for row in r["rows"]):
+    for key in dict.fromkeys((row["series"], row["family"]) for row in r.rows):
         lines.append(f"{key[0]}, family {key[1]}:")
         lines.append("      N  status        adm.  main stretch T/L       largest xi_eq  at T/L     S/M_e")
-        for row in (x for x in r["rows"] if (x["series"], x["family"]) == key):
+        for row in r.family(*key):
             rng = (f"[{row['T_min_L']:.5f}, {row['T_max_L']:.5f}]" if np.isfinite(row["T_min_L"]) else "-").ljust(22)
             xi = f"{row['xi_max']:.5f}  {row['T_at_max_L']:.5f}" if np.isfinite(row["xi_max"]) else "-".ljust(16)
             sm = f"{row['impact_mass'] / row['end_mass']:.5f}" if row["end_mass"] > 0 else "-"
             lines.append(f"  {row['n']:5d}  {row['status']:12s} {row['admissible']:5d}  {rng} {xi}  {sm}")
-        rates = r["rates"][key[0]][key[1]]
+        rates = r.rates[key[0]][key[1]]
         lines += [_rate_line(q, rates[q], always) for q in PLOTTED if q in rates]
         d = rates["xi_decay"]
         if d.get("model") and (always or len(d["h"]) >= MIN_MESHES):
@@ -103,8 +102,8 @@ def _refine_lines(r: dict, always: bool = False) -> list[str]:
 
 
 def _cmd_refine(a) -> int:
-    from ..studies import get_executor, run_refine
-    from ..studies.track import TrackSettings
+    from ..studies import get_executor
+    from ..studies.refine import TrackSettings, run_refine
 
     cases = _refine_cases(a)
     grid = tuple(a.grid) if a.grid else (cases[0].grid if a.case else (200, 200))
@@ -116,18 +115,18 @@ def _cmd_refine(a) -> int:
         r = run_refine(cases, a.sizes, a.family or ["T0_II/2"], st, a.out, ex, progress=progress(a),
                        overwrite=a.overwrite, plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None,
                        rates_always=a.rates_always)
-    lines = _refine_lines(r, a.rates_always) + [f"done in {r['time']:.1f} s; wrote " + ", ".join(
-        str(f) for v in r["files"].values() for f in (v if isinstance(v, list) else [v]))]
-    payload = {"rates": r["rates"], "rows": [{k: (None if isinstance(v, float) and not np.isfinite(v) else v)
-                                              for k, v in row.items()} for row in r["rows"]],
-               "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v) for k, v in r["files"].items()}}
+    lines = _refine_lines(r, a.rates_always) + [f"done in {r.time:.1f} s; wrote " + ", ".join(
+        str(f) for v in r.files.values() for f in (v if isinstance(v, list) else [v]))]
+    payload = {"rates": r.rates, "rows": [{k: (None if isinstance(v, float) and not np.isfinite(v) else v)
+                                              for k, v in row.items()} for row in r.rows],
+               "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v) for k, v in r.files.items()}}
     report(a, payload, "\n".join(lines))
     return 0
 
 
 def _cmd_figures(a) -> int:
     require("matplotlib", "plbar figures")
-    from ..studies.figures import FIGURES, make_all
+    from ..studies.paper import FIGURES, make_all
 
     bad = [w for w in a.only or () if w not in FIGURES]
     if bad:

@@ -102,7 +102,7 @@ def _refine(a, case, T, out) -> int:
         r = run_survey_refine(case, a.sizes, T, a.periods, a.record, out, ex, progress(a), a.overwrite,
                               plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
     lines = [f"plbar survey over N = {', '.join(str(n) for n in sorted(set(a.sizes)))}:"]
-    for key, d in r["rates"].items():
+    for key, d in r.rates.items():
         lines.append(f"  {key}: kinds {', '.join(d['kinds'])}")
         for q in ("loss_per_T", "xi_eq", "xi_w"):
             c = d[q]
@@ -110,10 +110,10 @@ def _refine(a, case, T, out) -> int:
             rate = (f"-> {c['limit']:.4g}, rate {c['rate']:.2f} ({len(c['h'])} meshes)" if c["rate"] is not None
                     and c["limit"] is not None else f"no rate: {c['why']}")
             lines.append(f"    {q:10s} {vals}  {rate}")
-    lines.append("  wrote " + ", ".join(str(f) for v in r["files"].values() for f in (v if isinstance(v, list)
+    lines.append("  wrote " + ", ".join(str(f) for v in r.files.values() for f in (v if isinstance(v, list)
                                                                                       else [v])))
-    report(a, {"rates": r["rates"], "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v)
-                                              for k, v in r["files"].items()}}, "\n".join(lines))
+    report(a, {"rates": r.rates, "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v)
+                                              for k, v in r.files.items()}}, "\n".join(lines))
     return 0
 
 

@@ -5,6 +5,9 @@ checks that
 
 * imports between subpackages flow one way, along :data:`LAYERS` (no back-edge),
   and there is no import cycle among modules;
+* a layer split into rooms (:data:`ROOMS`: ``plbar.studies`` has one subpackage per study) keeps
+  every module in a room, and its rooms import one way too, each from another only through
+  that room's front door (``from ..refine import converge``, never ``..refine.convergence``);
 * nothing outside a subpackage imports a ``_private`` name or module from it;
 * the heavy libraries (:data:`HEAVY`) are imported only where :data:`HEAVY_OK` allows;
 * no module is longer than :data:`MAX_MODULE` lines and no function longer than
@@ -20,12 +23,14 @@ import ast
 import sys
 from pathlib import Path
 
-__all__ = ["LAYERS", "HEAVY", "HEAVY_OK", "MAX_MODULE", "MAX_FUNCTION", "modules", "graph", "violations", "main"]
+__all__ = ["LAYERS", "ROOMS", "HEAVY", "HEAVY_OK", "MAX_MODULE", "MAX_FUNCTION", "modules", "graph", "violations", "main"]
 
 #: subpackages from the bottom up; each may import only from those before it (``errors`` is the base)
 LAYERS = ("errors", "util", "model", "response", "paths", "motion", "hybrid", "check", "io", "visuals", "app", "studies", "cli")
 HEAVY = ("pyvista", "vtk", "vtkmodules", "meshio", "matplotlib", "dask", "distributed", "h5py", "PIL")
-HEAVY_OK = {"io", "visuals", "studies.executor"}
+#: layers split into rooms (subpackages), from the bottom up: a room imports only from those before it
+ROOMS = {"studies": ("execution", "loads", "refine", "damping", "survey", "paper")}
+HEAVY_OK = {"io", "visuals", "studies.execution.executor"}
 MAX_MODULE = 400
 MAX_FUNCTION = 60
 ROOT = Path(__file__).resolve().parents[1]
@@ -118,6 +123,45 @@ def _where(p: Path) -> str:
     return "/".join(parts[parts.index("plbar"):]) if "plbar" in parts else str(p)
 
 
+def _room(mod: str) -> str | None:
+    """The room of a module of a layer with rooms (None for the layer's front door or another layer)."""
+    parts = mod.split(".")
+    return parts[2] if len(parts) > 2 and parts[1] in ROOMS else None
+
+
+def _heavy_ok(mod: str) -> bool:
+    rel = ".".join(mod.split(".")[1:])
+    return any(rel == ok or rel.startswith(ok + ".") for ok in HEAVY_OK)
+
+
+def _room_violations(mods: dict[str, Path]) -> list[str]:
+    """Rooms of a layer: every module in a room, rooms import one way and through each other's front door."""
+    bad = []
+    for m, p in mods.items():
+        lay, room = _layer(m), _room(m)
+        if lay not in ROOMS or m == f"plbar.{lay}":
+            continue
+        rooms = ROOMS[lay]
+        if room not in rooms:
+            bad.append(f"{_where(p)}: {m} is in no room of {lay} ({', '.join(rooms)}; see plbar.util.layout.ROOMS)")
+            continue
+        for tgt, names, line in _imports(m, p):
+            if tgt == f"plbar.{lay}":
+                bad.append(f"{_where(p)}:{line}: {m} imports its layer's front door plbar.{lay} (a cycle); "
+                           "import from the room itself")
+                continue
+            for t in [tgt] + [f"{tgt}.{n}" for n in names]:
+                tr = _room(t) if t in mods else None
+                if tr is None or tr == room or tr not in rooms:
+                    continue
+                where = f"{_where(p)}:{line}"
+                if rooms.index(tr) > rooms.index(room):
+                    bad.append(f"{where}: room {lay}.{room} imports {t} ({lay}.{tr} is above {lay}.{room})")
+                elif t != f"plbar.{lay}.{tr}":
+                    bad.append(f"{where}: {m} imports {t}: go through the front door plbar.{lay}.{tr}")
+    return bad
+
+
 def _import_violations(mods: dict[str, Path]) -> list[str]:
     bad = []
     for m, p in mods.items():
@@ -125,8 +169,7 @@ def _import_violations(mods: dict[str, Path]) -> list[str]:
         for tgt, names, line in _imports(m, p):
             where = f"{_where(p)}:{line}"
             top = tgt.split(".")[0]
-            sub = ".".join(m.split(".")[1:3])
-            if top in HEAVY and lay not in HEAVY_OK and sub not in HEAVY_OK:
+            if top in HEAVY and not _heavy_ok(m):
                 bad.append(f"{where}: heavy import {tgt!r} outside {sorted(HEAVY_OK)}")
             if not tgt.startswith("plbar") or lay == "plbar":
                 continue
@@ -159,7 +202,7 @@ def violations(mods: dict[str, Path] | None = None) -> list[str]:
     """Every breach of the house rules (empty if the package is in order)."""
     mods = mods or modules()
     cyc = [f"import cycle: {' -> '.join(c)}" for c in _cycles(graph(mods))]
-    return cyc + _import_violations(mods) + _size_violations(mods)
+    return cyc + _import_violations(mods) + _room_violations(mods) + _size_violations(mods)
 
 
 def main(argv=None) -> int:
@@ -175,6 +218,13 @@ def main(argv=None) -> int:
             sub.setdefault(_layer(m), set()).update(_layer(t) for t in ts if _layer(t) != _layer(m))
         for lay in sorted(sub, key=_rank):
             print(f"{lay:9s} -> {', '.join(sorted(sub[lay], key=_rank)) or '-'}")
+        for lay, rooms in ROOMS.items():
+            dep: dict[str, set[str]] = {r: set() for r in rooms}
+            for m, ts in edges.items():
+                if _layer(m) == lay and _room(m) in dep:
+                    dep[_room(m)].update(_room(t) for t in ts if _layer(t) == lay and _room(t) not in (None, _room(m)))
+            for r in rooms:
+                print(f"  {lay}.{r:10s} -> {', '.join(sorted(dep[r], key=rooms.index)) or '-'}")
     bad = violations(mods)
     print(f"{len(mods)} modules, layers {' < '.join(LAYERS)}: {len(bad)} violation(s)")
     for b in bad:

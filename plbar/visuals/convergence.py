@@ -1,6 +1,6 @@
 """Log-log plots of mesh-refinement convergence: one panel per quantity.
 
-Drawing only: the items carry the numbers (``plbar.studies.convergence.Convergence``
+Drawing only: the items carry the numbers (``plbar.studies.refine.convergence.Convergence``
 or anything with ``name, h, q, limit, rate, fitted``); nothing is computed here
 beyond the differences that are drawn.  matplotlib is imported lazily (Agg).
 """

@@ -1,6 +1,6 @@
 """``xi_eq`` of the impact against the forcing period for several inherent Rayleigh ratios (issue 21).
 
-Drawing only: the runs come from :func:`plbar.studies.inherent.with_rayleigh` (or anything with
+Drawing only: the runs come from :func:`plbar.studies.damping.inherent.with_rayleigh` (or anything with
 ``ratio``, ``rayleigh`` and ``branches``); matplotlib is imported lazily with the Agg backend.
 """
 
@@ -47,7 +47,7 @@ def xi_rayleigh_plot(panels, out, name: str = "xi_rayleigh") -> list:
     Parameters
     ----------
     panels : sequence of (str, sequence of runs)
-        A title and the runs of one case (:class:`plbar.studies.inherent.DampedRun`: ``ratio``,
+        A title and the runs of one case (:class:`plbar.studies.damping.inherent.DampedRun`: ``ratio``,
         ``at``, ``rayleigh``, ``branches``).
     out : path
         Output folder.

@@ -1,8 +1,8 @@
 """The paper's figure families (Sec. 4, Figs. 2-9), drawn from computed results (no solving here).
 
 Each ``draw_fig*`` takes results (and the family label of each branch, see
-:mod:`plbar.studies.families`), writes PNG and PDF files atomically into
-``out`` and returns their paths; :mod:`plbar.studies.figures` computes the
+:mod:`plbar.studies.loads.families`), writes PNG and PDF files atomically into
+``out`` and returns their paths; :mod:`plbar.studies.paper.figures` computes the
 results and calls them (``plbar figures``).  The paper's sample points
 (Fig. 2b) are four-digit roundings; each figure uses the nearest point of the
 computed paths (:func:`nearest_point`).
@@ -215,7 +215,7 @@ def draw_fig9(out, allres, families) -> list[Path]:
     """Fig. 9: ``xi_eq`` on the family near ``T0^II/2`` against ``T`` and the load position.
 
     ``allres`` is a list of ``(N, positions, task results)`` (see
-    :func:`plbar.studies.tasks.solve_task`), ``families`` the family labels of
+    :func:`plbar.studies.execution.tasks.solve_task`), ``families`` the family labels of
     each result's branches, in the same nesting.
     """
     plt = _plt()

@@ -1,6 +1,6 @@
 """The picture of a refinement study: each family's responses, period range and largest ``xi_eq`` against N.
 
-Drawing only: takes the levels (plain data, as :mod:`plbar.studies.track`
+Drawing only: takes the levels (plain data, as :mod:`plbar.studies.refine.track`
 makes them) and writes PNG and PDF files atomically.
 """
 

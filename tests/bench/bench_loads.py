@@ -6,7 +6,7 @@ For each case: the one path solve (``plbar.solve``), then the load study
 beyond it: building ``b, G`` at every path point, ``xi_eq`` and ``Delta_PL``
 of 1,000 unit point-force positions, the worst load (``b^T G^+ b / 2`` and
 ``q*``) and the exact per-element maximum of a moving force.  The old sweep
-(``plbar.studies.loadcases``: one full solve per position through ``plbar.studies.solve_task``)
+(``plbar.studies.loads.bruteforce``: one full solve per position through ``plbar.studies.solve_task``)
 is timed side by side on ``OLD_SAMPLES`` positions and extrapolated linearly
 to 1,000 (every old task is an independent solve of the same size).
 """
@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 import plbar
-from plbar.studies.loadforms import load_forms
+from plbar.studies.loads.forms import load_forms
 from plbar.studies import solve_task
 
 POSITIONS = 1000

@@ -32,9 +32,9 @@ import plbar
 from plbar.paths import Band, find_paths
 from plbar.response import scan_G
 from plbar.studies import run_refine
-from plbar.studies.anchors import parse_anchor
-from plbar.studies.track import TrackSettings, carry_level
-from plbar.studies.track_check import compare_with_scan
+from plbar.studies.refine.anchors import parse_anchor
+from plbar.studies.refine.track import TrackSettings, carry_level
+from plbar.studies.refine.track_check import compare_with_scan
 
 NS = (8, 16, 32, 64, 128, 256)
 HERE = Path(__file__).parent

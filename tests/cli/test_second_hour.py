@@ -239,7 +239,7 @@ def test_sweep_positions_are_npz_and_csv_behind_a_switch(tmp_path, capsys):
 
 
 def test_sweep_warns_above_a_size(tmp_path, capsys, monkeypatch):
-    import plbar.studies.loads as loads
+    import plbar.studies.loads.write as loads
 
     monkeypatch.setattr(loads, "WARN_BYTES", 1000.0)
     code, _, err = _run(capsys, ["sweep-loads", "-N", "4", "--out", tmp_path / "s", *FAST])
@@ -274,7 +274,7 @@ def test_refine_is_extended_with_new_N_reusing_finished_meshes(tmp_path, capsys)
 
 
 def test_a_failed_refine_leaves_nothing_that_blocks_the_rerun(tmp_path, capsys, monkeypatch):
-    import plbar.studies.refinement as refinement
+    import plbar.studies.refine.study as refinement
 
     def broken(*a, **k):
         raise InputError("the seed failed")
@@ -300,7 +300,7 @@ def test_rates_say_how_many_meshes_and_are_not_stated_from_three(tmp_path, capsy
 
 def test_no_rate_for_values_that_wander():
     """The issue's T_mid_T0I (N = 8..64): differences that change sign state no limit and no rate."""
-    from plbar.studies.convergence import caution, converge
+    from plbar.studies.refine.convergence import caution, converge
 
     n = np.array([8, 16, 32, 64])
     c = converge("T_mid_T0I", 1.0 / n, [1.517, 1.560, 1.529, 1.507], n=n)

@@ -7,7 +7,7 @@ import plbar
 from plbar.errors import InputError
 from plbar.paths import Band, correct_onto, find_paths, follow
 from plbar.response import scan_G
-from plbar.studies.track_check import on_curves
+from plbar.studies.refine.track_check import on_curves
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""Convergence estimation (plbar.studies.convergence) on manufactured sequences q = q_inf + C h^p (1 + d h)."""
+"""Convergence estimation (plbar.studies.refine.convergence) on manufactured sequences q = q_inf + C h^p (1 + d h)."""
 
 import json
 import math
@@ -9,9 +9,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from plbar.errors import InputError
-from plbar.studies.convergence import (AT_LIMIT, NO_CHANGE, NOT_CONVERGING, OSCILLATORY, converge, known_limit,
+from plbar.studies.refine.convergence import (AT_LIMIT, NO_CHANGE, NOT_CONVERGING, OSCILLATORY, converge, known_limit,
                                        pair_rates, richardson, triple_rates)
-from plbar.studies.decay import decay_fit
+from plbar.studies.refine.decay import decay_fit
 
 Q_INF, C = 1.25, 2.0
 SEQUENCES = {"ratio 2": np.array([8, 16, 32, 64, 128]), "mixed ratios": np.array([8, 12, 20, 32, 64])}

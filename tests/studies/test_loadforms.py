@@ -13,7 +13,7 @@ import plbar
 from plbar.response import damping
 from plbar.errors import InputError
 from plbar.response.flow import gauss
-from plbar.studies.loadforms import load_forms
+from plbar.studies.loads.forms import load_forms
 from plbar.response import orbits
 from plbar.paths import find_paths
 from plbar.response import scan_G as Gfield
@@ -144,7 +144,7 @@ def test_G_is_the_gram_matrix_of_unit_load_velocities(solved):
 
 def test_cross_integrals_polarisation_equals_quadrature(solved):
     """Gamma_ra: polarisation of the closed-form Psi = Gauss-Legendre on the exact modal velocities."""
-    from plbar.studies.loadforms import _m_vectors, _m_vectors_quadrature
+    from plbar.studies.loads.forms import _m_vectors, _m_vectors_quadrature
 
     _, _, paths, _ = solved
     orb = paths.points()

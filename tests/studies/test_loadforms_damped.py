@@ -4,7 +4,7 @@ Finding: the paths in (T^I, T^II) survive damping.  The load enters the switch c
 through the complex contact response h(q) = ((K - W^2 M + i W C)^-1 q)_c, so every load with
 h(q) != 0 has the reference paths, at the phase phi_ref + arg(h(q) / h_ref) (no longer just
 phi mod pi: the shift is continuous), with Delta_PL scaled by |h(q) / h_ref|^2
-(docs/load_structure.md section 9, plbar.studies.loaddamped).
+(docs/load_structure.md section 9, plbar.studies.loads.damped).
 """
 
 import numpy as np
@@ -14,7 +14,7 @@ import plbar
 from plbar.model import with_load_vector as _with_q
 from plbar.paths import find_paths
 from plbar.response import check, coefficients, damping, orbits, phase
-from plbar.studies.loadforms import DampedLoadForms, load_forms
+from plbar.studies.loads.forms import DampedLoadForms, load_forms
 
 CASES = {
     "chain": plbar.Case(grid=(80, 80), rayleigh=plbar.rayleigh_from_ratio(0.02, 8.0, 12.0)),

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import plbar
-from plbar.studies import loadcases as sweep
+from plbar.studies.loads import bruteforce as sweep
 from plbar.studies.loads import WORST_HEADER, pair_table, sweep_loads
 from plbar.studies import solve_task
 
@@ -29,12 +29,12 @@ def study(tmp_path_factory):
 
 
 def test_old_sweep_tables_reproduced(study):
-    """plbar.studies.loadcases (one full solve per load: single positions and node pairs) = the quadratic forms."""
+    """plbar.studies.loads.bruteforce (one full solve per load: positions and node pairs) = the quadratic forms."""
     _, res, _ = study
     st = sweep.load_sweep_study(5, positions=POSITIONS, pairs=PAIRS, grid=GRID)
     results = [solve_task(t) for t in st.tasks]
     old = sweep.sweep_tables(st.tasks, results)
-    lf, fam = res["forms"], res["families"]
+    lf, fam = res.forms, res.families
     loads = [((s, 1.0),) for s in POSITIONS] + list(PAIRS)
     new = pair_table(lf, fam, loads)
     key = lambda t, i: (t["s1"][i], t["a1"][i], repr(t["s2"][i]), t["family"][i])
@@ -65,7 +65,7 @@ def test_outputs(study):
     with open(out / "worst_load.csv") as fh:
         rd = list(csv.reader(fh))
     assert rd[0] == WORST_HEADER
-    lf = res["forms"]
+    lf = res.forms
     assert len(rd) - 1 == len(lf)
     vals = np.array(rd[1:], float)
     assert np.all(np.isfinite(vals))
@@ -82,7 +82,7 @@ def test_outputs(study):
 def test_zero_contact_response_is_reported(study):
     out, res, (zero_load, T) = study
     summ = json.loads((out / "summary.json").read_text())
-    assert summ == json.loads(json.dumps(res["summary"]))
+    assert summ == json.loads(json.dumps(res.summary))
     name = "+".join(f"{a:g}@{s:g}" for s, a in zero_load)
     hit = [e for e in summ["no_path"] if e["load"] == name]
     assert hit and hit[0]["points"] >= 1 and not hit[0]["all_points"]
@@ -92,7 +92,21 @@ def test_zero_contact_response_is_reported(study):
 def test_single_force_best_matches_positions(study):
     """The exact best single force is >= every sampled position (xi_positions.npz)."""
     _, res, _ = study
-    xi = res["tables"]["positions"]["xi"]
-    w = res["tables"]["worst"]
+    xi = res.positions["xi"]
+    w = res.worst_load
     assert np.all(xi.max(axis=1) <= w["xi_best_single"] + 1e-14)
     assert np.all(w["xi_best_single"] <= w["xi_worst"] * (1 + 1e-12))
+
+
+def test_the_study_is_a_frozen_result_object(study):
+    """A LoadStudy like every study result: files, summary and the tables as attributes; a short repr."""
+    import dataclasses
+
+    out, res, _ = study
+    assert isinstance(res, plbar.studies.LoadStudy) and dataclasses.is_dataclass(res)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        res.summary = {}
+    assert set(res.files) >= {"xi_positions", "worst_load", "load_pairs", "summary"}
+    assert res.tables["worst"] is res.worst_load and res.pairs["family"] and res.case == plbar.Case(grid=GRID)
+    r = repr(res)
+    assert r.startswith("LoadStudy(path_points=") and len(r) < 300 and "xi_worst=" in r

@@ -10,13 +10,13 @@ import pytest
 import plbar
 from plbar.cli.main import main
 from plbar.errors import InputError
-from plbar.studies.anchors import parse_anchor, window_band
-from plbar.studies.convergence import known_limit
-from plbar.studies.refine_tables import continuum_periods
-from plbar.studies.track import TrackSettings, carry_level, seed_levels
+from plbar.studies.refine.anchors import parse_anchor, window_band
+from plbar.studies.refine.convergence import known_limit
+from plbar.studies.refine.tables import continuum_periods
+from plbar.studies.refine.track import TrackSettings, carry_level, seed_levels
 from plbar.check import IMPACT, OPEN
 from plbar.response import periodic_state
-from plbar.studies.track_check import compare_with_scan
+from plbar.studies.refine.track_check import compare_with_scan
 
 # -- anchors --------------------------------------------------------------------------------------------------------
 
@@ -216,7 +216,7 @@ def test_truncation_warns_for_xi_and_refine_refuses_it(tmp_path, capsys):
 
 
 def test_a_family_on_another_family_s_curves_is_merged_and_ends():
-    from plbar.studies.track import mark_merges
+    from plbar.studies.refine.track import mark_merges
 
     piece = {"T1": [0.1, 0.2, 0.3], "T2": [2.8, 2.75, 2.7], "good": [1, 1, 0], "xi": [0.01, 0.02, 0.0],
              "dPL": [0.1, 0.2, 0.0], "v_c": [1.0, 1.1, 0.0], "phi": [1.0, 1.0, 1.0], "why": ["", "", "x"]}

@@ -8,7 +8,7 @@ import pytest
 
 pytest.importorskip("matplotlib")
 
-from plbar.studies.convergence import converge, known_limit
+from plbar.studies.refine.convergence import converge, known_limit
 from plbar.visuals import convergence as vc
 from plbar.visuals import convergence_plot
 

@@ -11,9 +11,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..app import Case, Result, solve
-from ..errors import InputError
-from ..model import rayleigh_from_ratio
+from ...app import Case, Result, solve
+from ...errors import InputError
+from ...model import rayleigh_from_ratio
 
 __all__ = ["RATIOS", "DampedRun", "with_rayleigh", "ratio_table"]
 

@@ -25,7 +25,7 @@ import contextlib
 import multiprocessing as mp
 import os
 
-from ..errors import InputError
+from ...errors import InputError
 
 __all__ = ["get_executor", "SerialExecutor", "KINDS"]
 

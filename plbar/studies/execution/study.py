@@ -25,9 +25,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from ..errors import OutputExistsError, PlbarError
-from ..util.files import write_json
-from ..util.progress import progress_bar
+from ...errors import OutputExistsError, PlbarError
+from ...util.files import write_json
+from ...util.progress import progress_bar
 from .executor import SerialExecutor
 
 __all__ = ["Study", "StudyError", "task_key", "run_study", "load_results", "call_task"]

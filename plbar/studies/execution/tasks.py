@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..app import Case
-from ..paths import find_paths
+from ...app import Case
+from ...paths import find_paths
 
 __all__ = ["case_from_task", "solve_task", "branch_arrays"]
 

@@ -30,9 +30,9 @@ from pathlib import Path
 import numpy as np
 
 from .families import FAMILIES, OTHER, assign_families
-from ..util.files import write_csv, write_json
-from .study import Study
-from .tasks import branch_arrays, solve_task
+from ...util.files import write_csv, write_json
+from ..execution import Study
+from ..execution import branch_arrays, solve_task
 
 __all__ = ["load_sweep_study", "default_positions", "node_pairs", "SweepTables", "sweep_tables",
            "write_sweep_tables", "xi_along_mesh", "SWEEP_HEADER", "MAX_HEADER"]

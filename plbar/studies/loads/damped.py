@@ -26,15 +26,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
-from ..response import Orbits
-from ..response.flow import gauss
-from ..util.blas import single_thread_blas
-from .loadmax import ElementMax, PointLoads, Worst
+from ...errors import InputError
+from ...response import Orbits
+from ...response.flow import gauss
+from ...util.blas import single_thread_blas
+from .extremes import ElementMax, PointLoads, Worst
 
 __all__ = ["DampedLoadForms", "damped_forms", "THETA_GRID"]
 
-HZERO_TOL = 1e-10         #: as :data:`plbar.studies.loadforms.HZERO_TOL`
+HZERO_TOL = 1e-10         #: as :data:`plbar.studies.loads.forms.HZERO_TOL`
 THETA_GRID = 72          #: phase angles of the worst-load scan over [0, pi) (then golden-section refinement)
 QUAD_ELEMENTS = 4e6      #: largest (points x nodes x modes) array of one quadrature chunk
 
@@ -97,7 +97,7 @@ def _gram(orb: Orbits, denom: np.ndarray) -> np.ndarray:
 class DampedLoadForms(PointLoads):
     """Exact ``Delta_PL(q)`` and ``xi_eq(q)`` of any load at every path point of a damped bar.
 
-    The same interface as :class:`plbar.studies.loadforms.LoadForms` (``dPL, denom, xi, h,
+    The same interface as :class:`plbar.studies.loads.forms.LoadForms` (``dPL, denom, xi, h,
     h_relative, no_path, point_vectors, point_loads, xi_point, element_max, worst, take``).
 
     Attributes

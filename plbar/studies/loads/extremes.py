@@ -1,6 +1,6 @@
 """The extremes of the load quadratic forms: the worst load distribution and the best point force per element.
 
-``xi_eq(q) = (b . q)^2 / (2 q^T G q)`` (:mod:`plbar.studies.loadforms`): its
+``xi_eq(q) = (b . q)^2 / (2 q^T G q)`` (:mod:`plbar.studies.loads.forms`): its
 largest value over every ``q`` is the largest generalised eigenvalue
 ``b^T G^+ b / 2`` (:func:`worst`); for a point force moving over an element,
 ``q(s)`` are the shape functions and ``xi_eq`` is a ratio of polynomials in the
@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
-from ..util.blas import single_thread_blas
+from ...errors import InputError
+from ...util.blas import single_thread_blas
 
 __all__ = ["Worst", "ElementMax", "PointLoads", "element_max", "worst", "RCOND"]
 

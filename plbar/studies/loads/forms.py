@@ -36,12 +36,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
-from ..response import Orbits, damping
-from ..response.flow import gauss, psi
-from ..util.blas import single_thread_blas
-from .loaddamped import DampedLoadForms, damped_forms
-from .loadmax import RCOND, ElementMax, PointLoads, Worst, element_max, worst
+from ...errors import InputError
+from ...response import Orbits, damping
+from ...response.flow import gauss, psi
+from ...util.blas import single_thread_blas
+from .damped import DampedLoadForms, damped_forms
+from .extremes import RCOND, ElementMax, PointLoads, Worst, element_max, worst
 
 __all__ = ["LoadForms", "DampedLoadForms", "Worst", "ElementMax", "load_forms", "HZERO_TOL", "RCOND"]
 
@@ -283,7 +283,7 @@ class LoadForms(PointLoads):
 def load_forms(source) -> LoadForms | DampedLoadForms:
     """The quadratic forms ``b, G`` at every path point of ``source``.
 
-    With Rayleigh damping: :class:`plbar.studies.loaddamped.DampedLoadForms` (the same interface;
+    With Rayleigh damping: :class:`plbar.studies.loads.damped.DampedLoadForms` (the same interface;
     ``xi_eq(q)`` through the complex contact response, the worst load by a phase scan).
 
     Parameters

@@ -2,7 +2,7 @@
 
 :func:`sweep_loads` solves the paths once (the case's own load is the
 reference; any load with ``h(q) != 0`` has the same paths), builds the
-quadratic forms of :mod:`plbar.loadforms` and writes into ``out``:
+quadratic forms of :mod:`.forms` and writes into ``out``:
 
 ``xi_positions.npz``
     ``xi`` and ``dPL`` (path points x positions) for a unit point force at each
@@ -36,33 +36,79 @@ from __future__ import annotations
 
 import contextlib
 import time
-import warnings
-from pathlib import Path
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError, LargeOutputWarning
-from ..util.files import atomic_path, write_csv, write_json
-from ..util.outputs import check_folder, clear_owned
-from ..util.version import __version__
+from ...errors import InputError
+from ...util.outputs import check_folder, clear_owned
+from ...util.reprs import build, rng
+from ...util.version import __version__
 from .families import FAMILIES, OTHER, assign_families
-from .loadforms import HZERO_TOL, LoadForms, load_forms
+from .forms import HZERO_TOL, LoadForms, load_forms
+from .write import PAIRS_HEADER, POSITIONS_HEADER, WARN_BYTES, WORST_HEADER, tidy_positions, write_all
 
-__all__ = ["sweep_loads", "mesh_positions", "vertex_loads", "family_labels", "pair_table", "position_table",
-           "tidy_positions", "worst_table", "check_positions", "POSITIONS_HEADER", "WORST_HEADER", "PAIRS_HEADER",
+__all__ = ["sweep_loads", "LoadStudy", "mesh_positions", "vertex_loads", "family_labels", "pair_table",
+           "position_table", "tidy_positions", "worst_table", "check_positions", "POSITIONS_HEADER", "WORST_HEADER", "PAIRS_HEADER",
            "SWEEP_OWNED", "WARN_BYTES"]
 
-POSITIONS_HEADER = ["branch", "point", "T", "s", "xi", "dPL"]
-WORST_HEADER = ["branch", "point", "T1", "T2", "phi", "T", "xi_worst", "xi_best_single", "s_best_single"]
-PAIRS_HEADER = ["load", "s1", "a1", "s2", "a2", "family", "points", "T_min", "T_max", "xi_min", "xi_max",
-                "T_at_max", "T1_at_max", "T2_at_max", "phi_at_max", "dPL_at_max", "no_path_points"]
-G17 = "%.17g"
 #: what ``sweep-loads`` owns in its folder (the old table names too: an earlier sweep's files are never left over)
 SWEEP_OWNED = ("xi_positions.npz", "xi_positions.csv", "worst_load.csv", "worst_load_shapes.npz", "xi_along_mesh.vtu",
                "load_pairs.csv", "xi_T_s.png", "summary.json", "sweep.csv", "sweep_max.csv", "sweep_summary.json",
                ".*.part.*")
-WARN_BYTES = 50e6       #: a positions table larger than this is announced (a warning that names the switches)
-CSV_ROW_BYTES = 85      #: about the size of one row of the tidy xi_positions.csv (measured: 81)
+
+
+@dataclass(frozen=True)
+class LoadStudy:
+    """Every load from one path solve (:func:`sweep_loads`): the tables, the summary and the files.
+
+    Attributes
+    ----------
+    case : plbar.Case
+        The case; its load is the reference.
+    result : plbar.Result
+        The one path solve.
+    forms : LoadForms
+        The load quadratic forms at every path point (:func:`load_forms`).
+    families : ndarray of str, shape (P,)
+        Family label of every path point.
+    worst : Worst
+        The worst load distribution per path point (``q*`` in ``worst.q``).
+    positions : dict
+        ``xi_positions.npz``: ``branch, point, T`` (P,), ``s`` (S,), ``xi, dPL`` (P, S).
+    worst_load : dict
+        The columns of ``worst_load.csv`` (:data:`WORST_HEADER`).
+    pairs : dict
+        The columns of ``load_pairs.csv`` (:data:`PAIRS_HEADER`).
+    summary : dict
+        The content of ``summary.json``.
+    files : dict
+        Written files, name -> Path (empty without ``out``).
+    """
+
+    case: object
+    result: object = field(repr=False)
+    forms: object = field(repr=False)
+    families: np.ndarray = field(repr=False)
+    worst: object = field(repr=False)
+    positions: dict = field(repr=False)
+    worst_load: dict = field(repr=False)
+    pairs: dict = field(repr=False)
+    summary: dict = field(repr=False)
+    files: dict = field(default_factory=dict, repr=False)
+
+    def __len__(self) -> int:
+        return len(self.forms)
+
+    @property
+    def tables(self) -> dict:
+        """The three tables by name: ``positions``, ``worst``, ``pairs``."""
+        return {"positions": self.positions, "worst": self.worst_load, "pairs": self.pairs}
+
+    def __repr__(self) -> str:
+        return build("LoadStudy", {"path_points": len(self), "positions": int(np.size(self.positions["s"])),
+                                   "T": rng(self.forms.T), "xi_worst": rng(self.worst.xi),
+                                   "families": sorted(self.summary.get("families", {})), "files": len(self.files)})
 
 
 def check_positions(case, positions=None, per_element: int = 50) -> None:
@@ -101,7 +147,7 @@ def vertex_loads(lf: LoadForms, amplitude: float = 0.5):
 
 
 def family_labels(paths, lf: LoadForms) -> np.ndarray:
-    """Family label of every path point (:func:`plbar.families.assign_families` per branch)."""
+    """Family label of every path point (:func:`.families.assign_families` per branch)."""
     br = paths.branches
     T0I, T0II = paths.prob.system.T0
     labels = assign_families([(float(b.T.min()), float(b.T.max())) for b in br], [len(b) for b in br], T0I, T0II)
@@ -149,15 +195,8 @@ def position_table(lf: LoadForms, positions) -> dict:
             "xi": xi, "dPL": dpl}
 
 
-def tidy_positions(pos: dict) -> dict:
-    """The positions table as tidy columns ``branch, point, T, s, xi, dPL``, one row per path point and position."""
-    P, S = pos["xi"].shape
-    return {"branch": np.repeat(pos["branch"], S), "point": np.repeat(pos["point"], S), "T": np.repeat(pos["T"], S),
-            "s": np.tile(pos["s"], P), "xi": pos["xi"].ravel(), "dPL": pos["dPL"].ravel()}
-
-
 def worst_table(lf: LoadForms) -> tuple[dict, object]:
-    """``worst_load.csv`` columns and the :class:`plbar.loadforms.Worst` result."""
+    """``worst_load.csv`` columns and the :class:`.extremes.Worst` result."""
     w = lf.worst()
     xb, sb = lf.element_max().best()
     cols = {"branch": lf.branch, "point": lf.point, "T1": lf.T1, "T2": lf.T2, "phi": np.mod(lf.phi, 2 * np.pi),
@@ -210,69 +249,9 @@ def _summary(lf, fam, wcols, pairs_rows, positions, no_path, times) -> dict:
                      "(a phase scan, docs/load_structure.md section 9); loads with h(q) = 0 have no periodic path")}
 
 
-def _blank(col):
-    return ["" if (isinstance(v, float) and np.isnan(v)) else repr(float(v)) for v in col]
-
-
-def _table_bytes(pos: dict, csv: bool) -> float:
-    return pos["xi"].size * (CSV_ROW_BYTES if csv else 16)
-
-
-def _write_positions(out: Path, pos: dict, csv: bool) -> dict:
-    """``xi_positions.npz`` (and the tidy ``xi_positions.csv`` if asked), announced above :data:`WARN_BYTES`."""
-    size = _table_bytes(pos, csv)
-    if size > WARN_BYTES:
-        P, S = pos["xi"].shape
-        warnings.warn(f"the positions table holds {P} path points x {S} positions = {P * S} values (about "
-                      f"{size / 1e6:.0f} MB{' of CSV' if csv else ''}); fewer positions: --per-element K or "
-                      "--positions S ...", LargeOutputWarning, stacklevel=3)
-    files = {}
-    with atomic_path(out / "xi_positions.npz") as tmp:
-        np.savez(tmp, **{k: pos[k] for k in ("branch", "point", "T", "s", "xi", "dPL")})
-    files["xi_positions"] = out / "xi_positions.npz"
-    if csv:
-        t = tidy_positions(pos)
-        files["xi_positions_csv"] = write_csv(out / "xi_positions.csv", POSITIONS_HEADER,
-                                              [t[k] for k in POSITIONS_HEADER], ["%d", "%d", G17, G17, G17, G17],
-                                              allow_nan=False)
-    return files
-
-
-def _write_tables(out: Path, pos, wcols, w, fam, pairs_rows, lf, csv: bool = False) -> dict:
-    files = _write_positions(out, pos, csv)
-    files["worst_load"] = write_csv(out / "worst_load.csv", WORST_HEADER, [wcols[k] for k in WORST_HEADER],
-                                    ["%d", "%d"] + [G17] * 7, allow_nan=False)
-    cols = [(_blank(pairs_rows[k]) if k in ("s2", "a2") else pairs_rows[k]) for k in PAIRS_HEADER]
-    fm = ["%s", G17, G17, "%s", "%s", "%s", "%d"] + [G17] * 9 + ["%d"]
-    files["load_pairs"] = write_csv(out / "load_pairs.csv", PAIRS_HEADER, cols, fm)
-    with atomic_path(out / "worst_load_shapes.npz") as tmp:
-        np.savez(tmp, q_star=w.q, x=lf.x, branch=lf.branch, point=lf.point, T1=lf.T1, T2=lf.T2,
-                 phi=np.mod(lf.phi, 2 * np.pi), xi_worst=w.xi, rank=w.rank, family=fam.astype(str))
-    files["worst_load_shapes"] = out / "worst_load_shapes.npz"
-    return files
-
-
-def _write_mesh(out: Path, lf: LoadForms, fam, bar) -> Path:
-    from ..io import write_xi_along_mesh
-
-    xi, dpl = lf.point_loads(lf.x)
-    fields = {"xi_eq_max": xi.max(axis=0), "dPL_max": dpl.max(axis=0)}
-    for f in FAMILIES:
-        m = fam == f
-        fields[f"xi_eq_max_{f.replace('/', '_')}"] = xi[m].max(axis=0) if m.any() else np.zeros(lf.n)
-    return write_xi_along_mesh(bar, lf.x, fields, out / "xi_along_mesh.vtu")
-
-
-def _plot(out: Path, lf: LoadForms, fam, pos, wcols) -> Path:
-    from ..visuals import xi_load_map
-
-    return xi_load_map(out / "xi_T_s.png", lf.T, lf.branch, fam, pos["s"], pos["xi"], wcols["xi_worst"],
-                       wcols["xi_best_single"], [f for f in FAMILIES + (OTHER,) if np.any(fam == f)])
-
-
 def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pairs: bool = True,
                 progress: bool = False, loads=(), plot: bool = True, positions_csv: bool = False,
-                overwrite: bool = False) -> dict:
+                overwrite: bool = False) -> LoadStudy:
     """One path solve, then every load position, the node pairs and the worst load.
 
     Parameters
@@ -297,12 +276,11 @@ def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pair
 
     Returns
     -------
-    dict
-        ``files`` (name -> Path), ``summary`` (the content of ``summary.json``),
-        ``forms`` (:class:`plbar.loadforms.LoadForms`), ``result`` (the solve),
-        ``tables`` (the columns written).
+    LoadStudy
+        ``files`` (name -> Path), ``summary`` (the content of ``summary.json``), ``forms``
+        (:class:`LoadForms`), ``result`` (the solve), the tables ``positions``, ``worst_load``, ``pairs``.
     """
-    from ..app import Case, case_fingerprint, solve
+    from ...app import Case, case_fingerprint, solve
 
     case = Case() if case is None else case
     check_positions(case, positions, per_element)
@@ -316,8 +294,8 @@ def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pair
         if claim is not None:
             claim.take()
             clear_owned(claim.folder, SWEEP_OWNED)
-            files = _write_all(claim.folder, r, res, plot, positions_csv)
-    return {"files": files, **r, "result": res}
+            files = write_all(claim.folder, r, res, plot, positions_csv)
+    return LoadStudy(case, res, **r, files=files)
 
 
 def _study(res, positions, per_element, pairs, loads, times) -> dict:
@@ -337,15 +315,5 @@ def _study(res, positions, per_element, pairs, loads, times) -> dict:
     summary = _summary(lf, fam, wcols, prow, pos_s, no_path, times)
     summary["case"] = res.case.to_dict()
     summary["plbar_version"] = __version__
-    return {"summary": summary, "forms": lf, "families": fam, "worst": w,
-            "tables": {"positions": pos, "worst": wcols, "pairs": prow}}
-
-
-def _write_all(out: Path, r: dict, res, plot: bool, csv: bool) -> dict:
-    lf, fam, t = r["forms"], r["families"], r["tables"]
-    files = _write_tables(out, t["positions"], t["worst"], r["worst"], fam, t["pairs"], lf, csv)
-    files["xi_along_mesh"] = _write_mesh(out, lf, fam, res.paths.prob.bar)
-    if plot:
-        files["plot"] = _plot(out, lf, fam, t["positions"], t["worst"])
-    files["summary"] = write_json(out / "summary.json", r["summary"])
-    return files
+    return {"summary": summary, "forms": lf, "families": fam, "worst": w, "positions": pos, "worst_load": wcols,
+            "pairs": prow}

@@ -19,9 +19,9 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from ..errors import InputError
-from ..paths.follow import Band
-from ..util.check import show
+from ...errors import InputError
+from ...paths.follow import Band
+from ...util.check import show
 
 __all__ = ["Anchor", "parse_anchor", "window_band", "DEFAULT_WINDOW", "slug", "family_label", "family_title"]
 

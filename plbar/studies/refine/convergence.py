@@ -15,8 +15,8 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from ..errors import InputError
-from ..util import solve_brackets
+from ...errors import InputError
+from ...util import solve_brackets
 
 __all__ = ["AT_LIMIT", "NON_FINITE", "NOT_CONVERGING", "NO_CHANGE", "OSCILLATORY", "Convergence", "converge",
            "known_limit", "pair_rates", "richardson", "triple_rates", "caution", "MIN_MESHES"]

@@ -16,22 +16,24 @@ import contextvars
 import hashlib
 import json
 import time
-from dataclasses import asdict, replace
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
-from ..app import Case
-from ..errors import InputError
-from ..util.check import show
-from ..util.files import write_json
-from ..util.outputs import claim_folder, fingerprint
-from ..util.progress import progress_bar
+from ...app import Case
+from ...errors import InputError
+from ...util.check import show
+from ...util.files import write_json
+from ...util.outputs import claim_folder, fingerprint
+from ...util.progress import progress_bar
+from ...util.reprs import build
+from ...util.version import __version__
 from .anchors import family_label, family_title, parse_anchor, slug
-from .executor import SerialExecutor
-from .refine_tables import convergence_of, decay_of, refine_rows, write_refine
-from .study import Study, run_study
+from ..execution import SerialExecutor
+from .tables import convergence_of, decay_of, refine_rows, write_refine
+from ..execution import Study, run_study
 from .track import TrackSettings, carry_level, mark_merges, seed_levels
 
-__all__ = ["parse_series", "series_name", "refine_study", "refine_task", "track_family", "run_refine", "case_at",
+__all__ = ["RefineStudy", "parse_series", "series_name", "refine_study", "refine_task", "track_family", "run_refine", "case_at",
            "refine_fingerprint", "REFINE_OWNED", "PLOTTED"]
 
 #: the quantities drawn in ``refine_convergence.png``
@@ -40,6 +42,43 @@ PLOTTED = ("T0_I_L", "T0_II_L", "S/M_e", "T_mid_T0I", "T_spread_T0I", "xi_max")
 #: Case fields a series may set (everything but the size)
 SERIES_FIELDS = ("model", "element", "mass", "length", "EA", "rhoA", "m", "k", "grading", "end_mass",
                  "end_mass_absolute", "load_nodes", "load_points", "rayleigh")
+
+
+@dataclass(frozen=True)
+class RefineStudy:
+    """A refinement study (:func:`run_refine`): one row per series, family and N, the rates, the files.
+
+    Attributes
+    ----------
+    rows : list of dict
+        ``refine.csv``, one row per series, family and N (:data:`.tables.REFINE_HEADER`).
+    rates : dict
+        ``refine_rates.json``: per series and family, quantity -> :meth:`Convergence.as_dict`, and ``xi_decay``.
+    summary : dict
+        The study's sizes, families, series, rows and run time.
+    files : dict
+        Written files, name -> Path (a list for a figure in PNG and PDF).
+    """
+
+    rows: list = field(repr=False)
+    rates: dict = field(repr=False)
+    summary: dict = field(repr=False)
+    files: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def time(self) -> float:
+        """Run time (s)."""
+        return self.summary["seconds"]
+
+    def family(self, series: str, family: str) -> list[dict]:
+        """The rows of one family of one series, coarse to fine."""
+        return [r for r in self.rows if r["series"] == series and r["family"] == family]
+
+    def __repr__(self) -> str:
+        s = self.summary
+        return build("RefineStudy", {"series": s["series"], "families": s["families"], "N": s["ns"],
+                                     "rows": len(self.rows), "seconds": round(s["seconds"], 3),
+                                     "files": len(self.files)})
 
 
 def parse_series(name: str) -> dict:
@@ -100,7 +139,7 @@ def refine_study(cases, ns, families=("T0_II/2",), settings: TrackSettings | Non
     ns : sequence of int
         Masses (chain) / elements (FE bar), coarse to fine.
     families : sequence of str
-        Anchors (:func:`plbar.studies.anchors.parse_anchor`).
+        Anchors (:func:`plbar.studies.refine.anchors.parse_anchor`).
     settings : TrackSettings
     checkpoints : path, optional
         Folder for the per-level checkpoints of the tasks.
@@ -221,20 +260,20 @@ def refine_fingerprint(study: Study) -> str:
 
 def run_refine(cases, ns, families=("T0_II/2",), settings: TrackSettings | None = None, out="plbar-refine",
                executor=None, progress: bool = False, overwrite: bool = False, plot: bool = True,
-               rates_always: bool = False) -> dict:
+               rates_always: bool = False) -> RefineStudy:
     """Run (or resume, or extend with more sizes) a refinement study into ``out`` and write its tables and plots.
 
     The folder is claimed for ``refine`` (:func:`plbar.util.outputs.claim_folder`) with
     :func:`refine_fingerprint`: the same series and settings with other sizes or families extend the study
     (finished meshes are reused); another study or command is refused unless ``overwrite``.  A study that fails
     before any mesh is finished leaves nothing behind.  ``rates_always``: the plot states every rate, also
-    those with a caution (:func:`plbar.studies.convergence.caution`).
+    those with a caution (:func:`plbar.studies.refine.convergence.caution`).
 
     Returns
     -------
-    dict
+    RefineStudy
         ``rows`` (one per series, family and N), ``rates`` (per series and family:
-        quantity -> :meth:`Convergence.as_dict`, plus ``xi_decay``), ``files`` and ``time``.
+        quantity -> :meth:`Convergence.as_dict`, plus ``xi_decay``), ``summary``, ``files`` and ``time``.
     """
     t0 = time.perf_counter()
     folder = Path(out)
@@ -260,7 +299,8 @@ def run_refine(cases, ns, families=("T0_II/2",), settings: TrackSettings | None 
     files = write_refine(folder, rows, rates)
     if plot:
         files.update(_plots(folder, results, conv, rates_always))
-    return {"rows": rows, "rates": rates, "files": files, "time": time.perf_counter() - t0}
+    summary = {**study.params, "rows": len(rows), "seconds": time.perf_counter() - t0, "plbar_version": __version__}
+    return RefineStudy(rows, rates, summary, files)
 
 
 #: what each plotted quantity is, for plot titles
@@ -270,7 +310,7 @@ TITLES = {"T0_I_L": "$T_0^I / L$", "T0_II_L": "$T_0^{II} / L$", "S/M_e": "impact
 
 
 def _plots(folder: Path, results: list[dict], conv: dict, always: bool = False) -> dict:
-    from ..visuals import convergence_plot, refine_family_plot
+    from ...visuals import convergence_plot, refine_family_plot
 
     items = []
     for (series, family), cs in conv.items():

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from ..util.files import write_csv, write_json
+from ...util.files import write_csv, write_json
 from .convergence import converge, known_limit
 from .decay import decay_fit
 from .anchors import family_label

@@ -28,11 +28,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..app import Case
-from ..errors import InputError
-from ..paths import Band, correct_onto, evaluate, find_paths, follow_one
-from ..response import damping
-from ..util.check import show
+from ...app import Case
+from ...errors import InputError
+from ...paths import Band, correct_onto, evaluate, find_paths, follow_one
+from ...response import damping
+from ...util.check import show
 from .anchors import Anchor, window_band
 
 __all__ = ["TrackSettings", "PICKS", "seed_levels", "carry_level", "level_points", "admissible_runs_of",

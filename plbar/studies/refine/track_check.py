@@ -18,10 +18,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..app import Case
-from ..paths import Band, correct_onto, find_paths
+from ...app import Case
+from ...paths import Band, correct_onto, find_paths
 
-__all__ = ["compare_with_scan"]
+__all__ = ["compare_with_scan", "on_curves"]
 
 
 def _chords(curves):

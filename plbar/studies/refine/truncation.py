@@ -11,8 +11,8 @@ import time
 
 import numpy as np
 
-from ..model import Bar, Load, assemble, two_state, with_load_vector
-from ..paths import default_domain, find_paths
+from ...model import Bar, Load, assemble, two_state, with_load_vector
+from ...paths import default_domain, find_paths
 
 __all__ = ["truncation_check"]
 

@@ -2,15 +2,17 @@
 
 * :mod:`.points` -- one chunk of forcing periods simulated together (:mod:`plbar.motion`) and characterised;
 * :mod:`.tasks` -- the study's tasks: chunks from rest, and sweeps that carry the state up or down in ``T``;
-* :mod:`.refine` -- the survey at several sizes N and the convergence of its means;
+* :mod:`.refine` -- the survey at several sizes N and the convergence of its means
+  (:class:`SurveyRefinement`);
 * :mod:`.study` -- :func:`survey` (in memory), :func:`run_survey` (a resumable study folder with
   ``survey.csv``, ``summary.json`` and the figure).
 """
 
 from .points import COLUMNS, survey_chunk
-from .refine import REFINE_COLUMNS, run_survey_refine
+from .refine import REFINE_COLUMNS, SurveyRefinement, run_survey_refine
 from .study import SURVEY_OWNED, Survey, default_periods, run_survey, survey, survey_study, write_survey
 from .tasks import MODES, case_fields, case_of, make_tasks, survey_task
 
 __all__ = ["COLUMNS", "survey_chunk", "SURVEY_OWNED", "Survey", "default_periods", "run_survey", "survey",
-           "survey_study", "write_survey", "REFINE_COLUMNS", "run_survey_refine", "MODES", "case_fields", "case_of", "make_tasks", "survey_task"]
+           "survey_study", "write_survey", "REFINE_COLUMNS", "SurveyRefinement", "run_survey_refine", "MODES",
+           "case_fields", "case_of", "make_tasks", "survey_task"]

@@ -5,14 +5,15 @@ whose length is ``N``, the periods scale with ``N``) runs in ``DIR/N00016/``
 (each resumable), and ``DIR/survey_refine.csv`` gathers, per forcing period and
 ``N``, the motion's kind, loss per period, ``xi_eq`` and ``xi_w`` with their
 spread.  ``DIR/survey_refine.json`` holds observed rates and Richardson limits
-of the three means (:func:`plbar.studies.convergence.converge`, with the
+of the three means (:func:`plbar.studies.refine.convergence.converge`, with the
 standard error of each mean as its noise floor: an irregular motion's mean is a
 statistic), or the reason where there is none.
 """
 
 from __future__ import annotations
 
-from dataclasses import replace
+import time
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -21,10 +22,12 @@ from ...app import Case
 from ...errors import InputError
 from ...util.files import write_csv, write_json
 from ...util.outputs import claim_folder, fingerprint
-from ..convergence import MIN_MESHES, converge
-from .study import run_survey
+from ...util.reprs import build
+from ...util.version import __version__
+from ..refine import MIN_MESHES, converge
+from .study import Survey, run_survey
 
-__all__ = ["run_survey_refine", "REFINED", "REFINE_COLUMNS", "MIN_MESHES"]
+__all__ = ["SurveyRefinement", "run_survey_refine", "REFINED", "REFINE_COLUMNS", "MIN_MESHES"]
 
 #: what a survey refinement owns in its folder (each size's survey is in its own folder, owned by ``survey``)
 REFINE_OWNED = ("survey_refine.csv", "survey_refine.json", "survey_refine.png", "survey_refine.pdf", "N[0-9]*",
@@ -34,6 +37,38 @@ REFINE_OWNED = ("survey_refine.csv", "survey_refine.json", "survey_refine.png", 
 REFINED = (("loss_per_T", "loss_std"), ("xi_eq", "xi_std"), ("xi_w", None))
 REFINE_COLUMNS = ("N", "h", "T", "T_L", "kind", "m", "impacts_per_T", "loss_per_T", "loss_std", "xi_eq", "xi_std",
                   "xi_w", "amp_c", "stuck_fraction", "energy_residual")
+
+
+@dataclass(frozen=True)
+class SurveyRefinement:
+    """Surveys of one case at several sizes N (:func:`run_survey_refine`) and the convergence of their means.
+
+    Attributes
+    ----------
+    case : Case
+    rows : list of dict
+        ``survey_refine.csv``: one row per forcing period and N (:data:`REFINE_COLUMNS`).
+    rates : dict
+        ``survey_refine.json``: per ``T/L``, the kinds and, per mean, its values, observed rate and
+        Richardson limit, or why there is none.
+    surveys : dict
+        N -> the :class:`Survey` of that size (each in its own folder ``DIR/N00016/``).
+    summary : dict
+        Sizes, forcing periods, periods simulated and recorded, run time.
+    files : dict
+        Written files, name -> Path.
+    """
+
+    case: Case
+    rows: list = field(repr=False)
+    rates: dict = field(repr=False)
+    surveys: dict = field(repr=False)
+    summary: dict = field(repr=False)
+    files: dict = field(default_factory=dict, repr=False)
+
+    def __repr__(self) -> str:
+        return build("SurveyRefinement", {"N": self.summary["sizes"], "T/L": len(self.rates), "rows": len(self.rows),
+                                          "seconds": round(self.summary["seconds"], 3), "files": len(self.files)})
 
 
 def _case_at(case: Case, n: int) -> Case:
@@ -46,12 +81,13 @@ def _case_at(case: Case, n: int) -> Case:
 
 
 def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int = 100, out="plbar-survey-refine",
-                      executor=None, progress: bool = False, overwrite: bool = False, plot: bool = True) -> dict:
+                      executor=None, progress: bool = False, overwrite: bool = False,
+                      plot: bool = True) -> SurveyRefinement:
     """Surveys of ``case`` at every size in ``sizes`` and the convergence of their means.
 
     ``T`` are forcing periods of ``case`` (its own ``N``); for the chain they scale with ``N / N0``.
-    Returns ``{"rows", "rates", "files"}``.
     """
+    t0 = time.perf_counter()
     sizes = sorted({int(n) for n in sizes})
     if len(sizes) < 2 or sizes[0] < 2:
         raise InputError(f"sizes = {sizes}: give at least two sizes >= 2 for a refinement")
@@ -61,23 +97,26 @@ def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int = 1
             "record": record}                      # not the sizes: more sizes extend the same study
     claim_folder(folder, "survey-refine", fingerprint(what), REFINE_OWNED, overwrite)
     L0 = case.bar().length
-    rows = []
+    rows, surveys = [], {}
     for n in sizes:
         c = _case_at(case, n)
         scale = n / case.n_eff if case.model == "chain" else 1.0
         s = run_survey(c, T * scale, periods, record, folder / f"N{n:05d}", executor=executor, progress=progress,
                        overwrite=overwrite, plot=plot)
+        surveys[n] = s
         t = s.rows("rest")
         L = c.bar().length
         for i in range(t["T"].size):
-            rows.append({"N": n, "h": L / n, "T": float(t["T"][i]), "T_L": float(t["T"][i] / L),
+            rows.append({"N": n, "h": L / n if case.model == "fe" else 1.0 / n,     # the chain: L = N
+                         "T": float(t["T"][i]), "T_L": float(t["T"][i] / L),
                          **{k: (t[k][i].item() if hasattr(t[k][i], "item") else t[k][i])
                             for k in REFINE_COLUMNS[4:]}})
     rates = _rates(rows, T / L0, record)
     files = _write(folder, rows, rates)
     if plot:
         files["figure"] = _plot(folder, rates)
-    return {"rows": rows, "rates": rates, "files": files}
+    summary = {**what, "sizes": sizes, "seconds": time.perf_counter() - t0, "plbar_version": __version__}
+    return SurveyRefinement(case, rows, rates, surveys, summary, files)
 
 
 def _rates(rows: list[dict], TL, record: int) -> dict:
