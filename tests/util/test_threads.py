@@ -54,3 +54,30 @@ def test_forked_child_after_the_pool_was_used(monkeypatch):
 def test_thread_count_from_environment(monkeypatch, val, n):
     monkeypatch.setenv("PLBAR_THREADS", val)
     assert _threads.n_threads() == n
+
+
+def test_single_thread_blas_sets_one_thread_and_restores_after_the_last_exit():
+    """plbar.util.blas through threadpoolctl: one BLAS thread inside, nested and threaded uses counted."""
+    import threading
+
+    from threadpoolctl import threadpool_info
+
+    from plbar.util import single_thread_blas
+
+    def counts():
+        return [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
+
+    before, inside = counts(), []
+
+    def worker():
+        with single_thread_blas:
+            inside.append(counts())
+
+    with single_thread_blas:
+        assert all(n == 1 for n in counts())
+        with single_thread_blas:
+            t = threading.Thread(target=worker)
+            t.start()
+            t.join()
+        assert all(n == 1 for n in counts())        # the worker's exit and the nested one are not the last
+    assert inside and all(n == 1 for n in inside[0]) and counts() == before
