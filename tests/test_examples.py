@@ -29,7 +29,7 @@ def test_paper_sec41_numbers():
     assert np.mod(red["phi"], 2 * np.pi) == pytest.approx(3.5495, abs=5e-3)
     assert np.mod(green["phi"], 2 * np.pi) == pytest.approx(4.8050, abs=5e-3)
     assert green["dPL"] == pytest.approx(1.05, rel=0.05)
-    # Eq. (22) evaluated exactly: larger than the paper's Fig. 6b reading (0.052), see README
+    # Eq. (22) evaluated exactly: larger than the paper's Fig. 6b reading (0.052), see docs/paper.md
     assert green["xi"] == pytest.approx(0.0763, abs=5e-4)
     assert red["xi"] == pytest.approx(0.00105, abs=5e-5)
     assert "paper, read off Fig. 6b" in out
@@ -83,7 +83,7 @@ def test_refinement_example(tmp_path):
         assert line, n
         if not line[0].rstrip().endswith("-"):
             assert float(line[0].split()[-1]) == pytest.approx(1 + 1 / n, rel=1e-9)
-    # N = 8, 16 (and the chain's 5, 6, 8): too few meshes to state a rate (README: from 4 on)
+    # N = 8, 16 (and the chain's 5, 6, 8): too few meshes to state a rate (docs/refinement.md: from 4 on)
     assert "S/M_e         no rate stated: rests on 2 meshes" in out and "-> 2: rate" not in out
     assert "T0_I_L        no rate stated: rests on 3 meshes" in out
     steps = [float(ln.split("step / ln 2 = ")[1].split()[0]) for ln in out.splitlines() if "step / ln 2" in ln]

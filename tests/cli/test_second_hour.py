@@ -216,7 +216,7 @@ def test_run_says_what_a_large_solve_costs_before_it_starts(tmp_path, capsys, mo
 def test_cost_estimate_follows_the_measured_scaling():
     from plbar.app.cost import estimate_cost
 
-    for n, seconds in ((10, 4.6), (20, 32.0), (50, 239.0), (100, 583.0)):        # README "Speed"
+    for n, seconds in ((10, 4.6), (20, 32.0), (50, 239.0), (100, 583.0)):        # docs/speed.md
         c = estimate_cost(plbar.Case(model="fe", n=n))
         assert seconds / 2 < c.seconds < 2 * seconds, (n, c)
     assert estimate_cost(plbar.Case(model="fe", n=100, modes=20)).seconds < 60
@@ -325,11 +325,11 @@ def test_bad_export_and_render_options_create_nothing(tmp_path, capsys, cmd, opt
 
 # 10. the TOML case format ------------------------------------------------------------------------------------------
 
-def test_readme_documents_every_case_file_key():
+def test_docs_document_every_case_file_key():
     from plbar.app.casefile import HELP, SCHEMA, schema_table
 
     assert {k: set(v) for k, v in SCHEMA.items()} == {k: set(v) for k, v in HELP.items()}
-    text = (ROOT / "README.md").read_text()
+    text = (ROOT / "docs" / "casefile.md").read_text()         # the README links to it
     assert schema_table() in text
     for sec, keys in SCHEMA.items():
         for key in keys:
@@ -354,8 +354,8 @@ def test_case_file_types_are_checked_before_what_is_missing():
 
 # 11. the jump law, 13. Delta_PL = S v_c^2 / 2 ------------------------------------------------------------------------
 
-def test_readme_states_the_jump_law_with_two_over_pi():
-    text = " ".join((ROOT / "README.md").read_text().split())
+def test_docs_state_the_jump_law_with_two_over_pi():
+    text = " ".join((ROOT / "docs" / "refinement.md").read_text().split())
     assert "(2/π) ρA c v_c² ln N" in text and "(4/π) ρA c v_c² ln N" not in text
     assert "≲ π S / (4 ρA c T ln(N/N₀))" in text and "π S / (8" not in text
 

@@ -1,0 +1,37 @@
+"""Sphinx configuration: ``python -m sphinx -W -b html docs docs/_build`` (needs ``pip install ".[docs]"``)."""
+
+import os
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+os.environ.setdefault("MPLBACKEND", "agg")
+
+from plbar import __version__  # noqa: E402
+
+project = "plbar"
+author = "the plbar authors"
+copyright = "the plbar authors"
+release = version = __version__
+
+extensions = ["myst_parser", "sphinx.ext.autodoc", "sphinx.ext.viewcode", "numpydoc"]
+source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
+root_doc = "index"
+exclude_patterns = ["_build", "img/*.md"]
+myst_enable_extensions = ["colon_fence"]
+myst_heading_anchors = 3
+
+# API reference: every front door, members in the order of __all__; numpydoc parses the docstrings
+autodoc_default_options = {"members": True, "member-order": "bysource", "show-inheritance": False}
+autodoc_typehints = "none"
+autodoc_mock_imports = ["pyvista", "vtk", "h5py", "dask", "distributed"]
+numpydoc_show_class_members = False
+numpydoc_class_members_toctree = False
+numpydoc_validation_checks = set()
+
+html_theme = "alabaster"
+html_title = f"plbar {version}"
+html_static_path = []
+highlight_language = "none"
+autodoc_inherit_docstrings = False

@@ -1,0 +1,50 @@
+"""The documentation site: every page reachable, every example a page, and the Sphinx build with warnings as errors."""
+
+import importlib.util
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+
+
+def test_readme_keeps_its_two_commands_and_links_to_pages_that_exist():
+    text = (ROOT / "README.md").read_text()
+    block = text.split("```bash\n", 1)[1].split("```", 1)[0].splitlines()
+    assert block[1] == ('python3 -m venv .venv && . .venv/bin/activate && pip install -e ".[test]" && '
+                        'python -m pytest -q -m "not slow"')
+    links = re.findall(r"\]\((docs/[^)#]+)", text)
+    assert len(links) >= 15
+    for link in links:
+        assert (ROOT / link).is_file(), link
+
+
+def test_every_example_is_a_page_of_the_site():
+    index = (DOCS / "examples" / "index.md").read_text()
+    for script in sorted((ROOT / "examples").glob("*.py")):
+        page = DOCS / "examples" / f"{script.stem}.md"
+        assert page.is_file() and f"../../examples/{script.name}" in page.read_text(), script.name
+        assert f"\n{script.stem}\n" in index, script.stem
+
+
+def test_every_front_door_has_an_api_page():
+    from plbar.util import layout
+
+    doors = {m for m in layout.modules() if m.count(".") <= 1 or m.split(".")[1] in layout.ROOMS}
+    doors = {m for m in doors if (layout.modules()[m].name == "__init__.py")} - {"plbar.cli"}
+    assert doors <= {p.stem for p in (DOCS / "api").glob("plbar*.md")}, doors
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(any(importlib.util.find_spec(m) is None for m in ("sphinx", "myst_parser", "numpydoc")),
+                    reason='the docs extra is not installed (pip install -e ".[docs]")')
+def test_the_site_builds_with_warnings_as_errors(tmp_path):
+    p = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", str(DOCS),
+                        str(tmp_path / "html")], capture_output=True, text=True, timeout=600, cwd=ROOT)
+    assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
+    for page in ("index", "theory", "loads", "refinement", "survey", "api/plbar.studies.loads", "examples/one_response"):
+        assert (tmp_path / "html" / f"{page}.html").is_file(), page
