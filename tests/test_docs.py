@@ -46,5 +46,6 @@ def test_the_site_builds_with_warnings_as_errors(tmp_path):
     p = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", str(DOCS),
                         str(tmp_path / "html")], capture_output=True, text=True, timeout=600, cwd=ROOT)
     assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
-    for page in ("index", "theory", "loads", "refinement", "survey", "api/plbar.studies.loads", "examples/one_response"):
+    for page in ("index", "theory", "loads", "refinement", "survey", "api/plbar.studies.loads",
+                 "examples/one_response"):
         assert (tmp_path / "html" / f"{page}.html").is_file(), page

@@ -23,7 +23,8 @@ import ast
 import sys
 from pathlib import Path
 
-__all__ = ["LAYERS", "ROOMS", "HEAVY", "HEAVY_OK", "MAX_MODULE", "MAX_FUNCTION", "modules", "graph", "violations", "main"]
+__all__ = ["LAYERS", "ROOMS", "HEAVY", "HEAVY_OK", "MAX_MODULE", "MAX_FUNCTION", "modules", "graph", "violations",
+           "main"]
 
 #: subpackages from the bottom up; each may import only from those before it (``errors`` is the base)
 LAYERS = ("errors", "util", "model", "response", "paths", "motion", "hybrid", "check", "io", "visuals", "app", "studies", "cli")

@@ -3,7 +3,7 @@
 One task per load case: a unit point force at ``s`` (any ``s`` in ``(0, L)``,
 through the shape functions, so a force between two chain masses is the
 paper's linear split) or a two-point combination ``((s1, a1), (s2, a2))``.
-Branches are grouped into families (:mod:`plbar.families`) so that "path 2"
+Branches are grouped into families (:mod:`.families`) so that "path 2"
 of one load case is compared with "path 2" of another.
 
 Tables written by :func:`write_sweep_tables`:
@@ -31,8 +31,7 @@ import numpy as np
 
 from .families import FAMILIES, OTHER, assign_families
 from ...util.files import write_csv, write_json
-from ..execution import Study
-from ..execution import branch_arrays, solve_task
+from ..execution import Study, branch_arrays, solve_task
 
 __all__ = ["load_sweep_study", "default_positions", "node_pairs", "SweepTables", "sweep_tables",
            "write_sweep_tables", "xi_along_mesh", "SWEEP_HEADER", "MAX_HEADER"]

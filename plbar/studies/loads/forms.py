@@ -234,7 +234,7 @@ class LoadForms(PointLoads):
         """True where ``h(q) = 0`` (relative ``tol``): the load has no periodic response there."""
         return self.h_relative(q) < tol
 
-    # -- point forces (_elems, point_vectors: loadmax.PointLoads) --------------------------------
+    # -- point forces (_elems, point_vectors: extremes.PointLoads) --------------------------------
     def _local(self):
         """``b`` and ``G`` padded with a zero dummy DOF ``n`` (the clamped DOF of element tables)."""
         cache = self.__dict__.get("_local_cache")
@@ -265,11 +265,14 @@ class LoadForms(PointLoads):
         return self.point_loads(s)[0]
 
     def element_max(self) -> ElementMax:
-        """Exact maximum of ``xi_eq(s)`` of a unit point force over each element (:func:`.loadmax.element_max`)."""
+        """Exact maximum of ``xi_eq(s)`` of a unit point force over each element (:func:`.extremes.element_max`)."""
         return element_max(self)
 
     def worst(self, rcond: float = RCOND) -> Worst:
-        """Largest ``xi_eq`` over every load and its shape, ``b^T G^+ b / 2`` at ``q* = G^+ b`` (:func:`.loadmax.worst`)."""
+        """Largest ``xi_eq`` over every load and its shape, ``b^T G^+ b / 2`` at ``q* = G^+ b``.
+
+        :func:`.extremes.worst`.
+        """
         return worst(self, rcond)
 
     def take(self, idx) -> "LoadForms":

@@ -49,8 +49,8 @@ from .forms import HZERO_TOL, LoadForms, load_forms
 from .write import PAIRS_HEADER, POSITIONS_HEADER, WARN_BYTES, WORST_HEADER, tidy_positions, write_all
 
 __all__ = ["sweep_loads", "LoadStudy", "mesh_positions", "vertex_loads", "family_labels", "pair_table",
-           "position_table", "tidy_positions", "worst_table", "check_positions", "POSITIONS_HEADER", "WORST_HEADER", "PAIRS_HEADER",
-           "SWEEP_OWNED", "WARN_BYTES"]
+           "position_table", "tidy_positions", "worst_table", "check_positions", "POSITIONS_HEADER", "WORST_HEADER",
+           "PAIRS_HEADER", "SWEEP_OWNED", "WARN_BYTES"]
 
 #: what ``sweep-loads`` owns in its folder (the old table names too: an earlier sweep's files are never left over)
 SWEEP_OWNED = ("xi_positions.npz", "xi_positions.csv", "worst_load.csv", "worst_load_shapes.npz", "xi_along_mesh.vtu",

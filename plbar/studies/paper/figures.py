@@ -15,9 +15,8 @@ from ...app import Case, solve
 from ...errors import InputError
 from ...util.progress import progress_bar
 from ...visuals import paper
-from ..loads import assign_families
-from ..loads import default_positions
 from ..execution import solve_task
+from ..loads import assign_families, default_positions
 
 __all__ = ["families_of", "fig2_paths", "fig3_time_histories", "fig4_energies", "fig5_loss_damping",
            "fig6_damping_paths", "fig7_load_responses", "fig8_xi_per_load", "fig9_xi_position", "make_all", "FIGURES"]

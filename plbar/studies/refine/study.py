@@ -7,7 +7,7 @@ family on the coarsest mesh and carries it through the finer ones
 (:mod:`.track`); every level is checkpointed (``DIR/levels/<task>/N00064.json``,
 written atomically), so a rerun resumes inside a task, and the tasks run on any
 executor through :func:`plbar.studies.run_study`.  Tables, observed rates and
-plots are assembled by :mod:`.refine_tables`.
+plots are assembled by :mod:`.tables`.
 """
 
 from __future__ import annotations
@@ -28,13 +28,12 @@ from ...util.progress import progress_bar
 from ...util.reprs import build
 from ...util.version import __version__
 from .anchors import family_label, family_title, parse_anchor, slug
-from ..execution import SerialExecutor
 from .tables import convergence_of, decay_of, refine_rows, write_refine
-from ..execution import Study, run_study
+from ..execution import SerialExecutor, Study, run_study
 from .track import TrackSettings, carry_level, mark_merges, seed_levels
 
-__all__ = ["RefineStudy", "parse_series", "series_name", "refine_study", "refine_task", "track_family", "run_refine", "case_at",
-           "refine_fingerprint", "REFINE_OWNED", "PLOTTED"]
+__all__ = ["RefineStudy", "parse_series", "series_name", "refine_study", "refine_task", "track_family", "run_refine",
+           "case_at", "refine_fingerprint", "REFINE_OWNED", "PLOTTED"]
 
 #: the quantities drawn in ``refine_convergence.png``
 PLOTTED = ("T0_I_L", "T0_II_L", "S/M_e", "T_mid_T0I", "T_spread_T0I", "xi_max")

@@ -18,7 +18,7 @@ window, the branch picked by a rule); every next level is *carried*:
 
 The cost of a level is (points followed) x (one LU of size ``2 (n - 1)``),
 with the full model, instead of a grid scan of the whole window.  A level is
-plain JSON-able data (it is checkpointed by :mod:`.refinement`).
+plain JSON-able data (it is checkpointed by :mod:`.study`).
 """
 
 from __future__ import annotations

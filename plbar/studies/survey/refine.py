@@ -25,7 +25,7 @@ from ...util.outputs import claim_folder, fingerprint
 from ...util.reprs import build
 from ...util.version import __version__
 from ..refine import MIN_MESHES, converge
-from .study import Survey, run_survey
+from .study import run_survey
 
 __all__ = ["SurveyRefinement", "run_survey_refine", "REFINED", "REFINE_COLUMNS", "MIN_MESHES"]
 

@@ -14,8 +14,7 @@ from ...motion import KINDS
 from ...util.files import write_csv, write_json
 from ...util.outputs import claim_folder, fingerprint
 from ...util.reprs import build, rng
-from ..execution import SerialExecutor
-from ..execution import Study, run_study
+from ..execution import SerialExecutor, Study, run_study
 from .points import COLUMNS
 from .tasks import MODES, case_fields, make_tasks, survey_task
 
