@@ -9,7 +9,8 @@
 4. a stuck phase shrinking to zero continues in the signature with that pair of zero dwell;
    where a branch stops being admissible (a premature switch), the switches the bar makes
    instead seed the neighbouring signature (:func:`.seeds.split`), on the paper's branches too;
-5. any extra seeds (a survey's periodic motions: :func:`.seeds.from_events`).
+5. any extra seeds (a simulation's periodic motions: :func:`.seeds.from_motion`); a seed of the paper's
+   class off its branches (outside the paper's search domain) is followed here too.
 
 Every curve is followed both ways in ``T`` (:func:`.follow.follow`), each point is
 replayed by the certified simulator (:func:`.verify.admissible`) and gets its
@@ -132,13 +133,11 @@ def _events(orbs, mus) -> list[dict]:
 
 def _known(curves, orb: HybridOrbit) -> bool:
     """Is ``orb`` on a curve already followed (same canonical signature; its loss on the curve's piecewise
-    linear interpolation at its ``T``, between two neighbouring points)?"""
+    linear interpolation at its ``T``, between two neighbouring points)?  ``curves``: ``(label, T, loss)``."""
     lab = str(orb.sig.canonical())
-    for sig, orbs in curves:
-        if str(sig.canonical()) != lab or len(orbs) < 2:
+    for label, T, L in curves:
+        if label != lab or len(T) < 2:
             continue
-        T = np.array([o.T for o in orbs])
-        L = np.array([o.loss_per_T for o in orbs])
         a, b = T[:-1], T[1:]
         inside = (np.minimum(a, b) <= orb.T) & (orb.T <= np.maximum(a, b))
         for i in np.flatnonzero(inside):
@@ -237,15 +236,21 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
     st = settings or FollowSettings()
     queue = list(_zero_dwell_seeds(prob, window, grid)) + _paper_doublings(prob, paper_branches) + \
         _paper_ends(prob, paper_branches, window, st) + list(extra_seeds)
-    curves, branches = [], []
+    # the paper's branches count as followed: a seed of class 1P on them is known; one off them (outside the
+    # paper's search domain, e.g. a stuck phase longer than T0_I / 2) is followed here
+    curves = [("1P", np.asarray(b.T, float), np.asarray(b.dPL, float)) for b in paper_branches]
+    branches = []
     while queue:
         orb = queue.pop(0)
-        if orb.sig == PAPER or orb.sig.m > m_max or _known(curves, orb):
+        if orb.sig.m > m_max or _known(curves, orb):
             continue
         orbs, ends = _curve(prob, orb, window, st)
-        curves.append((orb.sig, orbs))
+        curves.append((str(orb.sig.canonical()), np.array([o.T for o in orbs]),
+                       np.array([o.loss_per_T for o in orbs])))
         mus = _mults(prob, orbs)
         ok = admissible(orbs)
+        if orb.sig.canonical() == PAPER:              # the paper's own points stay with its branches
+            ok &= np.array([not _known(curves[:len(paper_branches)], o) for o in orbs])
         ev = _events(orbs, mus)
         for e in ev:
             if e["kind"] == PD and orb.sig.m * 2 <= m_max:
