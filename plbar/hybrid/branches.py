@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..model import Problem
-from ..paths import FOLD_T, NEIMARK_SACKER, PERIOD_DOUBLING
+from ..paths import FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING
 from ..util.reprs import build, count, rng
 from .floquet import monodromy, multipliers
 from .follow import END_DWELL, FollowSettings, follow
@@ -35,10 +35,11 @@ from .signature import PAPER, Signature
 from .solve import HybridOrbit, NotConverged, orbit_at, polish
 from .verify import admissible
 
-__all__ = ["HybridBranch", "find_hybrid", "KINDS", "PD", "NS", "FOLD"]
+__all__ = ["HybridBranch", "find_hybrid", "KINDS", "PD", "NS", "FOLD", "GRAZING", "DWELL_ZERO"]
 
 KINDS = ("paper", "default", "all")
 PD, NS, FOLD = PERIOD_DOUBLING, NEIMARK_SACKER, FOLD_T
+DWELL_ZERO = "stuck phase -> 0"     #: event kind: a stuck phase shrinks to zero (the signature changes)
 M_MAX = 4                 #: longest orbit (in forcing periods) seeded by period doublings
 STABLE_TOL = 1e-9
 
@@ -55,7 +56,8 @@ class HybridBranch:
     stable : ndarray of bool
     max_abs_multiplier : ndarray
     events : list of dict
-        ``kind`` (:data:`PD`, :data:`NS`, :data:`FOLD`), ``index``, ``T``.
+        ``kind`` (:data:`PD`, :data:`NS`, :data:`FOLD`, :data:`GRAZING` where the branch stops being admissible,
+        :data:`DWELL_ZERO` where a stuck phase shrinks to zero), ``index``, ``T``.
     """
 
     id: int
@@ -263,11 +265,14 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
         for j in np.flatnonzero(ok[1:] != ok[:-1]):          # the first inadmissible point past each run
             k = j + 1 if ok[j] else j
             queue.extend(split(prob, orbs[k]))
-        branches.extend(_admissible_runs(orbs, ok, mus, ev, len(branches)))
+        branches.extend(_admissible_runs(orbs, ok, mus, ev, len(branches), ends))
     return branches
 
 
-def _admissible_runs(orbs, ok, mus, ev, first_id: int) -> list[HybridBranch]:
+def _admissible_runs(orbs, ok, mus, ev, first_id: int, ends=("", "")) -> list[HybridBranch]:
+    """Maximal runs of admissible points as branches, with their events; a run that ends because the next point
+    switches prematurely ends in a grazing event, one that ends where a stuck phase shrinks to zero in a
+    :data:`DWELL_ZERO` event (the signature changes there: the next one is followed from it)."""
     out = []
     i = 0
     n = len(orbs)
@@ -280,6 +285,11 @@ def _admissible_runs(orbs, ok, mus, ev, first_id: int) -> list[HybridBranch]:
             j += 1
         mx = np.array([np.abs(m).max() for m in mus[i:j]])
         evs = [dict(e, index=e["index"] - i) for e in ev if i <= e["index"] < j]
+        for k, beyond, end in ((i, i - 1, ends[0]), (j - 1, j, ends[1])):
+            if 0 <= beyond < n:
+                evs.append({"kind": GRAZING, "index": k - i, "T": orbs[k].T})
+            elif end == END_DWELL:
+                evs.append({"kind": DWELL_ZERO, "index": k - i, "T": orbs[k].T})
         out.append(HybridBranch(first_id + len(out), orbs[i].sig, tuple(orbs[i:j]), mx < 1 - STABLE_TOL, mx, evs))
         i = j
     return out
