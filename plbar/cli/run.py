@@ -70,7 +70,7 @@ def _plots(res, out, a) -> dict:
         return {}
     from ..visuals import frequency_response, paths_plane
 
-    return {"frequency_response": frequency_response(res, out), "paths_plane": paths_plane(res, out)}
+    return {"frequency_response": frequency_response(res, out, xi=a.plot_xi), "paths_plane": paths_plane(res, out)}
 
 
 def _cmd_run(a) -> int:
@@ -120,6 +120,8 @@ def register(sub) -> None:
     r.add_argument("case_pos", nargs="?", default=None, metavar="CASE.toml", help="a TOML case file (= --case)")
     output_args(r, "plbar-out", "output folder (its earlier plbar results are replaced)")
     r.add_argument("--no-plot", action="store_true", help="skip the PNG plots")
+    r.add_argument("--plot-xi", choices=("eq", "w"), default="eq",
+                   help="the damping ratio drawn: xi_eq of Eq. (22), or xi_w (one frequency, the forcing's) [eq]")
     r.add_argument("--verbose", "-v", action="store_true", help="list every branch (default: the top 5 by xi_eq)")
     case_args(r)
     r.set_defaults(func=_cmd_run)

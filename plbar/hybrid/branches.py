@@ -9,7 +9,8 @@
 4. a stuck phase shrinking to zero continues in the signature with that pair of zero dwell;
    where a branch stops being admissible (a premature switch), the switches the bar makes
    instead seed the neighbouring signature (:func:`.seeds.split`), on the paper's branches too;
-5. any extra seeds (a survey's periodic motions: :func:`.seeds.from_events`).
+5. any extra seeds (a simulation's periodic motions: :func:`.seeds.from_motion`); a seed of the paper's
+   class off its branches (outside the paper's search domain) is followed here too.
 
 Every curve is followed both ways in ``T`` (:func:`.follow.follow`), each point is
 replayed by the certified simulator (:func:`.verify.admissible`) and gets its
@@ -25,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..model import Problem
-from ..paths import FOLD_T, NEIMARK_SACKER, PERIOD_DOUBLING
+from ..paths import FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING
 from ..util.reprs import build, count, rng
 from .floquet import monodromy, multipliers
 from .follow import END_DWELL, FollowSettings, follow
@@ -34,10 +35,11 @@ from .signature import PAPER, Signature
 from .solve import HybridOrbit, NotConverged, orbit_at, polish
 from .verify import admissible
 
-__all__ = ["HybridBranch", "find_hybrid", "KINDS", "PD", "NS", "FOLD"]
+__all__ = ["HybridBranch", "find_hybrid", "KINDS", "PD", "NS", "FOLD", "GRAZING", "DWELL_ZERO"]
 
 KINDS = ("paper", "default", "all")
 PD, NS, FOLD = PERIOD_DOUBLING, NEIMARK_SACKER, FOLD_T
+DWELL_ZERO = "stuck phase -> 0"     #: event kind: a stuck phase shrinks to zero (the signature changes)
 M_MAX = 4                 #: longest orbit (in forcing periods) seeded by period doublings
 STABLE_TOL = 1e-9
 
@@ -54,7 +56,8 @@ class HybridBranch:
     stable : ndarray of bool
     max_abs_multiplier : ndarray
     events : list of dict
-        ``kind`` (:data:`PD`, :data:`NS`, :data:`FOLD`), ``index``, ``T``.
+        ``kind`` (:data:`PD`, :data:`NS`, :data:`FOLD`, :data:`GRAZING` where the branch stops being admissible,
+        :data:`DWELL_ZERO` where a stuck phase shrinks to zero), ``index``, ``T``.
     """
 
     id: int
@@ -132,13 +135,11 @@ def _events(orbs, mus) -> list[dict]:
 
 def _known(curves, orb: HybridOrbit) -> bool:
     """Is ``orb`` on a curve already followed (same canonical signature; its loss on the curve's piecewise
-    linear interpolation at its ``T``, between two neighbouring points)?"""
+    linear interpolation at its ``T``, between two neighbouring points)?  ``curves``: ``(label, T, loss)``."""
     lab = str(orb.sig.canonical())
-    for sig, orbs in curves:
-        if str(sig.canonical()) != lab or len(orbs) < 2:
+    for label, T, L in curves:
+        if label != lab or len(T) < 2:
             continue
-        T = np.array([o.T for o in orbs])
-        L = np.array([o.loss_per_T for o in orbs])
         a, b = T[:-1], T[1:]
         inside = (np.minimum(a, b) <= orb.T) & (orb.T <= np.maximum(a, b))
         for i in np.flatnonzero(inside):
@@ -237,15 +238,21 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
     st = settings or FollowSettings()
     queue = list(_zero_dwell_seeds(prob, window, grid)) + _paper_doublings(prob, paper_branches) + \
         _paper_ends(prob, paper_branches, window, st) + list(extra_seeds)
-    curves, branches = [], []
+    # the paper's branches count as followed: a seed of class 1P on them is known; one off them (outside the
+    # paper's search domain, e.g. a stuck phase longer than T0_I / 2) is followed here
+    curves = [("1P", np.asarray(b.T, float), np.asarray(b.dPL, float)) for b in paper_branches]
+    branches = []
     while queue:
         orb = queue.pop(0)
-        if orb.sig == PAPER or orb.sig.m > m_max or _known(curves, orb):
+        if orb.sig.m > m_max or _known(curves, orb):
             continue
         orbs, ends = _curve(prob, orb, window, st)
-        curves.append((orb.sig, orbs))
+        curves.append((str(orb.sig.canonical()), np.array([o.T for o in orbs]),
+                       np.array([o.loss_per_T for o in orbs])))
         mus = _mults(prob, orbs)
         ok = admissible(orbs)
+        if orb.sig.canonical() == PAPER:              # the paper's own points stay with its branches
+            ok &= np.array([not _known(curves[:len(paper_branches)], o) for o in orbs])
         ev = _events(orbs, mus)
         for e in ev:
             if e["kind"] == PD and orb.sig.m * 2 <= m_max:
@@ -258,11 +265,14 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
         for j in np.flatnonzero(ok[1:] != ok[:-1]):          # the first inadmissible point past each run
             k = j + 1 if ok[j] else j
             queue.extend(split(prob, orbs[k]))
-        branches.extend(_admissible_runs(orbs, ok, mus, ev, len(branches)))
+        branches.extend(_admissible_runs(orbs, ok, mus, ev, len(branches), ends))
     return branches
 
 
-def _admissible_runs(orbs, ok, mus, ev, first_id: int) -> list[HybridBranch]:
+def _admissible_runs(orbs, ok, mus, ev, first_id: int, ends=("", "")) -> list[HybridBranch]:
+    """Maximal runs of admissible points as branches, with their events; a run that ends because the next point
+    switches prematurely ends in a grazing event, one that ends where a stuck phase shrinks to zero in a
+    :data:`DWELL_ZERO` event (the signature changes there: the next one is followed from it)."""
     out = []
     i = 0
     n = len(orbs)
@@ -275,6 +285,11 @@ def _admissible_runs(orbs, ok, mus, ev, first_id: int) -> list[HybridBranch]:
             j += 1
         mx = np.array([np.abs(m).max() for m in mus[i:j]])
         evs = [dict(e, index=e["index"] - i) for e in ev if i <= e["index"] < j]
+        for k, beyond, end in ((i, i - 1, ends[0]), (j - 1, j, ends[1])):
+            if 0 <= beyond < n:
+                evs.append({"kind": GRAZING, "index": k - i, "T": orbs[k].T})
+            elif end == END_DWELL:
+                evs.append({"kind": DWELL_ZERO, "index": k - i, "T": orbs[k].T})
         out.append(HybridBranch(first_id + len(out), orbs[i].sig, tuple(orbs[i:j]), mx < 1 - STABLE_TOL, mx, evs))
         i = j
     return out

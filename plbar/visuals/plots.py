@@ -116,7 +116,7 @@ def _few_decades(ax) -> bool:
     return lo > 0 and hi / lo < 100
 
 
-def frequency_response(res, out, name: str = "frequency_response") -> Path:
+def frequency_response(res, out, name: str = "frequency_response", xi: str = "eq") -> Path:
     """Frequency-response view: ``max |x_c|`` and ``xi_eq`` against ``T``, coloured by stability.
 
     Solid dark points are stable orbits (all Floquet multipliers inside the
@@ -131,19 +131,19 @@ def frequency_response(res, out, name: str = "frequency_response") -> Path:
         amps.append(contact_amplitude(b.orbits))
         amp = amps[-1]
         st = b.stable
-        for ax, y in ((ax1, amp), (ax2, b.xi)):
+        for ax, y in ((ax1, amp), (ax2, b.xi if xi == "eq" else b.xi_w)):
             ax.plot(b.T, y, "-", color="0.75", lw=0.8, zorder=1)
             ax.plot(b.T[st], y[st], "o", ms=2.6, color="tab:blue", zorder=3)
             ax.plot(b.T[~st], y[~st], "x", ms=2.6, color="tab:red", alpha=0.6, zorder=2)
     _draw_events(ax1, _event_points(res.branches, amps), (2, 3), label=False)
-    ev = _event_points(res.branches)
+    ev = _event_points(res.branches, None if xi == "eq" else [b.xi_w for b in res.branches])
     _draw_events(ax2, ev, (2, 3))
-    _draw_signatures(ax1, ax2, getattr(res, "hybrid", ()))
+    _draw_signatures(ax1, ax2, getattr(res, "hybrid", ()), xi)
     T0I, T0II = res.paths.prob.system.T0
     _anchors(ax1, T0I, T0II)
     _anchors(ax2, T0I, T0II, label=False)
     ax1.set_ylabel(r"max $|x_c|$ (contact node)")
-    ax2.set_ylabel(r"$\xi_{eq}$ (Eq. 22)")
+    ax2.set_ylabel(r"$\xi_{eq}$ (Eq. 22)" if xi == "eq" else r"$\xi_\omega$ (one frequency, the forcing's)")
     ax2.set_xlabel("forcing period $T$")
     kinds = [(b.stable.any(), (~b.stable).any()) for b in res.branches]
     hollow = " (other signatures: hollow)" if getattr(res, "hybrid", ()) else ""
@@ -168,7 +168,7 @@ SIG_COLORS = ("tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:cyan", 
               "teal", "darkslateblue", "peru", "olive")
 
 
-def _draw_signatures(ax1, ax2, branches) -> None:
+def _draw_signatures(ax1, ax2, branches, xi: str = "eq") -> None:
     """The branches of other signatures: one marker and colour per signature (filled stable, hollow unstable)."""
     labels = list(dict.fromkeys(b.label for b in branches))
     for b in branches:
@@ -176,7 +176,7 @@ def _draw_signatures(ax1, ax2, branches) -> None:
         mk, col = SIG_MARKS[j % len(SIG_MARKS)], SIG_COLORS[j % len(SIG_COLORS)]
         amp = np.array([o.amplitude for o in b.orbits])
         st = np.asarray(b.stable, bool)
-        for ax, y in ((ax1, amp), (ax2, b.xi)):
+        for ax, y in ((ax1, amp), (ax2, b.xi if xi == "eq" else b.xi_w)):
             ax.plot(b.T[st], y[st], mk, ms=3.2, color=col, ls="none", zorder=3)
             ax.plot(b.T[~st], y[~st], mk, ms=3.2, color=col, mfc="none", alpha=0.5, ls="none", zorder=2)
     for j, lab in enumerate(labels):

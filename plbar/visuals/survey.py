@@ -18,7 +18,7 @@ import numpy as np
 
 from .plots import _plt, _save, contact_amplitude
 
-__all__ = ["survey_plot"]
+__all__ = ["survey_plot", "survey_damping_plot"]
 
 #: colours of the periodic signatures, in order of appearance (blue and red are the exact branches')
 _PALETTE = ("tab:green", "tab:olive", "tab:orange", "tab:purple", "tab:cyan", "tab:brown", "tab:pink", "gold",
@@ -92,5 +92,26 @@ def survey_plot(table: dict, out, name: str = "survey", paths=None, title: str =
         vals = np.concatenate([np.asarray(table[c], float) for c in cols])
         top = float(np.nanmax(vals)) if np.isfinite(vals).any() else 1.0
         ax.set_ylim(0, 1.1 * max(top, 1e-12))
+    fig.tight_layout()
+    return _save(fig, out, name)
+
+
+def survey_damping_plot(levels: dict, out, name: str = "survey_damping") -> list[Path]:
+    """``xi_eq`` of the real motion against ``T`` for several inherent damping ratios, one panel per case.
+
+    ``levels``: case title -> list of ``(ratio, T, xi_eq, settled fraction)``.
+    """
+    plt = _plt()
+    fig, axes = plt.subplots(1, len(levels), figsize=(5.2 * len(levels), 4.0), squeeze=False)
+    for ax, (title, rows) in zip(axes[0], levels.items()):
+        for ratio, T, xi, settled in rows:
+            o = np.argsort(T)
+            ax.plot(np.asarray(T)[o], np.asarray(xi)[o], "-", lw=1.0,
+                    label=f"Rayleigh {100 * ratio:g} % ({100 * settled:.0f} % of the periods settle)")
+        ax.set_title(title)
+        ax.set_xlabel("forcing period T")
+        ax.set_ylabel(r"$\xi_{eq}$ of the impact (the motion from rest)")
+        ax.set_ylim(bottom=0)
+        ax.legend(fontsize=7, loc="upper left")
     fig.tight_layout()
     return _save(fig, out, name)

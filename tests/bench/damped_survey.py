@@ -7,6 +7,7 @@ impact and the mean total ratio, and, where the motion is of the paper's class (
 period against the exact response of ``plbar run`` (``find_response``: the same solver) at that T.
 
     python tests/bench/damped_survey.py [--quick]
+    python tests/bench/damped_survey.py --plot      # docs/img/survey_damping.png from the results file
 
 Writes ``tests/bench/results_damped_survey.json``.
 """
@@ -47,7 +48,20 @@ def level(base: dict, T, at, ratio: float, periods: int) -> dict:
             "xi_eq_by_T": [[float(a), float(b)] for a, b in zip(t["T"], t["xi_eq"])]}
 
 
+def plot(path=None, out="docs/img") -> None:
+    """Draw ``survey_damping.png`` from the results file."""
+    from plbar.visuals import survey_damping_plot
+
+    d = json.loads((path or Path(__file__).with_name("results_damped_survey.json")).read_text())
+    levels = {title: [(r["ratio"], [p[0] for p in r["xi_eq_by_T"]], [p[1] for p in r["xi_eq_by_T"]], r["settled"])
+                      for r in d[key]] for key, title in (("chain", "chain N = 5 (the paper's case)"),
+                                                          ("fe16", "FE P1 lumped N = 16, end mass 0.5"))}
+    print(survey_damping_plot(levels, out))
+
+
 def main(argv):
+    if "--plot" in argv:
+        return plot()
     quick = "--quick" in argv
     periods = 300 if quick else 1000
     out = {"chain": [], "fe16": []}

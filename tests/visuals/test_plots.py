@@ -183,3 +183,12 @@ def test_refine_plot_titles_have_no_internal_names(tmp_path, monkeypatch):
                  "--out", str(tmp_path)]) == 0
     assert titles and all("family near $T_0^{II}/2$" in t for t in titles)
     assert not any(x in t for t in titles for x in ("T0_I_L", "T_mid_T0I", "T0_II/2 ", "xi_max"))
+
+
+def test_frequency_response_draws_xi_w_on_request(tmp_path, small):
+    """paths.csv has xi_w; the frequency-response plot draws it instead of xi_eq when asked (plbar run --plot-xi w)."""
+    from plbar.visuals import frequency_response
+
+    p = frequency_response(small, tmp_path, "fr_w", xi="w")
+    assert p.stat().st_size > 10_000
+    assert all(np.all(b.xi_w >= 0) and np.any(b.xi_w != b.xi) for b in small.branches if len(b))

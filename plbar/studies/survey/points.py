@@ -41,11 +41,9 @@ def start_of(rows: list[dict]) -> Start:
 def _polish(prob, r, b: int, m: int, loss: float) -> dict:
     """The exact orbit of trajectory ``b``'s periodic motion (or no fields if Newton does not get there).
 
-    Undamped: any signature (:func:`plbar.hybrid.from_motion`).  With inherent damping (which the signature
-    chain does not take yet): the paper's class, by :func:`plbar.find_response` from the simulated stuck time.
+    Any signature (:func:`plbar.hybrid.from_motion`, damped or not); where Newton does not get there, a motion of
+    the paper's class by :func:`plbar.find_response` from the simulated stuck time.
     """
-    if getattr(prob.system, "damped", False):
-        return _polish_paper(prob, r, b, m, loss)
     first = r.periods - r.record
     sel = r.events["traj"] == b
     te, ke = r.events["time"][sel], r.events["kind"][sel]
@@ -56,9 +54,9 @@ def _polish(prob, r, b: int, m: int, loss: float) -> dict:
         o = from_motion(prob, T, m, t_b, r.strobe_x[b, 0], r.strobe_v[b, 0], int(r.strobe_state[b, 0]), te[after],
                         ke[after], float(r.phi[b]))
     except (PlbarError, ValueError, np.linalg.LinAlgError):
-        return {}
+        return _polish_paper(prob, r, b, m, loss)
     if not abs(o.loss_per_T - loss) <= 1e-5 * max(loss, 1e-300):
-        return {}                                 # Newton went to another orbit: not the motion simulated
+        return _polish_paper(prob, r, b, m, loss)  # Newton went to another orbit: not the motion simulated
     return {"exact_loss": float(o.loss_per_T), "exact_xi": float(o.xi), "signature": str(o.sig.canonical())}
 
 
