@@ -38,3 +38,15 @@ def test_survey_refinement(tmp_path):
     assert np.all(np.isfinite([r["loss_per_T"] for r in s.rows]))
     text = repr(s)
     assert text.startswith("SurveyRefinement(N=[3, 4], T/L=2, rows=4") and len(text) < 200
+
+
+def test_every_name_the_front_door_had_is_still_there():
+    import plbar.studies as st
+
+    before = {"KINDS", "SerialExecutor", "get_executor", "FAMILIES", "OTHER", "assign_families", "default_positions",
+              "load_sweep_study", "node_pairs", "sweep_tables", "write_sweep_tables", "xi_along_mesh", "refine_study",
+              "run_refine", "Study", "StudyError", "load_results", "run_study", "task_key", "solve_task",
+              "truncation_check", "RATIOS", "DampedRun", "ratio_table", "with_rayleigh"}
+    assert before <= set(st.__all__) and all(hasattr(st, n) for n in st.__all__)
+    for room in ("execution", "loads", "refine", "damping", "survey", "paper"):      # the rooms, not shadowed
+        assert getattr(st, room).__name__ == f"plbar.studies.{room}"
