@@ -23,7 +23,7 @@ myst_enable_extensions = ["colon_fence"]
 myst_heading_anchors = 3
 
 # API reference: every front door, members in the order of __all__; numpydoc parses the docstrings
-autodoc_default_options = {"members": True, "member-order": "bysource", "show-inheritance": False}
+autodoc_default_options = {"members": True, "member-order": "bysource"}
 autodoc_typehints = "none"
 autodoc_mock_imports = ["pyvista", "vtk", "h5py", "dask", "distributed"]
 numpydoc_show_class_members = False
