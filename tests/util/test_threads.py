@@ -81,3 +81,34 @@ def test_single_thread_blas_sets_one_thread_and_restores_after_the_last_exit():
             t.join()
         assert all(n == 1 for n in counts())        # the worker's exit and the nested one are not the last
     assert inside and all(n == 1 for n in inside[0]) and counts() == before
+
+
+def test_single_thread_blas_from_a_worker_that_enters_first():
+    """A pool worker may be the first to enter (map_chunks after a scan): it still sets one thread.
+
+    threadpoolctl lets only the first thread that set OpenBLAS's shared pool set it again; a worker's
+    set was silently ignored, and BLAS kept two threads inside two workers.
+    """
+    from concurrent.futures import ThreadPoolExecutor
+
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    from plbar.util import single_thread_blas
+
+    def counts():
+        return [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
+
+    def worker():
+        with single_thread_blas:
+            return counts()
+
+    with threadpool_limits(limits=2, user_api="blas"):
+        if not counts() or max(counts()) < 2:
+            raise AssertionError(f"BLAS pools should accept 2 threads here: {counts()}")
+        with single_thread_blas:            # the main thread sets (and, before the fix, kept control)
+            pass
+        with ThreadPoolExecutor(1) as ex:
+            inside = ex.submit(worker).result()
+        after = counts()
+    assert all(n == 1 for n in inside), inside
+    assert all(n == 2 for n in after), after
