@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import Problem
-from ..util.blas import single_thread_blas
+from ..util.blas import serial_blas_for
 from ..util.reprs import build, rng
 from .flow import free_flow, kernels
 
@@ -294,7 +294,8 @@ def period_map(prob: Problem, T1, T2, *, signs: bool = True, scales: bool = True
     T1 = np.atleast_1d(np.asarray(T1, float))
     T2 = np.atleast_1d(np.asarray(T2, float))
     k = _consts(prob)
-    with single_thread_blas:
+    m = prob.system.w1.size + prob.system.w2.size
+    with serial_blas_for(T1.size * m * m):
         b = _blocks(k, T1, T2)
         if signs:
             Z, sign = _solve(b["IA"], b["c"])

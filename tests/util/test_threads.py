@@ -112,3 +112,18 @@ def test_single_thread_blas_from_a_worker_that_enters_first():
         after = counts()
     assert all(n == 1 for n in inside), inside
     assert all(n == 2 for n in after), after
+
+
+def test_serial_blas_only_where_blas_could_thread():
+    """A small call skips the switch (about 10 us, 4 % of a find_response); a large one takes it."""
+    import contextlib
+
+    from plbar.util import single_thread_blas
+    from plbar.util.blas import SERIAL_WORK, serial_blas_for
+
+    assert isinstance(serial_blas_for(SERIAL_WORK), contextlib.nullcontext)
+    assert serial_blas_for(SERIAL_WORK + 1) is single_thread_blas
+    # work = B m^2 (B points, m modes): at most SERIAL_WORK means m <= SERIAL_WORK^(1/2), so a GEMM has at most
+    # B m^3 <= SERIAL_WORK^(3/2) multiply-adds and a GEMV B m <= SERIAL_WORK; OpenBLAS's own rule keeps one
+    # thread below 65536 x 4 (GEMM) and 2304 x 4 (GEMV)
+    assert SERIAL_WORK ** 1.5 <= 65536 * 4 and SERIAL_WORK <= 2304 * 4
