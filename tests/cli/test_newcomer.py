@@ -142,11 +142,14 @@ def test_missing_matplotlib_is_said_once(tmp_path, capsys, monkeypatch):
 # 7. Ctrl-C ends at once with exit 130 --------------------------------------------------------------------------
 
 def test_ctrl_c_in_sweep_loads_exits_130_at_once(tmp_path):
-    """Robust: SIGINT is sent once the command has started (its output folder exists), not after a sleep."""
+    """Robust: SIGINT is sent once the command has started (its output folder exists), not after a sleep; the
+    child gets SIGINT's default disposition back, as a terminal gives it (a test run started in the background
+    by a non-interactive shell ignores SIGINT, and Python then installs no KeyboardInterrupt handler)."""
     out = tmp_path / "s"
     proc = subprocess.Popen([sys.executable, "-m", "plbar", "sweep-loads", "--model", "fe", "-N", "16",
                              "--element", "P2", "--out", str(out), "-q"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=dict(os.environ, MPLBACKEND="agg"))
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=dict(os.environ, MPLBACKEND="agg"),
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     t0 = time.monotonic()
     while not out.exists() and proc.poll() is None and time.monotonic() - t0 < 300:
         time.sleep(0.02)
