@@ -125,7 +125,7 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
                       f"{MIN_BRANCH_POINTS} points on grid = "
                       f"{case.grid}; refine the grid (or narrow T1/T2) to resolve them", CoarseGridWarning,
                       stacklevel=2)
-    hybrid = tuple(hybrid_branches(paths, case.signatures))
+    hybrid = tuple(hybrid_branches(paths, case.signatures, progress))
     return Result(case, paths, time.perf_counter() - t0, hybrid)
 
 

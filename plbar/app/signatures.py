@@ -19,6 +19,7 @@ import numpy as np
 from ..hybrid import NotConverged, canonical, find_hybrid, from_motion
 from ..motion import padded, run, steady
 from ..paths import Paths
+from ..util.progress import progress_bar
 
 __all__ = ["hybrid_branches", "hybrid_window", "hybrid_rows", "hybrid_summary", "simulated_seeds", "SEED_PERIODS"]
 
@@ -32,12 +33,13 @@ def hybrid_window(paths: Paths) -> tuple[float, float]:
     return 0.5 * T0I, float(paths.domain.T1[1] + paths.domain.T2[1])
 
 
-def simulated_seeds(paths: Paths, window, kinds: str = "default") -> list:
+def simulated_seeds(paths: Paths, window, kinds: str = "default", progress: bool = False) -> list:
     """Orbits polished from the periodic motions of a simulation from rest across the window."""
     prob = paths.prob
     num, periods, record = SEED_PERIODS[kinds]
     T = np.linspace(window[0], window[1], num)
-    r = run(padded(prob), T, 0.0, periods, record)
+    with progress_bar(periods, progress, f"signatures: simulating {num} forcing periods from rest", "period") as bar:
+        r = run(padded(prob), T, 0.0, periods, record, progress=bar.update)
     s = steady(r, tol=1e-4)
     out = []
     first = periods - record
@@ -53,13 +55,19 @@ def simulated_seeds(paths: Paths, window, kinds: str = "default") -> list:
     return out
 
 
-def hybrid_branches(paths: Paths, kinds: str) -> list:
-    """The branches of every signature but the paper's class (:func:`plbar.hybrid.find_hybrid`)."""
+def hybrid_branches(paths: Paths, kinds: str, progress: bool = False) -> list:
+    """The branches of every signature but the paper's class (:func:`plbar.hybrid.find_hybrid`).
+
+    With ``progress``, two phases on stderr: the seeding simulation (periods done) and the curves followed
+    (their number grows as bifurcations seed new ones, so the bar counts them without a total).
+    """
     if kinds == "paper":
         return []
     window = hybrid_window(paths)
-    return find_hybrid(paths.prob, window, paths.branches, simulated_seeds(paths, window, kinds), kinds=kinds,
-                       m_max=4 if kinds == "default" else 8)
+    seeds = simulated_seeds(paths, window, kinds, progress)
+    with progress_bar(None, progress, "signatures: following curves", "curve") as bar:
+        return find_hybrid(paths.prob, window, paths.branches, seeds, kinds=kinds,
+                           m_max=4 if kinds == "default" else 8, progress=lambda: bar.update(1))
 
 
 def hybrid_rows(branches, first_id: int) -> dict:

@@ -227,11 +227,12 @@ def _paper_ends(prob, paper_branches, window, st) -> list[HybridOrbit]:
 
 def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), extra_seeds=(),
                 kinds: str = "default", grid: int = 400, settings: FollowSettings | None = None,
-                m_max: int = M_MAX) -> list[HybridBranch]:
+                m_max: int = M_MAX, progress=None) -> list[HybridBranch]:
     """Branches of every signature but the paper's class reachable from the seeds (see the module docstring).
 
     ``paper_branches`` are the branches of :func:`plbar.find_paths` (their period doublings and ends seed
-    other signatures), ``extra_seeds`` any other orbits.  ``kinds = "paper"`` returns nothing.
+    other signatures), ``extra_seeds`` any other orbits.  ``kinds = "paper"`` returns nothing.  ``progress``
+    (optional) is called once per curve followed.
     """
     if kinds == "paper":
         return []
@@ -247,6 +248,8 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
         if orb.sig.m > m_max or _known(curves, orb):
             continue
         orbs, ends = _curve(prob, orb, window, st)
+        if progress is not None:
+            progress()
         curves.append((str(orb.sig.canonical()), np.array([o.T for o in orbs]),
                        np.array([o.loss_per_T for o in orbs])))
         mus = _mults(prob, orbs)

@@ -238,6 +238,8 @@ def _loop(b: Batch, rec: _Recorder, progress) -> int:
     while True:
         idx = np.flatnonzero(b.alive)
         if idx.size == 0:
+            if progress is not None and b.periods > done:
+                progress(b.periods - done)             # the last periods (and any stalled trajectory's rest)
             return rounds
         rounds += 1
         event, new_p, eta, vel = decide(b, idx)

@@ -21,7 +21,11 @@ def prob():
 def hybrid(default_result):
     p = default_result.paths.prob
     T0I, _ = p.system.T0
-    return find_hybrid(p, (6.0, 14.0), default_result.branches)
+    _CURVES.clear()
+    return find_hybrid(p, (6.0, 14.0), default_result.branches, progress=lambda: _CURVES.append(1))
+
+
+_CURVES: list = []      #: one entry per curve find_hybrid reported as followed (its progress callback)
 
 
 def _physical(prob, z):
@@ -248,3 +252,10 @@ def test_damped_responses_of_every_signature(monkeypatch):
           evaluate(prob, hy[0].sig, hy[0].orbits[0].T, Xp - e, jac=False).F) / 2e-6
     assert np.max(np.abs(fd - ch.J[:, 0])) <= 1e-7 * np.abs(ch.J).max()
     del find_response
+
+
+def test_progress_once_per_curve_followed(hybrid):
+    """Every branch lies on a curve that was reported; a curve can hold several branches (admissible runs), or none."""
+    labels = {b.label for b in hybrid}
+    assert len(_CURVES) >= len(labels) >= 3
+    assert len(_CURVES) <= 4 * len(hybrid) + 40

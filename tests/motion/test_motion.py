@@ -222,3 +222,10 @@ def test_damped_work_closed_form(zeta):
         a = segment_work(w, f, W, 1.1, 3.7, e0, v0, np.cos(0.3), np.sin(0.3), zeta=zeta)
         b = work_quadrature_segment(w, f, W, 1.1, 3.7, e0, v0, np.cos(0.3), np.sin(0.3), n=200, zeta=zeta)
         assert np.allclose(a, b, rtol=0, atol=1e-10 * np.abs(b).max())
+
+
+def test_progress_counts_every_period_once():
+    """The progress callback adds up to the periods simulated (the last ones are reported when all have ended)."""
+    calls = []
+    run(plbar.Case().problem(), [8.5, 12.0, 13.5], periods=30, record=5, progress=calls.append)
+    assert sum(calls) == 30 and min(calls) > 0
