@@ -108,22 +108,13 @@ def evaluate(prob: Problem, P: np.ndarray, progress: bool = False, desc: str = "
 
     In chunks over threads (:func:`plbar.util.threads.map_chunks`); the sampling
     of the admissibility check is fixed for the whole batch, so the result does
-    not depend on the chunks.  With ``progress``, in about 20 blocks with a
-    progress bar (``desc``).
+    not depend on the chunks.  With ``progress``, a progress bar (``desc``)
+    counts the chunks as they come in (the same chunks: the same bits).
     """
     ns = n_samples(prob, P.sum(axis=1)) if len(P) else 65
     m = prob.system.w1.size + prob.system.w2.size
     cap = max(16, int(SAMPLE_ELEMENTS // (ns * m)))        # memory: the dense sampling is (points, ns, modes)
 
-    def block(Q):
-        return map_chunks(lambda a, b: _evaluate_chunk(prob, Q[a:b], ns), len(Q), min(PAR_CHUNK // 4, cap), cap)
-
-    if not progress or len(P) < 2 * PAR_CHUNK:
-        return Evaluated.concat(block(P))
-    step = max(PAR_CHUNK, -(-len(P) // 20))
-    parts = []
-    with progress_bar(len(P), True, desc, "point") as bar:
-        for i in range(0, len(P), step):
-            parts += block(P[i:i + step])
-            bar.update(min(step, len(P) - i))
-    return Evaluated.concat(parts)
+    with progress_bar(len(P), progress and len(P) >= 2 * PAR_CHUNK, desc, "point") as bar:
+        return Evaluated.concat(map_chunks(lambda a, b: _evaluate_chunk(prob, P[a:b], ns), len(P),
+                                           min(PAR_CHUNK // 4, cap), cap, bar.update))

@@ -28,15 +28,16 @@ CHUNK_BYTES = 32e6  #: temporaries per batch of the chunked evaluations (bytes)
 PAR_CHUNK = 2000    #: smallest batch of points worth a thread of its own
 
 
-def _chunks(prob: Problem, T1, T2, fun) -> list:
+def _chunks(prob: Problem, T1, T2, fun, done=None) -> list:
     step = max(1, int(CHUNK_BYTES // bytes_per_point(prob)))
     with single_thread_blas:
-        return map_chunks(lambda a, b: fun(prob, T1[a:b], T2[a:b]), T1.size, PAR_CHUNK, step)
+        return map_chunks(lambda a, b: fun(prob, T1[a:b], T2[a:b]), T1.size, PAR_CHUNK, step, done)
 
 
-def chunked_G(prob: Problem, T1, T2) -> np.ndarray:
-    """:func:`plbar.response.scan_G` at 1D arrays ``T1, T2``, in batches of about ``CHUNK_BYTES``."""
-    return np.concatenate(_chunks(prob, T1, T2, scan_G))
+def chunked_G(prob: Problem, T1, T2, done=None) -> np.ndarray:
+    """:func:`plbar.response.scan_G` at 1D arrays ``T1, T2``, in batches of about ``CHUNK_BYTES``
+    (``done``: called with the points of each batch as it comes in, see :func:`plbar.util.threads.map_chunks`)."""
+    return np.concatenate(_chunks(prob, T1, T2, scan_G, done))
 
 
 def chunked_coefficients(prob: Problem, T1, T2) -> Coefficients:
@@ -56,18 +57,12 @@ def grid_axes(domain, grid: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
 
 
 def scan_field(prob: Problem, domain, grid: tuple[int, int], progress: bool = False):
-    """Grid axes and ``G`` on the grid, shape ``(n1, n2)`` (with a progress bar: in blocks of rows)."""
+    """Grid axes and ``G`` on the grid, shape ``(n1, n2)`` (with a progress bar counting the batches; the
+    batches, and so every bit of ``G``, are the same without it)."""
     t1, t2 = grid_axes(domain, grid)
     G1, G2 = np.meshgrid(t1, t2, indexing="ij")
-    if not progress:
-        return t1, t2, chunked_G(prob, G1.ravel(), G2.ravel()).reshape(t1.size, t2.size)
-    rows = max(1, t1.size // 20)
-    out = np.empty(G1.shape)
-    with progress_bar(t1.size * t2.size, True, "scanning", "point") as bar:
-        for i in range(0, t1.size, rows):
-            out[i:i + rows] = chunked_G(prob, G1[i:i + rows].ravel(), G2[i:i + rows].ravel()).reshape(-1, t2.size)
-            bar.update(out[i:i + rows].size)
-    return t1, t2, out
+    with progress_bar(t1.size * t2.size, progress, "scanning", "point") as bar:
+        return t1, t2, chunked_G(prob, G1.ravel(), G2.ravel(), bar.update).reshape(t1.size, t2.size)
 
 
 def refine_edges(prob: Problem, Pa, Pb, Ga, Gb, progress: bool = False):

@@ -63,7 +63,7 @@ def _run(fn, args):
         _local.worker = False
 
 
-def map_chunks(fn, size: int, min_chunk: int, max_chunk: int | None = None) -> list:
+def map_chunks(fn, size: int, min_chunk: int, max_chunk: int | None = None, done=None) -> list:
     """``[fn(a, b) for (a, b) in chunks of range(size)]``, in parallel where it pays.
 
     Parameters
@@ -75,6 +75,10 @@ def map_chunks(fn, size: int, min_chunk: int, max_chunk: int | None = None) -> l
         No chunk is smaller (below ``2 min_chunk`` items everything runs in one call).
     max_chunk : int, optional
         No chunk is larger (memory bound).
+    done : callable, optional
+        Called in the calling thread with ``stop - start`` as each chunk's result comes in, in order (a
+        progress bar).  The chunks are the same with or without it, so are the results, bit for bit (a
+        batch's size can change the last bits of a BLAS product).
     """
     n = n_threads() if not getattr(_local, "worker", False) else 1
     # the chunks do not depend on the thread count (bitwise the same results with 1 or 4 threads)
@@ -82,7 +86,11 @@ def map_chunks(fn, size: int, min_chunk: int, max_chunk: int | None = None) -> l
     if max_chunk:
         k = max(k, -(-size // max_chunk))
     bounds = [(size * i // k, size * (i + 1) // k) for i in range(k)]
-    if n == 1 or k == 1:
-        return [fn(a, b) for a, b in bounds]
-    pool = _get_pool(n)
-    return list(pool.map(lambda ab: _run(fn, ab), bounds))
+    results = (fn(a, b) for a, b in bounds) if n == 1 or k == 1 else \
+        _get_pool(n).map(lambda ab: _run(fn, ab), bounds)
+    out = []
+    for (a, b), r in zip(bounds, results):
+        out.append(r)
+        if done is not None:
+            done(b - a)
+    return out
