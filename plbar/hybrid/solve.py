@@ -74,6 +74,15 @@ class HybridOrbit:
         return self.X[:2 * self.prob.system.w1.size]
 
     @property
+    def start(self) -> tuple[np.ndarray, np.ndarray]:
+        """Physical displacement and velocity of every DOF at ``t = 0`` (stuck, just after the last impact): the
+        state I modal state ``z0`` through the state I modes, the contact DOF at rest at the wall."""
+        s = self.prob.system
+        m = s.w1.size
+        z = self.z0
+        return s.embed(z[:m] @ s.V1.T), s.embed(z[m:] @ s.V1.T)
+
+    @property
     def dPL(self) -> float:
         S = self.prob.cached("impact_mass", lambda p: p.system.impact_mass)
         return float(0.5 * S * np.sum(self.v_impact ** 2))

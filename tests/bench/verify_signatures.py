@@ -30,15 +30,9 @@ from plbar.hybrid import admissible, expected_events
 PER_RAD = 50.0
 
 
-def _physical(prob, z):
-    s = prob.system
-    m = s.w1.size
-    return s.embed(z[:m] @ s.V1.T), s.embed(z[m:] @ s.V1.T)
-
-
 def check(o) -> dict:
     prob = o.prob
-    x0, v0 = _physical(prob, o.z0)
+    x0, v0 = o.start
     sim = simulate(prob, o.T, o.phi, x0, v0, state=1, n_periods=o.sig.m)
     et, ek = expected_events(o)
     span = o.sig.m * o.T

@@ -28,17 +28,11 @@ def hybrid(default_result):
 _CURVES: list = []      #: one entry per curve find_hybrid reported as followed (its progress callback)
 
 
-def _physical(prob, z):
-    s = prob.system
-    m = s.w1.size
-    return s.embed(z[:m] @ s.V1.T), s.embed(z[m:] @ s.V1.T)
-
-
 def check_by_simulation(o, tol=1e-9):
     """The independent simulator from the orbit's state: the same switches at the same times over m periods,
     back to the start, and the work of the load = the impact losses (energy balance)."""
     prob = o.prob
-    x0, v0 = _physical(prob, o.z0)
+    x0, v0 = o.start
     sim = simulate(prob, o.T, o.phi, x0, v0, state=1, n_periods=o.sig.m)
     et, ek = expected_events(o)
     span = o.sig.m * o.T
@@ -233,7 +227,7 @@ def test_damped_responses_of_every_signature(monkeypatch):
         for orb in br.orbits[::max(1, len(br) // 3)]:
             if not _resolvable(orb, 50.0):
                 continue
-            x0, v0 = _physical(prob, orb.z0)
+            x0, v0 = orb.start
             sim = simulate(prob, orb.T, orb.phi, x0, v0, state=1, n_periods=orb.sig.m)
             et, ek = expected_events(orb)
             n = et.size
