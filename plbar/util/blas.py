@@ -9,6 +9,7 @@ scheduler (10x-100x slower).  The BLAS libraries loaded in the process
 
 from __future__ import annotations
 
+import contextlib
 import threading
 
 __all__ = ["single_thread_blas", "serial_blas_for", "SERIAL_WORK"]
@@ -26,7 +27,7 @@ class _SingleThreadBLAS:
     saves and sets, the last exit restores (``threadpoolctl.threadpool_limits``
     alone would restore too early when two threads overlap).  The libraries are
     looked up once, at the first entry, and driven through threadpoolctl's
-    controllers (about 5 us an entry).
+    controllers (about 11 us an entry, see :func:`serial_blas_for`).
 
     Any thread may be the first to enter (the pool workers of
     :func:`plbar.util.threads.map_chunks` do): threadpoolctl lets only one
@@ -81,12 +82,10 @@ single_thread_blas = _SingleThreadBLAS()
 
 
 def serial_blas_for(work: float):
-    """:data:`single_thread_blas` where the BLAS calls of a batch of size ``work = B m^2`` could use threads, else a no-op.
+    """:data:`single_thread_blas` where the BLAS calls of a batch ``work = B m^2`` could use threads, else a no-op.
 
     A single small response (``plbar.find_response`` on the chain) never reaches BLAS threading; switching
     the pools there costs about 10 us a call, 4 % of the call.  The result is the same bit for bit: below the
     threshold the library runs on one thread whatever its setting.
     """
-    import contextlib
-
     return single_thread_blas if work > SERIAL_WORK else contextlib.nullcontext()
