@@ -137,8 +137,9 @@ def register(sub) -> None:
     g.add_argument("--T-list", dest="T_list", type=float, nargs="+", default=None, metavar="T",
                    help="explicit forcing periods (instead of --T/--num)")
     g.add_argument("--periods", type=int, default=1000, metavar="P", help="forcing periods simulated [1000]")
-    g.add_argument("--record", type=int, default=100, metavar="R",
-                   help="the last R periods characterise the motion (the rest is the transient) [100]")
+    g.add_argument("--record", type=int, default=None, metavar="R",
+                   help="the last R periods characterise the motion (the rest is the transient) "
+                        "[100, or P/10 when fewer]")
     g.add_argument("--continue", dest="cont", choices=("up", "down"), nargs="+", default=None,
                    help="also sweep T up and/or down, each period starting from the previous one's final state "
                         "(hysteresis, coexisting motions)")

@@ -140,6 +140,16 @@ def test_cli_survey_vocabulary(tmp_path, capsys):
     assert main(["survey", "--periods", "10", "--record", "10", "--out", str(tmp_path / "c")]) == 2
 
 
+def test_short_survey_without_record(tmp_path, capsys):
+    """--periods below 100 needs no --record: the last tenth is recorded (it was an error: record 100 > periods)."""
+    from plbar.studies.survey import default_record
+
+    assert [default_record(p) for p in (2, 30, 999, 1000, 5000)] == [1, 3, 99, 100, 100]
+    out = tmp_path / "short"
+    assert main(["survey", "--T-list", "11.7", "--periods", "30", "--out", str(out), "--no-plot", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["summary"]["record"] == 3
+
+
 def test_run_and_survey_do_not_share_a_folder(tmp_path, capsys):
     assert main(["run", "--out", str(tmp_path), "--no-plot", "-q"]) == 0
     assert main(["survey", "--T-list", "10", "--periods", "50", "--record", "5", "--out", str(tmp_path), "-q"]) == 2

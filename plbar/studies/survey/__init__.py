@@ -10,9 +10,10 @@
 
 from .points import COLUMNS, survey_chunk
 from .refine import REFINE_COLUMNS, SurveyRefinement, run_survey_refine
-from .study import SURVEY_OWNED, Survey, default_periods, run_survey, survey, survey_study, write_survey
+from .study import (SURVEY_OWNED, Survey, default_periods, default_record, run_survey, survey, survey_study,
+                    write_survey)
 from .tasks import MODES, case_fields, case_of, make_tasks, survey_task
 
-__all__ = ["COLUMNS", "survey_chunk", "SURVEY_OWNED", "Survey", "default_periods", "run_survey", "survey",
-           "survey_study", "write_survey", "REFINE_COLUMNS", "SurveyRefinement", "run_survey_refine", "MODES",
+__all__ = ["COLUMNS", "survey_chunk", "SURVEY_OWNED", "Survey", "default_periods", "default_record", "run_survey",
+           "survey", "survey_study", "write_survey", "REFINE_COLUMNS", "SurveyRefinement", "run_survey_refine", "MODES",
            "case_fields", "case_of", "make_tasks", "survey_task"]

@@ -25,7 +25,7 @@ from ...util.outputs import claim_folder, fingerprint
 from ...util.reprs import build
 from ...util.version import __version__
 from ..refine import MIN_MESHES, converge
-from .study import run_survey
+from .study import default_record, run_survey
 
 __all__ = ["SurveyRefinement", "run_survey_refine", "REFINED", "REFINE_COLUMNS", "MIN_MESHES"]
 
@@ -80,14 +80,15 @@ def _case_at(case: Case, n: int) -> Case:
     return replace(case, n=n)
 
 
-def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int = 100, out="plbar-survey-refine",
-                      executor=None, progress: bool = False, overwrite: bool = False,
+def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | None = None,
+                      out="plbar-survey-refine", executor=None, progress: bool = False, overwrite: bool = False,
                       plot: bool = True) -> SurveyRefinement:
     """Surveys of ``case`` at every size in ``sizes`` and the convergence of their means.
 
     ``T`` are forcing periods of ``case`` (its own ``N``); for the chain they scale with ``N / N0``.
     """
     t0 = time.perf_counter()
+    record = default_record(periods) if record is None else record
     sizes = sorted({int(n) for n in sizes})
     if len(sizes) < 2 or sizes[0] < 2:
         raise InputError(f"sizes = {sizes}: give at least two sizes >= 2 for a refinement")

@@ -18,7 +18,7 @@ from ..execution import SerialExecutor, Study, run_study
 from .points import COLUMNS
 from .tasks import MODES, case_fields, make_tasks, survey_task
 
-__all__ = ["Survey", "survey", "run_survey", "survey_study", "SURVEY_OWNED", "check_forcing_periods"]
+__all__ = ["Survey", "survey", "run_survey", "survey_study", "SURVEY_OWNED", "check_forcing_periods", "default_record"]
 
 #: what a survey owns in its folder (cleared before another survey is written there)
 SURVEY_OWNED = ("survey.csv", "summary.json", "survey.png", "survey.pdf", "study.json", "tasks", "sweeps", ".*.part.*")
@@ -73,7 +73,13 @@ def check_forcing_periods(T) -> np.ndarray:
     return np.unique(T)
 
 
-def survey_study(case: Case, T, periods: int = 1000, record: int = 100, modes=("rest",), chunks=None,
+def default_record(periods: int) -> int:
+    """The periods recorded when not given: the last 100, or the last tenth of ``periods`` when that is fewer
+    (at least 1), so that any ``periods >= 2`` works without ``record``."""
+    return max(1, min(100, int(periods) // 10))
+
+
+def survey_study(case: Case, T, periods: int = 1000, record: int | None = None, modes=("rest",), chunks=None,
                  checkpoints=None) -> Study:
     """The tasks of a survey (see :mod:`.tasks`)."""
     T = check_forcing_periods(T)
@@ -82,6 +88,7 @@ def survey_study(case: Case, T, periods: int = 1000, record: int = 100, modes=("
         raise InputError(f"start = {bad[0] if bad else modes!r} must be one of {', '.join(MODES)}")
     if int(periods) != periods or periods < 2:
         raise InputError(f"periods = {periods!r} must be an integer >= 2 (forcing periods simulated)")
+    record = default_record(periods) if record is None else record
     if int(record) != record or not 1 <= record < periods:
         raise InputError(f"record = {record!r} must be an integer in [1, periods - 1] (the last periods, "
                          "after the transient)")
@@ -128,7 +135,7 @@ def write_survey(folder, table: dict, summary: dict) -> dict:
             "summary": write_json(folder / "summary.json", summary)}
 
 
-def survey(case: Case | None = None, T=None, periods: int = 1000, record: int = 100, modes=("rest",),
+def survey(case: Case | None = None, T=None, periods: int = 1000, record: int | None = None, modes=("rest",),
            executor=None, progress: bool = False, chunks=None) -> Survey:
     """What the bar does at every forcing period ``T``, in memory (no files).
 
@@ -139,7 +146,8 @@ def survey(case: Case | None = None, T=None, periods: int = 1000, record: int = 
     T : array_like
         Forcing periods (default :func:`default_periods`).
     periods, record : int
-        Forcing periods simulated from the start, and how many of the last are recorded.
+        Forcing periods simulated from the start, and how many of the last are recorded (default
+        :func:`default_record`: 100, or a tenth of ``periods`` when that is fewer).
     modes : sequence of {"rest", "up", "down"}
         Starts: from rest, and sweeps that carry the final state to the next period up or down.
     executor : concurrent.futures.Executor, optional
@@ -171,7 +179,7 @@ def _claim(folder: Path, study: Study, overwrite: bool):
     return claim_folder(folder, "survey", fingerprint(study.manifest()["tasks"]), SURVEY_OWNED, overwrite)
 
 
-def run_survey(case: Case, T, periods: int = 1000, record: int = 100, out="plbar-survey", modes=("rest",),
+def run_survey(case: Case, T, periods: int = 1000, record: int | None = None, out="plbar-survey", modes=("rest",),
                executor=None, progress: bool = False, overwrite: bool = False, plot: bool = True, chunks=None,
                paths=None) -> Survey:
     """Run (or resume) a survey into ``out``: ``survey.csv``, ``summary.json`` and the figure (PNG + PDF).
