@@ -15,10 +15,11 @@ import numpy as np
 
 from ..model import Problem
 
-__all__ = ["Padded", "padded", "STUCK", "FREE"]
+__all__ = ["Padded", "padded", "STUCK", "FREE", "OK", "CHATTER", "STALLED"]
 
 STUCK = 0   #: row of state I (contact held) in the padded arrays
 FREE = 1    #: row of state II (gap open)
+OK, CHATTER, STALLED = 0, 1, 2   #: trajectory status: running or done, stopped by a chattering contact, stalled
 
 
 @dataclass(frozen=True)

@@ -1,21 +1,20 @@
-"""Run a batch of trajectories for many forcing periods and keep what the survey needs (:class:`Run`)."""
+"""Run many trajectories for many forcing periods in the compiled kernel and keep what the survey needs (:class:`Run`)."""
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
 from ..errors import InputError
 from ..model import Problem
 from ..util.reprs import build, rng
-from .accounting import Pieces, account
-from .integrate import CHATTER, MAX_STALL, MAX_ZERO, STALLED, Batch, decide, energy, strobe, switch
-from .model import STUCK, Padded, padded
+from ..util.threads import map_chunks, n_threads
+from .model import OK, STUCK, Padded, padded
 
-__all__ = ["Run", "Start", "run", "rest"]
-
-_FLUSH = 20000   #: pieces accounted at once
+__all__ = ["Run", "Start", "run", "rest", "energy"]
 
 
 @dataclass(frozen=True)
@@ -65,7 +64,7 @@ class Run:
     final : Start
         The state at the end (to continue from).
     rounds : int
-        Batched rounds used.
+        Rounds (certified steps and switches) over all trajectories.
     """
 
     T: np.ndarray
@@ -107,71 +106,6 @@ class Run:
                              "energy_residual": rng(np.abs(self.energy_residual)), "rounds": self.rounds})
 
 
-class _Recorder:
-    """Collects pieces, events and period boundaries while the batch runs (internal)."""
-
-    def __init__(self, pad: Padded, b: Batch, record: int, accounts: bool = True):
-        B, R, n = b.T.size, record, pad.n
-        self.accounts = accounts
-        self.pad, self.b, self.R, self.first = pad, b, R, b.periods - R
-        self.pieces: list[Pieces] = []
-        self.size = 0
-        z = np.zeros((B, R))
-        self.impacts, self.openings = np.zeros((B, R), int), np.zeros((B, R), int)
-        self.loss, self.d_eq, self.d_w, self.work_rec, self.stuck, self.amp, self.visc_rec = \
-            (z.copy() for _ in range(7))
-        self.sx, self.sv = np.zeros((B, R + 1, n)), np.zeros((B, R + 1, n))
-        self.ss = np.zeros((B, R + 1), int)
-        self.work, self.losses, self.visc = np.zeros(B), np.zeros(B), np.zeros(B)
-        self.ev: list[tuple] = []
-
-    def boundary(self, idx, k, state, eta, vel):
-        """State at the boundary ``k`` (0 .. periods) of ``idx``, if recorded."""
-        r = k - self.first
-        sel = r >= 0
-        if sel.any():
-            i, rr, st = idx[sel], r[sel], state[sel]
-            self.sx[i, rr] = np.einsum("bij,bj->bi", self.pad.V[st], eta[sel])
-            self.sv[i, rr] = np.einsum("bij,bj->bi", self.pad.V[st], vel[sel])
-            self.ss[i, rr] = st
-
-    def events(self, idx, period, time, kind, loss):
-        np.add.at(self.losses, idx, loss)
-        r = period - self.first
-        sel = r >= 0
-        if sel.any():
-            i, rr = idx[sel], r[sel]
-            np.add.at(self.impacts, (i, rr), kind[sel] == 2)
-            np.add.at(self.openings, (i, rr), kind[sel] == 1)
-            np.add.at(self.loss, (i, rr), loss[sel])
-            self.ev.append((i, time[sel], kind[sel], loss[sel]))
-
-    def add(self, pcs: Pieces):
-        if not self.accounts:
-            return
-        self.pieces.append(pcs)
-        self.size += len(pcs)
-        if self.size >= _FLUSH:
-            self.flush()
-
-    def flush(self):
-        if not self.pieces:
-            return
-        pcs = Pieces(*(np.concatenate([getattr(p, k) for p in self.pieces])
-                       for k in ("traj", "period", "state", "tp", "tau", "eta", "vel")))
-        self.pieces, self.size = [], 0
-        full = pcs.period >= self.first
-        acc = account(self.pad, pcs, self.b.W, self.b.phi, full)
-        np.add.at(self.work, pcs.traj, acc.work)
-        np.add.at(self.visc, pcs.traj, acc.viscous)
-        i, r = pcs.traj[full], pcs.period[full] - self.first
-        np.add.at(self.visc_rec, (i, r), acc.viscous[full])
-        for name in ("d_eq", "d_w", "stuck"):
-            np.add.at(getattr(self, name), (i, r), getattr(acc, name)[full])
-        np.add.at(self.work_rec, (i, r), acc.work[full])
-        np.maximum.at(self.amp, (i, r), acc.amp[full])
-
-
 def _check(T, phi, periods, record):
     T = np.atleast_1d(np.asarray(T, float))
     if T.ndim != 1 or not T.size or not np.all(np.isfinite(T) & (T > 0)):
@@ -188,7 +122,11 @@ def _check(T, phi, periods, record):
 
 def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 100, start: Start | None = None,
         progress=None, accounts: bool = True) -> Run:
-    """Simulate a batch of forcing periods from ``start`` (default: at rest against the wall) and record the end.
+    """Simulate trajectories from ``start`` (default: at rest against the wall) and record the last periods.
+
+    Each trajectory runs in the compiled kernel (:mod:`plbar.motion.kernel`), one at a time, on
+    every core (:func:`plbar.util.threads.map_chunks`); the results do not depend on the number of
+    threads.  The first call after an install compiles the kernel (cached on disk).
 
     Parameters
     ----------
@@ -203,7 +141,7 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
         How many of the last periods are recorded (statistics, boundary states, events).
     start : Start, optional
     progress : callable, optional
-        Called with the number of periods completed by the slowest trajectory.
+        Called with the number of periods completed by the slowest trajectory since the last call.
     accounts : bool
         Account the pieces (work, ``Psi`` sums, amplitude); without, only events and boundary states are
         recorded (a replay that checks the switches) and the energy budget is not closed (``work`` is 0).
@@ -212,65 +150,83 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
     -------
     Run
     """
+    from .kernel import advance, data as D        # numba: only a simulation pays its import (and first compile)
+
     pad = prob if isinstance(prob, Padded) else padded(prob)
     T, phi, periods, record = _check(T, phi, periods, record)
     s0 = start or rest(pad, T.size)
-    b = Batch(pad, T, phi, periods, s0.state.copy(), s0.eta.copy(), s0.vel.copy())
-    rec = _Recorder(pad, b, record, accounts)
-    e0 = energy(pad, b.state, b.eta, b.vel)
-    all_idx = np.arange(T.size)
-    rec.boundary(all_idx, np.zeros(T.size, int), b.state, b.eta, b.vel)
-    rounds = _loop(b, rec, progress)
-    rec.flush()
-    e_end = energy(pad, b.state, b.eta, b.vel)
-    ev = rec.ev
-    events = {k: (np.concatenate([e[j] for e in ev]) if ev else np.zeros(0, int if k in ("traj", "kind") else float))
-              for j, k in enumerate(("traj", "time", "kind", "loss"))}
-    order = np.argsort(events["traj"], kind="stable")            # per trajectory, in order of occurrence
-    events = {k: v[order] for k, v in events.items()}
-    return Run(T, phi, periods, record, b.status, rec.impacts, rec.openings, rec.loss, rec.d_eq, rec.d_w,
-               rec.work_rec, rec.stuck, rec.amp, rec.sx, rec.sv, rec.ss, events, rec.work, rec.losses, e0, e_end,
-               Start(b.state.copy(), b.eta.copy(), b.vel.copy()), rounds, rec.visc, rec.visc_rec)
+    B = T.size
+    tr = D.trajectories(T, phi, s0.state, s0.eta, s0.vel)
+    rc = D.records(B, pad.m, record, 4 * record + 16)
+    acc = D.accounts(B, record, accounts)
+    tf, ti, z, tot = tr
+    if record == periods:                         # the boundary at t = 0 is recorded too
+        rc[2][:, 0], rc[3][:, 0], rc[4][:, 0] = z[:, 0], z[:, 1], ti[:, D.STATE]
+    e0 = energy(pad, ti[:, D.STATE], z[:, 0], z[:, 1])
+    step = partial(advance, D.model(pad), tr, first=periods - record, damping=D.damping(pad), acc=acc)
+    rc = _drive(step, ti, rc, periods, progress)
+    per, ev, sx, sv, ss = rc
+    state = ti[:, D.STATE].copy()
+    e_end = energy(pad, state, z[:, 0], z[:, 1])
+    ev_n = ti[:, D.EVENTS]
+    rows = np.repeat(np.arange(B), ev_n)
+    cols = np.concatenate([np.arange(k) for k in ev_n]) if B else np.zeros(0, int)
+    events = {"traj": rows, "time": ev[rows, cols, D.TIME], "kind": ev[rows, cols, D.KIND].astype(int),
+              "loss": ev[rows, cols, D.LOSS]}
+    a = acc if accounts else np.zeros((B, record, 6))
+    return Run(T, phi, periods, record, ti[:, D.STATUS].copy(), per[..., D.IMPACTS].astype(int),
+               per[..., D.OPENINGS].astype(int), per[..., D.LOSS].copy(), a[..., D.D_EQ].copy(), a[..., D.D_W].copy(),
+               a[..., D.WORK_REC].copy(), a[..., D.STUCK_T].copy(), a[..., D.AMP].copy(), _physical(pad, ss, sx),
+               _physical(pad, ss, sv), ss, events, tot[:, D.WORK].copy(), tot[:, D.LOSSES].copy(), e0, e_end,
+               Start(state, z[:, 0].copy(), z[:, 1].copy()), int(ti[:, D.ROUNDS].sum()), tot[:, D.VISC].copy(),
+               a[..., D.VISC_REC].copy())
 
 
-def _loop(b: Batch, rec: _Recorder, progress) -> int:
-    rounds, done = 0, 0
-    while True:
-        idx = np.flatnonzero(b.alive)
-        if idx.size == 0:
-            if progress is not None and b.periods > done:
-                progress(b.periods - done)             # the last periods (and any stalled trajectory's rest)
-            return rounds
-        rounds += 1
-        event, new_p, eta, vel = decide(b, idx)
-        b.stall[idx] += 1
-        if event.any():
-            _events(b, rec, idx[event], eta[event], vel[event])
-        a = idx[~event]
-        b.p[a] = new_p[~event]
-        edge = a[b.p[a] >= b.T[a] - b.tp[a]]
-        if edge.size:
-            rec.add(b.pieces(edge, b.p[edge]))
-            eta_s, vel_s = strobe(b, edge)
-            rec.boundary(edge, b.period[edge], b.state[edge], eta_s, vel_s)
-        stalled = idx[b.stall[idx] > MAX_STALL]
-        b.status[stalled], b.alive[stalled] = STALLED, False
-        if progress is not None and b.alive.any():
-            slow = int(b.period[b.alive].min())
+def _physical(pad: Padded, state, modal) -> np.ndarray:
+    """Physical states ``V[state] eta`` of modal boundary states ``(B, R + 1, m)``."""
+    out = np.zeros(modal.shape[:2] + (pad.n,))
+    for s in (0, 1):
+        sel = state == s
+        out[sel] = modal[sel] @ pad.V[s].T
+    return out
+
+
+def _drive(step, ti, rc, periods: int, progress):
+    """Advance every trajectory to the end, in blocks of periods (progress between them), on every core.
+
+    ``step(rc, idx, stop)`` advances trajectories ``idx`` to period ``stop``; where one has no room left to
+    record an event it stops there, the records grow and it goes on.
+    """
+    from .kernel import data as D
+
+    block = periods if progress is None else 1
+    done, stop = 0, 0
+    while stop < periods:
+        stop = min(periods, stop + block)
+        t0 = time.perf_counter()
+        while True:
+            idx = np.flatnonzero((ti[:, D.STATUS] == OK) & (ti[:, D.PERIOD] < stop))
+            if not idx.size:
+                break
+            ti[:, D.NEED] = 0
+            n = max(1, min(n_threads(), idx.size))
+            map_chunks(lambda a, b: [step(rc=rc, idx=idx[i::n], stop=stop) for i in range(a, b)], n, 1)
+            if not ti[:, D.NEED].any():
+                break
+            rc = D.grow_events(rc)
+        if progress is not None:
+            alive = ti[:, D.STATUS] == OK
+            slow = int(ti[alive, D.PERIOD].min()) if alive.any() else periods
             if slow > done:
                 progress(slow - done)
                 done = slow
+            block = max(1, min(periods, int(block * min(4.0, 0.5 / max(time.perf_counter() - t0, 1e-3)))))
+    if progress is not None and periods > done:
+        progress(periods - done)                     # the last periods (and any stopped trajectory's rest)
+    return rc
 
 
-def _events(b: Batch, rec: _Recorder, e, eta, vel) -> None:
-    """Account the segments that end in an event, switch, and count zero-length segments."""
-    zero_len = b.p[e] == 0.0
-    rec.add(b.pieces(e, b.p[e]))
-    time = b.period[e] * b.T[e] + b.tp[e] + b.p[e]
-    period = b.period[e].copy()
-    kind, loss = switch(b, e, eta, vel)
-    rec.events(e, period, time, kind, loss)
-    b.zero[e] = np.where(zero_len, b.zero[e] + 1, 0)
-    b.stall[e] = 0
-    chat = e[b.zero[e] > MAX_ZERO]
-    b.status[chat], b.alive[chat] = CHATTER, False
+def energy(pad: Padded, state, eta, vel) -> np.ndarray:
+    """Mechanical energy ``sum (etadot^2 + w^2 eta^2) / 2`` (Eqs. (12)-(13)) of rows in ``state``."""
+    w = pad.w[state]
+    return 0.5 * np.sum(vel * vel + (w * eta) ** 2, axis=-1)

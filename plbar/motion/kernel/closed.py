@@ -1,0 +1,163 @@
+"""Closed-form flow of one modal oscillator, compiled (the kernel's scalar form of :mod:`plbar.response`).
+
+Each mode obeys ``eta'' + 2 zeta w eta' + w^2 eta = f cos(W t - phi)`` (Eq. (1) in modal
+form; ``zeta = 0`` undamped).  Over a segment that starts at ``ts`` with ``eta0, v0`` its
+state at ``ts + u`` is the free flow plus the Duhamel kernels ``C, S, C'`` (Appendix 1,
+Eqs. (26)-(27)), written as in :func:`plbar.response.flow.kernels`: undamped in the
+factorised ``sinc`` form that stays exact at and near resonance ``W = w``; damped with
+the divided differences of :mod:`plbar.response.damped` (exact through critical damping).
+
+These are the formulas of the batched numpy functions of :mod:`plbar.response` (which the
+periodic solver uses), one mode at a time; the tests hold the two to round-off.  The
+undamped kernels take their sines and cosines from the half angles ``w u / 2`` and
+``W u / 2`` (two calls a mode instead of six; ``sin((w - W) u / 2)`` directly where it is
+small, so the ``sinc`` keeps its relative accuracy).  ``c0, s0`` are ``cos W ts, sin W ts``
+(once per segment), ``cphi, sphi`` those of the forcing phase.
+"""
+
+from __future__ import annotations
+
+import cmath
+from math import cos, cosh, exp, sin, sinh, sqrt
+
+from .jit import jit
+
+__all__ = ["sinc", "half", "kernels", "flow", "roots", "damped_free", "damped_kernels", "damped_flow", "mode_flow",
+           "phi1"]
+
+SERIES = 20   #: terms of the phi_1 and kernel series (|x| < 1: error below 1e-19)
+DIRECT = 0.7  #: below this |(w - W) u / 2| its sine is taken directly (the angle difference would cancel)
+
+
+@jit
+def sinc(x):
+    """``sin(x) / x`` with the value 1 at 0."""
+    return sin(x) / x if x != 0.0 else 1.0
+
+
+@jit
+def half(W, u):
+    """``cos, sin`` of ``W u / 2`` and ``sin W u``: the forcing's share of :func:`kernels` (once per point)."""
+    c, s = cos(0.5 * W * u), sin(0.5 * W * u)
+    return c, s, 2.0 * s * c
+
+
+@jit
+def kernels(w, W, u, cW, sW, sWu):
+    """Undamped Duhamel kernels ``C, S, C'`` at ``u`` and ``cos w u, sin w u`` (:func:`plbar.response.kernels`).
+
+    ``cW, sW, sWu`` from :func:`half`.  ``C = sin(s) snc / (w + W)``, ``S = (sin(w u) / w - cos(s) snc) / (w + W)``,
+    ``C' = (w cos(s) snc + sin(W u)) / (w + W)`` with ``s = (w + W) u / 2``, ``snc = u sinc((w - W) u / 2)``.
+    """
+    a = 0.5 * w * u
+    ca, sa = cos(a), sin(a)
+    dl = a - 0.5 * W * u
+    sdl = sin(dl) if abs(dl) < DIRECT else sa * cW - ca * sW
+    snc = u * (sdl / dl if dl != 0.0 else 1.0)
+    wp = w + W
+    csn = (ca * cW - sa * sW) * snc
+    si = 2.0 * sa * ca
+    return (sa * cW + ca * sW) * snc / wp, (si / w - csn) / wp, (w * csn + sWu) / wp, 1.0 - 2.0 * sa * sa, si
+
+
+@jit
+def flow(w, f, W, c0, s0, u, eta0, v0, cphi, sphi, cW, sW, sWu):
+    """``eta, eta'`` of an undamped mode at ``u`` into a segment (:func:`plbar.response.segment`)."""
+    C, S, Cp, co, si = kernels(w, W, u, cW, sW, sWu)
+    ec, es = f * (c0 * C - s0 * S), f * (s0 * C + c0 * S)
+    vc, vs = f * (c0 * Cp - s0 * W * C), f * (s0 * Cp + c0 * W * C)
+    return (co * eta0 + si / w * v0 + ec * cphi + es * sphi,
+            -w * si * eta0 + co * v0 + vc * cphi + vs * sphi)
+
+
+@jit
+def phi1(x):
+    """``(exp(x) - 1) / x`` for complex ``x`` (1 at 0): a series for ``|x| < 1``, the quotient otherwise."""
+    if abs(x) < 1.0:
+        s = 1.0 + 0j
+        for k in range(SERIES + 1, 1, -1):
+            s = 1.0 + s * x / k
+        return s
+    return (cmath.exp(x) - 1.0) / x
+
+
+@jit
+def roots(w, zeta):
+    """``(y, z, a, d)`` of :func:`plbar.response.damped.roots`: the roots, ``y`` nearest the imaginary axis."""
+    a = zeta * w
+    d = w * w * (1.0 - zeta) * (1.0 + zeta)
+    q = sqrt(abs(d))
+    r2 = a + q
+    r1 = w * w / r2 if r2 > 0 else 0.0
+    if d > 0:
+        return complex(-a, q), complex(-a, -q), a, d
+    return complex(-r1, 0.0), complex(-r2, 0.0), a, d
+
+
+@jit
+def damped_free(w, zeta, u):
+    """``ss = e[l1, l2]``, ``p11, p22`` (the free flow's stable forms) and the roots (``_cs`` of :mod:`.damped`)."""
+    y, z, a, d = roots(w, zeta)
+    q = sqrt(abs(d))
+    x = q * u
+    ea = exp(-a * u)
+    if d > 0:
+        cc, ss = ea * cos(x), ea * u * sinc(x)
+        return ss, cc + a * ss, cc - a * ss, y, z
+    if x < 1.0:                          # critical neighbourhood
+        cc = ea * cosh(x)
+        ss = ea * u * (sinh(x) / x if x > 0 else 1.0)
+        return ss, cc + a * ss, cc - a * ss, y, z
+    r1, r2, k2 = -y.real, -z.real, 2.0 * q     # over-damped, k u >= 1: two real exponentials
+    e1, e2 = exp(-r1 * u), exp(-r2 * u)
+    return (e1 - e2) / k2, (r2 * e1 - r1 * e2) / k2, (r2 * e2 - r1 * e1) / k2, y, z
+
+
+@jit
+def _kernel_series(p, y, z, u):
+    """``e[p, y, z]`` of ``exp(. u)`` by its Taylor series (``max(|p|, |y|, |z|) u < 1/2``)."""
+    A, Bk, Ck = 1.0 + 0j, 1.0 + 0j, 1.0 + 0j
+    term = u * u / 2.0
+    out = term * Ck
+    for k in range(1, SERIES + 1):
+        A = A * p
+        Bk = y * Bk + A
+        Ck = z * Ck + Bk
+        term = term * u / (k + 2)
+        out = out + term * Ck
+    return out
+
+
+@jit
+def damped_kernels(w, W, u, zeta):
+    """Damped Duhamel kernels ``C, S, C'`` and the free flow ``p11, ss, p22`` (:func:`plbar.response.damped.kernels`)."""
+    ss, p11, p22, y, z = damped_free(w, zeta, u)
+    p = complex(0.0, W)
+    if max(max(W, abs(y)), abs(z)) * u < 0.5:
+        K = _kernel_series(p, y, z, u)
+    else:
+        x = (p - y) * u
+        if abs(x) < 1.0:
+            dpy = u * cmath.exp(y * u) * phi1(x)
+        else:
+            dpy = (cmath.exp(p * u) - cmath.exp(y * u)) / (p - y)
+        K = (dpy - ss) / (p - z)
+    return K.real, K.imag, ss - W * K.imag, p11, ss, p22
+
+
+@jit
+def damped_flow(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi):
+    """``eta, eta'`` of a damped mode at ``u`` into a segment (:func:`plbar.response.segment` with ``zeta``)."""
+    C, S, Cp, p11, ss, p22 = damped_kernels(w, W, u, zeta)
+    ec, es = f * (c0 * C - s0 * S), f * (s0 * C + c0 * S)
+    vc, vs = f * (c0 * Cp - s0 * W * C), f * (s0 * Cp + c0 * W * C)
+    return (p11 * eta0 + ss * v0 + ec * cphi + es * sphi,
+            -w * w * ss * eta0 + p22 * v0 + vc * cphi + vs * sphi)
+
+
+@jit
+def mode_flow(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, cW, sW, sWu, damping):
+    """:func:`damped_flow` where ``damping`` is given (``zeta`` used), else :func:`flow` (compiled only if used)."""
+    if damping is None:
+        return flow(w, f, W, c0, s0, u, eta0, v0, cphi, sphi, cW, sW, sWu)
+    return damped_flow(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi)

@@ -1,0 +1,214 @@
+"""Integrals of one mode over a piece, compiled: ``Psi = int eta'^2`` (Eq. (20)) and the work of the load.
+
+The closed forms of :mod:`plbar.response` one mode at a time: ``Psi`` in the grouped
+``sinc`` form of :func:`plbar.response.flow.psi_closed_form` (Eqs. (28)-(33), Appendix 2)
+and the work in that of :func:`plbar.response.power.work_closed_form`; damped modes as
+sums of exponentials (:mod:`plbar.response.damped`).  Where a closed form cancels
+(cancellation factor at least :data:`plbar.response.flow.CANCEL_LIMIT`: near resonance,
+near critical damping) Gauss-Legendre quadrature of the exact velocity takes over,
+composite with at most 100 nodes a piece, exact to round-off (the bound of
+:func:`plbar.response.flow.psi_quadrature`).  The work is independent of the energies,
+so the energy budget of a simulation is a check, not an identity.
+"""
+
+from __future__ import annotations
+
+import cmath
+from math import ceil, cos, inf, isfinite, pi, sin
+
+import numpy as np
+
+from ...response.flow import CANCEL_LIMIT, gauss
+from .closed import half, mode_flow, phi1, roots, sinc
+from .jit import jit
+
+__all__ = ["psi", "work", "GL_X", "GL_W"]
+
+
+def _rules():
+    """Gauss-Legendre nodes and weights for 40, 60, 80 and 100 points, padded to rows of 100."""
+    x, wt = np.zeros((4, 100)), np.zeros((4, 100))
+    for i, n in enumerate((40, 60, 80, 100)):
+        x[i, :n], wt[i, :n] = gauss(n)
+    return x, wt
+
+
+GL_X, GL_W = _rules()
+
+
+@jit
+def _h(x, u):
+    """``(1 - cos(x u)) / x``, smooth through ``x = 0``."""
+    s = sinc(0.5 * x * u)
+    return 0.5 * x * u * u * s * s
+
+
+@jit
+def _decompose(w, f, W, thc, ths, eta0, v0):
+    """``A, B, Cc, Cs`` of the undamped velocity ``A cos wu + B sin wu + Cc cos Wu + Cs sin Wu`` (Eqs. (15)-(17))."""
+    d = (w + W) * (w - W)
+    g = f / d if d != 0 else inf
+    Cc = -g * W * ths
+    Cs = -g * W * thc
+    return v0 - Cc, g * w * thc - w * eta0, Cc, Cs
+
+
+@jit
+def _psi_undamped(w, f, W, thc, ths, u, eta0, v0):
+    """Closed-form ``Psi`` of an undamped mode and its cancellation factor (:func:`plbar.response.psi_closed_form`)."""
+    A, B, Cc, Cs = _decompose(w, f, W, thc, ths, eta0, v0)
+    wp, wm = w + W, w - W
+    ht = 0.5 * u
+    wt, Wt, pt, mt = w * u, W * u, wp * ht, wm * ht
+    s2w, s2W, sm, sp = sinc(2 * wt), sinc(2 * Wt), sinc(2 * mt), sinc(2 * pt)
+    s1w, s1W, sph, smh = sinc(wt), sinc(Wt), sinc(pt), sinc(mt)
+    AA, BB, CC, SS = A * A, B * B, Cc * Cc, Cs * Cs
+    ACc, BCs, ACs, BCc = A * Cc, B * Cs, A * Cs, B * Cc
+    p = (ht * ((AA + BB + CC + SS) + (AA - BB) * s2w + (CC - SS) * s2W + 2 * (ACc + BCs) * sm
+               + 2 * (ACc - BCs) * sp)
+         + u * u * (A * B * w * s1w * s1w + Cc * Cs * W * s1W * s1W + 0.5 * ((ACs + BCc) * wp * sph * sph
+                                                                           + (BCc - ACs) * wm * smh * smh)))
+    scale = (abs(A) + abs(B) + abs(Cc) + abs(Cs)) ** 2 * u
+    return p, (scale / p if p > 0 else inf)
+
+
+@jit
+def _work_undamped(w, f, W, thc, ths, u, eta0, v0):
+    """Closed-form work of the load on an undamped mode and its cancellation factor (:mod:`plbar.response.power`)."""
+    A, B, Cc, Cs = _decompose(w, f, W, thc, ths, eta0, v0)
+    wp, wm = w + W, w - W
+    cm, cp = u * sinc(wm * u), u * sinc(wp * u)
+    hp, hm = _h(wp, u), _h(wm, u)
+    c2 = u * sinc(2 * W * u)
+    sW = sinc(W * u)
+    scW = 0.5 * W * u * u * sW * sW
+    cos_v = A * 0.5 * (cm + cp) + B * 0.5 * (hp + hm) + Cc * 0.5 * (u + c2) + Cs * scW
+    sin_v = A * 0.5 * (hp - hm) + B * 0.5 * (cm - cp) + Cc * scW + Cs * 0.5 * (u - c2)
+    work = f * (thc * cos_v - ths * sin_v)
+    scale = (w * w * eta0 * eta0 + v0 * v0) ** 0.5 + abs(f) * u
+    num = abs(A) + abs(B) + abs(Cc) + abs(Cs)
+    cancel = num / scale if scale > 0 else (inf if num > 0 else 0.0)
+    return work, (cancel if isfinite(work) else inf)
+
+
+@jit
+def _terms(w, zeta, f, W, c0, s0, eta0, v0, cphi, sphi):
+    """The damped velocity ``A1 e^{yu} + A2 e^{zu} + B e^{iWu} + cc``: ``(y, z, A1, A2, B, th, singular)``."""
+    y, z, a, _ = roots(w, zeta)
+    den = complex(w * w - W * W, 2.0 * a * W)
+    sing = den == 0 or y == z
+    H = 1.0 / den if not sing else 1.0 + 0j
+    th = complex(c0, s0) * complex(cphi, -sphi)          # e^{i (W ts - phi)}
+    P = f * H * th
+    B = 0.5j * W * P
+    h0 = eta0 - P.real
+    hv0 = v0 - 2.0 * B.real
+    hd0 = -w * w * h0 - 2.0 * a * hv0
+    dl = y - z if not sing else 1.0 + 0j
+    return y, z, (hd0 - z * hv0) / dl, (y * hv0 - hd0) / dl, B, th, sing
+
+
+@jit
+def _F(m, u):
+    """``int_0^u e^{m s} ds``."""
+    return u * phi1(m * u)
+
+
+@jit
+def _psi_damped(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi):
+    """Closed-form ``Psi`` of a damped mode and its cancellation factor (:func:`plbar.response.damped.psi_closed_form`)."""
+    y, z, A1, A2, B, _, sing = _terms(w, zeta, f, W, c0, s0, eta0, v0, cphi, sphi)
+    if sing:
+        return 0.0, inf
+    iW = complex(0.0, W)
+    Bc = B.conjugate()
+    t = (A1 * A1 * _F(2 * y, u), 2 * A1 * A2 * _F(y + z, u), A2 * A2 * _F(2 * z, u), 2 * A1 * B * _F(y + iW, u),
+         2 * A1 * Bc * _F(y - iW, u), 2 * A2 * B * _F(z + iW, u), 2 * A2 * Bc * _F(z - iW, u),
+         complex(2 * (B * B * _F(2 * iW, u)).real, 0.0), complex(2 * (B * Bc).real * u, 0.0))
+    p, size = 0.0, 0.0
+    for x in t:
+        p += x.real
+        size += abs(x)
+    return p, (size / p if p > 0 else inf)
+
+
+@jit
+def _work_damped(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi):
+    """Closed-form work of the load on a damped mode, and its cancellation factor (:mod:`plbar.response.damped`)."""
+    y, z, A1, A2, B, th, sing = _terms(w, zeta, f, W, c0, s0, eta0, v0, cphi, sphi)
+    if sing:
+        return 0.0, inf
+    iW = complex(0.0, W)
+    thc, Bc = th.conjugate(), B.conjugate()
+    t = (th * A1 * _F(y + iW, u), th * A2 * _F(z + iW, u), th * B * _F(2 * iW, u), th * Bc * u,
+         thc * A1 * _F(y - iW, u), thc * A2 * _F(z - iW, u), thc * B * u, thc * Bc * _F(-2 * iW, u))
+    s, size = 0.0, 0.0
+    for x in t:
+        s += x.real
+        size += abs(x)
+    work, size = 0.5 * f * s, 0.5 * abs(f) * size
+    scale = abs(f) * (abs(v0) + abs(w * eta0) + abs(f) * u) * u
+    return work, (size / scale if scale > 0 else (inf if size > 0 else 0.0))
+
+
+@jit
+def _rule(k):
+    """Pieces ``p`` and the row of the ``n``-point rule for an integrand of total phase ``k`` (<= 100 nodes a piece)."""
+    p = max(1, int(ceil(k / 100.0)))
+    n = 20 * int(ceil((ceil(0.6 * k / p) + 40) / 20))
+    return p, n, n // 20 - 2
+
+
+@jit
+def _quadrature(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping, k, of_work):
+    """Composite Gauss-Legendre of ``eta'^2`` (or of the load's power) over ``[0, u]`` for total phase ``k``."""
+    p, n, row = _rule(k)
+    h = u / p
+    acc = 0.0
+    for i in range(p):
+        for j in range(n):
+            s = h * (i + 0.5 * (GL_X[row, j] + 1.0))
+            cW, sW, sWu = half(W, s)
+            _, v = mode_flow(w, zeta, f, W, c0, s0, s, eta0, v0, cphi, sphi, cW, sW, sWu, damping)
+            if of_work:      # cos(W (ts + s) - phi)
+                cw, sw = cos(W * s), sin(W * s)
+                v = v * f * (cphi * (c0 * cw - s0 * sw) + sphi * (s0 * cw + c0 * sw))
+            else:
+                v = v * v
+            acc += GL_W[row, j] * v
+    return 0.5 * h * acc
+
+
+@jit
+def _rate(w, zeta):
+    """The fastest rate of a mode, ``max |lambda|`` (``w`` undamped; the fast root if over-damped)."""
+    y, z, _, _ = roots(w, zeta)
+    return max(abs(y), abs(z))
+
+
+@jit
+def psi(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping):
+    """``Psi = int_0^u eta'^2`` of one mode over a piece (Eq. (20)): closed form, or quadrature where it cancels."""
+    if damping is not None:
+        p, cancel = _psi_damped(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi)
+    else:
+        thc, ths = c0 * cphi + s0 * sphi, s0 * cphi - c0 * sphi
+        p, cancel = _psi_undamped(w, f, W, thc, ths, u, eta0, v0)
+    if cancel < CANCEL_LIMIT:
+        return p
+    return _quadrature(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping, 2 * max(_rate(w, zeta), W) * u,
+                       False)
+
+
+@jit
+def work(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping):
+    """Work of the load on one mode over a piece: closed form, or quadrature where it cancels."""
+    if damping is not None:
+        p, cancel = _work_damped(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi)
+    else:
+        thc, ths = c0 * cphi + s0 * sphi, s0 * cphi - c0 * sphi
+        p, cancel = _work_undamped(w, f, W, thc, ths, u, eta0, v0)
+    if cancel < CANCEL_LIMIT:
+        return p
+    return _quadrature(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping, 2 * (max(_rate(w, zeta), W) + W) * u,
+                       True)

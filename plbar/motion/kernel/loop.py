@@ -1,0 +1,231 @@
+"""The event-driven loop, compiled: one trajectory at a time, exactly (FORMULATION §§2-3, §8).
+
+Each trajectory has its own forcing period ``T`` and phase ``phi`` (the load is
+``q cos(W t - phi)``, ``W = 2 pi / T``).  A *round* evaluates the closed-form segment
+(:mod:`.closed`) at the current point and either steps on by a certified distance over
+which the margin cannot cross zero (:mod:`.certify`), or switches: the gap opens
+(``x^II = E x^I``) or the bar comes back to the wall in a plastic impact that keeps the
+momenta of the DOFs other than the contact and loses ``S v_c^2 / 2`` (Eq. (14)).  Every
+forcing-period boundary restarts the segment there (a stroboscopic sample), so no segment
+spans a period and the forcing phase stays within one period (no loss of digits over
+1,000 periods).  Segments are always evaluated from their start, never stepped: the state
+at any point is the closed form, not an accumulation of steps.
+
+Nothing here is shared with :func:`plbar.simulate` but the model: the two are
+independent checks of each other.
+"""
+
+from __future__ import annotations
+
+from math import cos, sin
+
+import numpy as np
+
+from ..model import CHATTER, OK, STALLED, STUCK
+from . import data as D
+from .certify import decide_step, taylor
+from .closed import half, mode_flow
+from .jit import jit
+from .pieces import amplitude, piece_accounts
+
+__all__ = ["OK", "CHATTER", "STALLED", "TINY", "MAX_ZERO", "MAX_STALL", "CAP", "ORDER", "DEEP_MAX", "advance",
+           "flow_all", "switch"]
+
+TINY = 1e-12        #: step (in periods) where no derivative decides, and the snap of a step onto a period boundary
+MAX_ZERO = 50       #: consecutive zero-length segments before a trajectory is stopped as chattering
+MAX_STALL = 5000    #: rounds without an event or a period boundary before a trajectory is stopped as stalled
+CAP = 0.25          #: longest step, in forcing periods (the remainder bound is taken over it)
+ORDER = 8           #: order of the Taylor model of the margin
+DEEP_MAX = 40       #: highest order of the deep model (where no derivative up to ORDER is significant)
+
+
+@jit
+def flow_all(md, st, W, tp, u, eta0, vel0, cphi, sphi, out_e, out_v, damping):
+    """Modal ``eta, eta'`` of every mode at ``u`` into a segment of state ``st`` that starts at ``tp``."""
+    modal = md[0]
+    c0, s0 = cos(W * tp), sin(W * tp)
+    cW, sW, sWu = half(W, u)
+    for j in range(modal.shape[2]):
+        z = 0.0 if damping is None else damping[st, D.ZETA, j]
+        out_e[j], out_v[j] = mode_flow(modal[D.W, st, j], z, modal[D.F, st, j], W, c0, s0, u, eta0[j], vel0[j],
+                                       cphi, sphi, cW, sW, sWu, damping)
+
+
+@jit
+def _certify(md, st, eta, vel, W, T, t, phi, K, d, scale, damping):
+    """``(event, step)`` at local time ``t`` of the period from a Taylor model of order ``K`` (step -1: undecided)."""
+    modal, margin = md[0], md[1]
+    cap = min(CAP * T, max(T - t, 0.0))
+    if damping is None:
+        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], modal[D.W, st], modal[D.F, st], eta, vel, W, t, phi, cap,
+                         K, d, scale, None, None)
+    else:
+        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], modal[D.W, st], modal[D.F, st], eta, vel, W, t, phi, cap,
+                         K, d, scale, damping[st, D.ZETA], damping[st, D.CV])
+    event, v, found = decide_step(d, rem, scale, K, Om * cap, margin[D.SIZE, st])
+    return event, (v / Om if found else -1.0)
+
+
+@jit
+def _matvec(A, x, out):
+    """``out = A x`` (a plain loop: no BLAS threads under the kernel's own)."""
+    for i in range(A.shape[0]):
+        acc = 0.0
+        for j in range(A.shape[1]):
+            acc += A[i, j] * x[j]
+        out[i] = acc
+
+
+@jit
+def switch(md, st, eta, vel, out_e, out_v):
+    """The event at the current point: ``(kind, loss)``; the new modal state into ``out_e, out_v``.
+
+    kind 1: the gap opens (I -> II, ``x^II = E x^I``); kind 2: plastic impact (II -> I, Eq. (10)),
+    loss ``S v_c^2 / 2`` (Eq. (14)); for a truncated system the modal kinetic energy difference.
+    """
+    maps, vc_row, S, truncated = md[2], md[3], md[4], md[5]
+    if st == STUCK:
+        _matvec(maps[D.OPEN], eta, out_e)
+        _matvec(maps[D.OPEN], vel, out_v)
+        return 1, 0.0
+    _matvec(maps[D.IMPACT_POS], eta, out_e)
+    _matvec(maps[D.IMPACT_VEL], vel, out_v)
+    ke, vc = 0.0, 0.0
+    for j in range(vel.size):
+        ke += vel[j] * vel[j] - out_v[j] * out_v[j]
+        vc += vel[j] * vc_row[j]
+    return 2, (0.5 * ke if truncated else 0.5 * S * vc * vc)
+
+
+@jit
+def _account(md, f, s, z0, tot, acc, first, b, tau, damping):
+    """Account the piece ``[tp, tp + tau]`` of the current segment (its start state ``z0``) of trajectory ``b``."""
+    if acc is None:
+        return
+    st, tp, period = s[D.STATE], f[D.TP], s[D.PERIOD]
+    full = period >= first
+    W, phi = f[D.OMEGA], f[D.PHI]
+    wk, d_eq, d_w, visc = piece_accounts(md, st, W, cos(phi), sin(phi), tp, tau, z0[0], z0[1], full, damping)
+    tot[D.WORK] += wk
+    tot[D.VISC] += visc
+    if full:
+        r = period - first
+        acc[b, r, D.D_EQ] += d_eq
+        acc[b, r, D.D_W] += d_w
+        acc[b, r, D.WORK_REC] += wk
+        acc[b, r, D.VISC_REC] += visc
+        if st == STUCK:
+            acc[b, r, D.STUCK_T] += tau
+        elif tau > 0:
+            acc[b, r, D.AMP] = max(acc[b, r, D.AMP], amplitude(md, W, phi, tp, tau, z0[0], z0[1], damping))
+
+
+@jit
+def _set(row, x):
+    for j in range(x.size):
+        row[j] = x[j]
+
+
+@jit
+def _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, damping):
+    """Account the segment that ends here, switch, record the event, count zero-length segments."""
+    per, ev = rc[0], rc[1]
+    st, tp, p, period = s[D.STATE], f[D.TP], f[D.P], s[D.PERIOD]
+    _account(md, f, s, z0, tot, acc, first, b, p, damping)
+    time = period * f[D.T] + tp + p
+    kind, loss = switch(md, st, e, v, e2, v2)
+    f[D.TP] = tp + p
+    f[D.P] = 0.0
+    _set(z0[0], e2)
+    _set(z0[1], v2)
+    s[D.STATE] = 1 - st
+    tot[D.LOSSES] += loss
+    if period >= first:
+        r, n = period - first, s[D.EVENTS]
+        per[b, r, D.IMPACTS if kind == 2 else D.OPENINGS] += 1.0
+        per[b, r, D.LOSS] += loss
+        ev[b, n, D.TIME], ev[b, n, D.KIND], ev[b, n, D.LOSS] = time, kind, loss
+        s[D.EVENTS] = n + 1
+    s[D.ZEROS] = s[D.ZEROS] + 1 if p == 0.0 else 0
+    s[D.STALL] = 0
+    if s[D.ZEROS] > MAX_ZERO:
+        s[D.STATUS] = CHATTER
+
+
+@jit
+def _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, damping):
+    """Account the last piece of the forcing period, restart the segment at its end, record the boundary state."""
+    st, tp, period = s[D.STATE], f[D.TP], s[D.PERIOD]
+    _account(md, f, s, z0, tot, acc, first, b, f[D.P], damping)
+    phi = f[D.PHI]
+    flow_all(md, st, f[D.OMEGA], tp, f[D.T] - tp, z0[0], z0[1], cos(phi), sin(phi), e, v, damping)
+    _set(z0[0], e)
+    _set(z0[1], v)
+    s[D.PERIOD] = period + 1
+    f[D.TP] = 0.0
+    f[D.P] = 0.0
+    s[D.STALL] = 0
+    r = period + 1 - first
+    if r >= 0:
+        _set(rc[2][b, r], e)
+        _set(rc[3][b, r], v)
+        rc[4][b, r] = st
+
+
+@jit
+def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, damping):
+    """Advance one trajectory (its state in ``f, s, z0, tot``) to the start of forcing period ``stop``."""
+    e, v, e2, v2 = scratch[0], scratch[1], scratch[2], scratch[3]
+    T, W, phi = f[D.T], f[D.OMEGA], f[D.PHI]
+    cphi, sphi = cos(phi), sin(phi)
+    deep = min(2 * md[0].shape[2] + 4, DEEP_MAX)
+    room = rc[1].shape[1]
+    while s[D.PERIOD] < stop and s[D.STATUS] == OK:
+        st, tp, p = s[D.STATE], f[D.TP], f[D.P]
+        flow_all(md, st, W, tp, p, z0[0], z0[1], cphi, sphi, e, v, damping)
+        event, step = _certify(md, st, e, v, W, T, tp + p, phi, ORDER, d, scale, damping)
+        if step < 0:
+            event, step = _certify(md, st, e, v, W, T, tp + p, phi, deep, d, scale, damping)
+        if event and s[D.PERIOD] >= first and s[D.EVENTS] >= room:
+            s[D.NEED] = 1                      # no room to record it: the caller grows the record and goes on
+            return
+        s[D.STALL] += 1
+        s[D.ROUNDS] += 1
+        if event:
+            _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, damping)
+        else:
+            end = T - tp
+            new_p = p + (step if step > 0 else TINY * T)
+            f[D.P] = end if new_p >= end - TINY * T else new_p
+            if f[D.P] >= end:
+                _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, damping)
+        if s[D.STALL] > MAX_STALL:
+            s[D.STATUS] = STALLED
+
+
+@jit
+def advance(md, tr, rc, acc, first, idx, stop, damping):
+    """Advance the trajectories ``idx`` to the start of forcing period ``stop`` (or until each stops, or has no room
+    left to record an event: ``NEED``).
+
+    Each trajectory runs on copies of its state (no two threads write near each other) written back at the
+    end.  ``acc`` None: no accounts (a replay of the switches); ``damping`` None: undamped.  Neither's code is
+    then compiled.
+    """
+    tf, ti, z, tot = tr
+    m = md[0].shape[2]
+    scratch, z0 = np.empty((4, m)), np.empty((2, m))
+    d, scale = np.empty(DEEP_MAX + 2), np.empty(DEEP_MAX + 2)
+    f, s, t3 = np.empty(tf.shape[1]), np.empty(ti.shape[1], np.int64), np.empty(3)
+    for b in idx:
+        _set(f, tf[b])
+        _set(s, ti[b])
+        _set(t3, tot[b])
+        _set(z0[0], z[b, 0])
+        _set(z0[1], z[b, 1])
+        _run(md, f, s, z0, t3, rc, acc, first, b, stop, scratch, d, scale, damping)
+        _set(tf[b], f)
+        _set(ti[b], s)
+        _set(tot[b], t3)
+        _set(z[b, 0], z0[0])
+        _set(z[b, 1], z0[1])

@@ -1,0 +1,85 @@
+"""Accounts of one piece, compiled: work, ``Psi`` sums, viscous loss, time stuck, contact amplitude.
+
+A *piece* is the part of a segment between two events, or an event and a forcing-period
+boundary: its state, its start ``tp`` within its forcing period, its length ``tau`` and its
+modal state at the start.  Its accounts, with the closed forms of :mod:`.integrals`:
+
+* the work of the load (every piece: the energy budget of the whole run);
+* ``sum_j w_j Psi_j`` (the denominator of ``xi_eq``, Eq. (22)) and ``sum_j Psi_j = int v^T M v dt``
+  (mass-normalised modes: the denominator of ``xi_w``), in the recorded window;
+* under damping, the viscous loss ``sum_j 2 zeta_j w_j Psi_j`` (modal damping of the Rayleigh ``C``);
+* the time stuck and, for a state II piece, the largest ``-x_c`` (:func:`amplitude`: the best of
+  :data:`AMP_SAMPLES` samples, refined by Newton on ``v_c = 0``).
+"""
+
+from __future__ import annotations
+
+from math import cos, isfinite, sin
+
+from ..model import FREE
+from . import data as D
+from .closed import half, mode_flow
+from .integrals import psi, work
+from .jit import jit
+
+__all__ = ["AMP_SAMPLES", "piece_accounts", "gap", "amplitude"]
+
+AMP_SAMPLES = 48   #: samples per state II piece before the Newton refinement of its largest gap
+
+
+@jit
+def piece_accounts(md, st, W, cphi, sphi, tp, tau, eta0, vel0, full, damping):
+    """``(work, d_eq, d_w, viscous)`` of a piece (``d_eq, d_w`` only where ``full``, viscous only when damped)."""
+    modal = md[0]
+    c0, s0 = cos(W * tp), sin(W * tp)
+    wk, d_eq, d_w, visc = 0.0, 0.0, 0.0, 0.0
+    for j in range(modal.shape[2]):
+        w, f = modal[D.W, st, j], modal[D.F, st, j]
+        z = 0.0 if damping is None else damping[st, D.ZETA, j]
+        wk += work(w, z, f, W, c0, s0, tau, eta0[j], vel0[j], cphi, sphi, damping)
+        if full or damping is not None:
+            p = psi(w, z, f, W, c0, s0, tau, eta0[j], vel0[j], cphi, sphi, damping)
+            d_eq += p * w
+            d_w += p
+            visc += p * 2.0 * z * w
+    return wk, d_eq, d_w, visc
+
+
+@jit
+def gap(md, W, phi, tp, u, eta0, vel0, cphi, sphi, damping):
+    """``-x_c`` and its first two derivatives at ``u`` into a state II piece."""
+    modal = md[0]
+    c0, s0 = cos(W * tp), sin(W * tp)
+    cW, sW, sWu = half(W, u)
+    load = cos(W * (tp + u) - phi)
+    g, g1, g2 = 0.0, 0.0, 0.0
+    for j in range(modal.shape[2]):
+        w, f, c = modal[D.W, FREE, j], modal[D.F, FREE, j], modal[D.C, FREE, j]
+        z = 0.0 if damping is None else damping[FREE, D.ZETA, j]
+        e, v = mode_flow(w, z, f, W, c0, s0, u, eta0[j], vel0[j], cphi, sphi, cW, sW, sWu, damping)
+        g += c * e
+        g1 += c * v
+        g2 += c * (f * load - w * w * e - 2.0 * z * w * v)
+    return g, g1, g2
+
+
+@jit
+def amplitude(md, W, phi, tp, tau, eta0, vel0, damping):
+    """Largest ``-x_c`` over a state II piece: the best of the samples, refined by Newton on ``v_c = 0``.
+
+    Newton steps stay between the neighbours of the best sample; the result is never below the best sample.
+    """
+    cphi, sphi = cos(phi), sin(phi)
+    best, ub = -1e300, 0.0
+    for i in range(AMP_SAMPLES + 1):
+        u = tau * (i / AMP_SAMPLES)
+        g = gap(md, W, phi, tp, u, eta0, vel0, cphi, sphi, damping)[0]
+        if g > best:
+            best, ub = g, u
+    h = tau / AMP_SAMPLES
+    lo, hi, x = max(ub - h, 0.0), min(ub + h, tau), ub
+    for _ in range(8):
+        _, g1, g2 = gap(md, W, phi, tp, x, eta0, vel0, cphi, sphi, damping)
+        dx = -g1 / g2 if g2 < 0 else 0.0
+        x = min(max(x + (dx if isfinite(dx) else 0.0), lo), hi)
+    return max(best, gap(md, W, phi, tp, x, eta0, vel0, cphi, sphi, damping)[0])
