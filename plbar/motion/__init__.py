@@ -11,5 +11,23 @@ from .model import CHATTER, FREE, OK, STALLED, STUCK, Padded, padded
 from .run import Run, Start, energy, rest, run
 from .steady import KINDS, M_MAX, PERIODIC_TOL, Steady, periodicity, steady
 
-__all__ = ["CHATTER", "OK", "STALLED", "FREE", "STUCK", "Padded", "padded", "Run", "Start", "energy", "rest", "run",
-           "KINDS", "M_MAX", "PERIODIC_TOL", "Steady", "periodicity", "steady"]
+__all__ = [
+           "CHATTER",
+           "FREE",
+           "KINDS",
+           "M_MAX",
+           "OK",
+           "PERIODIC_TOL",
+           "STALLED",
+           "STUCK",
+           "Padded",
+           "Run",
+           "Start",
+           "Steady",
+           "energy",
+           "padded",
+           "periodicity",
+           "rest",
+           "run",
+           "steady",
+]

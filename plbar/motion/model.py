@@ -15,7 +15,7 @@ import numpy as np
 
 from ..model import Problem
 
-__all__ = ["Padded", "padded", "STUCK", "FREE", "OK", "CHATTER", "STALLED"]
+__all__ = ["CHATTER", "FREE", "OK", "STALLED", "STUCK", "Padded", "padded"]
 
 STUCK = 0   #: row of state I (contact held) in the padded arrays
 FREE = 1    #: row of state II (gap open)

@@ -14,7 +14,7 @@ from ..util.reprs import build, rng
 from ..util.threads import map_chunks, n_threads
 from .model import OK, STUCK, Padded, padded
 
-__all__ = ["Run", "Start", "run", "rest", "energy"]
+__all__ = ["Run", "Start", "energy", "rest", "run"]
 
 
 @dataclass(frozen=True)
@@ -150,7 +150,8 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
     -------
     Run
     """
-    from .kernel import advance, data as D        # numba: only a simulation pays its import (and first compile)
+    from .kernel import advance  # numba: only a simulation pays its import (and first compile)
+    from .kernel import data as D
 
     pad = prob if isinstance(prob, Padded) else padded(prob)
     T, phi, periods, record = _check(T, phi, periods, record)
@@ -159,7 +160,7 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
     tr = D.trajectories(T, phi, s0.state, s0.eta, s0.vel)
     rc = D.records(B, pad.m, record, 4 * record + 16)
     acc = D.accounts(B, record, accounts)
-    tf, ti, z, tot = tr
+    _, ti, z, tot = tr
     if record == periods:                         # the boundary at t = 0 is recorded too
         rc[2][:, 0], rc[3][:, 0], rc[4][:, 0] = z[:, 0], z[:, 1], ti[:, D.STATE]
     e0 = energy(pad, ti[:, D.STATE], z[:, 0], z[:, 1])
@@ -210,7 +211,8 @@ def _drive(step, ti, rc, periods: int, progress):
                 break
             ti[:, D.NEED] = 0
             n = max(1, min(n_threads(), idx.size))
-            map_chunks(lambda a, b: [step(rc=rc, idx=idx[i::n], stop=stop) for i in range(a, b)], n, 1)
+            map_chunks(lambda a, b: [step(rc=rc, idx=np.ascontiguousarray(idx[i::n]), stop=stop) for i in range(a, b)],
+                       n, 1)          # (contiguous: one compiled layout)
             if not ti[:, D.NEED].any():
                 break
             rc = D.grow_events(rc)

@@ -29,7 +29,7 @@ from ..util.batch import Batch
 from ..util.reprs import build, rng
 from .run import Run
 
-__all__ = ["Steady", "steady", "periodicity", "KINDS", "PERIODIC_TOL", "M_MAX"]
+__all__ = ["KINDS", "M_MAX", "PERIODIC_TOL", "Steady", "periodicity", "steady"]
 
 KINDS = ("periodic", "irregular", "failed")
 PERIODIC_TOL = 1e-6   #: relative distance of the boundary states below which a motion repeats
@@ -116,7 +116,7 @@ def steady(r: Run, m_max: int = M_MAX, tol: float = PERIODIC_TOL) -> Steady:
     use = np.ones(r.loss.shape, bool)
     for b in np.flatnonzero(m > 1):
         use[b, :R - m[b] * (R // m[b])] = False
-    per_T = lambda a: np.array([a[b][use[b]].mean() for b in range(a.shape[0])])  # noqa: E731
+    per_T = lambda a: np.array([a[b][use[b]].mean() for b in range(a.shape[0])])
     loss = per_T(r.loss)
     _, l_min, l_max, l_std = _spread(r.loss, use)
     with np.errstate(divide="ignore", invalid="ignore"):

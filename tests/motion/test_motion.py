@@ -2,14 +2,9 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 import plbar
-from plbar.motion import periodicity, run, steady
-from plbar.motion.events import ZERO, decide_step
-from plbar.motion.margin import margin, taylor
-from plbar.motion.model import FREE, STUCK, padded
+from plbar.motion import FREE, STUCK, padded, periodicity, run, steady
 from plbar.response import segment, work_closed_form
 from plbar.response.power import work_quadrature_segment
 
@@ -71,9 +66,11 @@ def test_events_agree_with_the_independent_simulator_on_20_random_cases():
 
 
 def test_energy_budget_closes():
+    """work - losses - change of energy <= 1e-12 of the work: the work is integrated in closed form, independently
+    of the energies (Eqs. (12)-(14)) and of the impact loss S v_c^2 / 2."""
     for case, T in _cases(8):
         r = run(case.problem(), [T, 1.1 * T], periods=60, record=10)
-        assert np.all(np.abs(r.energy_residual) <= 1e-9)
+        assert np.all(np.abs(r.energy_residual) <= 1e-12)
 
 
 def test_zero_dwell_response_of_the_formulation():
@@ -97,43 +94,6 @@ def test_work_closed_form_equals_quadrature_and_energy():
         assert np.allclose(a, b, rtol=0, atol=1e-11) and np.allclose(b, dE, rtol=0, atol=1e-11)
     _, c = work_closed_form(w, f, 1.0, 1.7, 5.3, e0, v0, 1.0, 0.0)
     assert not c[1] < 1e4                   # exact resonance: flagged for quadrature, never a silent nan
-
-
-def _margin_samples(pad, st, eta, vel, W, t, phi, u):
-    """g at local times u (dense), by the exact flow (brute force)."""
-    e, v = segment(pad.w[st], pad.f[st], W, t, u[:, None], eta, vel, np.cos(phi), np.sin(phi))
-    c = np.broadcast_to(pad.c[st], e.shape)
-    return margin(c, np.full(u.size, pad.rq[st]), e, v, np.full(u.size, W), t + u, np.full(u.size, phi))[0]
-
-
-@settings(max_examples=60, deadline=None)
-@given(st.integers(0, 10 ** 6))
-def test_certified_step_never_steps_over_a_crossing(seed):
-    """Brute force: the margin sampled densely over a certified step never goes below round-off."""
-    rng = np.random.default_rng(seed)
-    case = _random_case(rng)
-    pad = padded(case.problem())
-    s = int(rng.integers(0, 2))
-    m = pad.m if s == FREE else pad.m - 1
-    eta, vel = np.zeros(pad.m), np.zeros(pad.m)
-    eta[:m], vel[:m] = rng.normal(size=m) / pad.w[s, :m], rng.normal(size=m)
-    W = float(rng.uniform(0.3, 2.0) * pad.w[s, 0])
-    t, phi, cap = float(rng.uniform(0, 3)), float(rng.uniform(0, 6)), float(rng.uniform(0.5, 3.0) / pad.w[s, 0])
-    g = _margin_samples(pad, s, eta, vel, W, t, phi, np.array([0.0]))[0]
-    if g < 0:                                  # start on the admissible side: shift the constant load term
-        eta[:m] *= -1
-        vel[:m] *= -1
-    d, rem, scale, Om = taylor(pad.c[s][None], np.array([pad.rq[s]]), pad.w[s][None], pad.f[s][None], eta[None],
-                               vel[None], np.array([W]), np.array([t]), np.array([phi]), np.array([cap]), 8)
-    event, v, found = decide_step(d, rem, scale, Om * cap, pad.size[s])
-    if event[0] or not found[0]:
-        return
-    step = float(v[0] / Om[0])
-    u = np.linspace(0.0, step, 4001)
-    gs = _margin_samples(pad, s, eta, vel, W, t, phi, u)
-    level = max(scale[0, 0], pad.size[s])
-    assert gs.min() >= -ZERO * level - 1e-14 * level
-    assert 0 < step <= cap * (1 + 1e-12)
 
 
 def test_amplitude_is_the_largest_gap():
@@ -196,7 +156,7 @@ def test_damped_batch_against_the_independent_simulator(model):
     prob = case.problem()
     n = prob.system.n
     r = run(prob, Ts, periods=60, record=60)
-    assert np.all(np.abs(r.energy_residual) <= 1e-9) and np.all(r.viscous > 0)
+    assert np.all(np.abs(r.energy_residual) <= 1e-12) and np.all(r.viscous > 0)
     for b, T in enumerate(Ts):
         sim = plbar.simulate(prob, T, 0.0, np.zeros(n), np.zeros(n), n_periods=60)
         sel = r.events["traj"] == b

@@ -12,4 +12,4 @@
 from . import data
 from .loop import advance
 
-__all__ = ["data", "advance"]
+__all__ = ["advance", "data"]

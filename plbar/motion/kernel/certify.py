@@ -15,33 +15,45 @@ this bounds ``|g^(K+1)|`` over the whole step.  Everything is scaled by ``Om = m
 (``g^(k) / Om^k``), so that high orders stay finite.
 
 **The certified step.**  Let ``k`` be the first order whose derivative is not round-off.  If
-``g^(k) < 0`` the state ends here (an event).  Otherwise, dropping the lower orders
-(round-off) and the positive higher ones,
-``g(t + u) >= u^k [ g^(k)/k! - sum_{i>k} max(-g^(i), 0) u^(i-k)/i! - B u^(K+1-k)/(K+1)! ]``,
-and the bracket decreases with ``u``: wherever it is positive, so is ``g`` on the whole step.
-The largest such point of a geometric ladder (found by bisection, the bracket being monotone)
-is a *certified* step: no crossing can hide in it, whatever happens between evaluated
-points.  Near a simple crossing (``k = 0``, ``g' < 0``) a second certificate,
-``g(t + u) >= g + g' u - B2 u^2 / 2`` with ``B2`` bounding ``|g''|`` over the step from the same
-expansion, gives quadratic convergence onto the crossing from the left.  ``k`` tells a
-zero-dwell impact (the reaction pulls at once: ``k = 0``, ``g < 0``) from a normal opening (the
-gap grows like ``u^3``) and a bar at rest loaded far from its contact (the reaction vanishes to
-order ``2 (N - 1)`` on the paper's chain) from a crossing.
+``g^(k) < 0`` the state ends here (an event).  Otherwise, dropping the lower orders (round-off),
+``g(t + u) >= u^k q(u)`` with the polynomial
+``q(u) = g^(k)/k! + sum_{k<i<=K} g^(i) u^(i-k)/i! - B u^(K+1-k)/(K+1)!``
+(Taylor's theorem with the remainder bound).  The step goes to the first root of ``q``,
+certified: re-expanded about the current point, ``q`` is bounded below by its constant term
+minus its negative terms, a concave decreasing function whose root is found by Newton from the
+right and checked; every move to such a root is certified, and near a simple root the moves
+are Newton steps from the left, so a few of them reach the root of ``q`` (no function
+evaluation: ``q`` is a polynomial).  Near a crossing the next round, from a point whose model
+has a tiny remainder, lands on the crossing to round-off.  ``k`` tells a zero-dwell impact (the
+reaction pulls at once: ``k = 0``, ``g < 0``) from a normal opening (the gap grows like ``u^3``)
+and a bar at rest loaded far from its contact (the reaction vanishes to order ``2 (N - 1)`` on
+the paper's chain) from a crossing.
 """
 
 from __future__ import annotations
 
-from math import cos, lgamma, sin, sqrt
+from math import cos, exp, lgamma, log, sin, sqrt
 
 import numpy as np
 
 from .jit import jit
 
-__all__ = ["ZERO", "SIGNIFICANT", "LADDER", "KMAX", "INV_FACT", "taylor", "decide_step"]
+__all__ = [
+    "INV_FACT",
+    "KMAX",
+    "MAX_SHIFTS",
+    "SIGNIFICANT",
+    "ZERO",
+    "decide_step",
+    "first_order",
+    "polynomial_step",
+    "step_from",
+    "taylor",
+]
 
 ZERO = 1e-13          #: |g| below ZERO * (size of its terms) is round-off: the crossing is located to this
 SIGNIFICANT = 1e-9    #: a derivative counts when |g^(k)| > SIGNIFICANT * (size of its terms)
-LADDER = 0.5 ** np.arange(0, 48)   #: step candidates, as fractions of the longest step
+MAX_SHIFTS = 2        #: re-expansions of the lower bound per step (its first root is reached in a few near a crossing)
 KMAX = 42             #: largest order of a Taylor model (+ 2)
 INV_FACT = np.exp(-np.array([lgamma(i + 1.0) for i in range(KMAX + 2)]))   #: 1 / i!
 
@@ -54,13 +66,15 @@ def _cyc(c, s, i):
 
 
 @jit
-def taylor(c, rq, w, f, eta, vel, W, t, phi, s, K, d, scale, zeta, cv):
+def taylor(c, rq, rs, w, f, eta, vel, W, t, phi, s, K, d, scale, zeta, cv):
     """Scaled derivatives ``g^(k) / Om^k`` (``k = 0 .. K``) into ``d`` and their sizes into ``scale``.
 
-    Returns ``(rem, Om)``: the bound of ``|g^(K+1)| / Om^(K+1)`` over a step of length ``s``, and ``Om``.
-    ``scale[k]`` is the size of the terms that make ``g^(k)`` (through the recursion, so that a derivative
-    that cancels to round-off is seen as such).  ``zeta, cv``: the damping ratios and the margin's weights on
-    the velocities, or None (undamped; that code is then not compiled).
+    The margin is ``c . eta + cv . eta' + rq cos(W t - phi) + rs sin(W t - phi)`` (``rs = 0`` but for the low
+    part of a split model, :mod:`.split`).  Returns ``(rem, Om)``: the bound of ``|g^(K+1)| / Om^(K+1)`` over a
+    step of length ``s``, and ``Om``.  ``scale[k]`` is the size of the terms that make ``g^(k)`` (through the
+    recursion, so that a derivative that cancels to round-off is seen as such; the load's terms by their
+    amplitude: at a zero of ``cos(W t - phi)`` its value is the round-off of the phase, not a size).  ``zeta, cv``: the damping
+    ratios and the margin's weights on the velocities, or None (undamped; that code is then not compiled).
     """
     m = w.size
     Om = W
@@ -70,10 +84,10 @@ def taylor(c, rq, w, f, eta, vel, W, t, phi, s, K, d, scale, zeta, cv):
     ca, sa = cos(arg), sin(arg)
     wk = 1.0
     for k in range(K + 1):
-        d[k] = rq * wk * _cyc(ca, sa, k)
-        scale[k] = abs(d[k])
+        d[k] = wk * (rq * _cyc(ca, sa, k) + rs * _cyc(ca, sa, k - 1))
+        scale[k] = wk * (abs(rq) + abs(rs))    # a sinusoid's round-off is its amplitude's, not its value's
         wk *= Wr
-    rem = abs(rq) * wk
+    rem = (abs(rq) + abs(rs)) * wk
     for j in range(m):
         amp = sqrt((w[j] * eta[j]) ** 2 + vel[j] ** 2) + abs(f[j]) * s
         if zeta is None:
@@ -105,7 +119,7 @@ def _mode(cj, cvs, wr, load, damp, e0, e1, amp, wj, Om, Wr, ca, sa, K, damped, d
         if k < top:
             lk = load * wk * _cyc(ca, sa, k - 2)
             en = lk - wr2 * ep - damp * e
-            mn = abs(lk) + wr2 * mp + damp * mg
+            mn = abs(load) * wk + wr2 * mp + damp * mg
             if k <= K:
                 d[k] += cj * en
                 scale[k] += abs(cj) * mn
@@ -122,88 +136,140 @@ def _mode(cj, cvs, wr, load, damp, e0, e1, amp, wj, Om, Wr, ca, sa, K, damped, d
 
 
 @jit
-def _bracket(d, K, k, lead, R, v):
-    """``lead - sum_{i>k} max(-g^(i), 0) v^(i-k)/i! - R v^(K+1-k)`` (Horner)."""
-    acc = 0.0
-    for j in range(K - k, 0, -1):
-        acc = (acc + max(-d[k + j], 0.0) * INV_FACT[k + j]) * v
-    return lead - acc - R * v ** (K + 1 - k)
+def _below(s, n, h):
+    """The monotone lower bound ``b(h) = s_0 - sum_{i>=1} max(-s_i, 0) h^i`` of ``sum s_i h^i``, and ``-b'(h)``."""
+    q, dq = 0.0, 0.0
+    for i in range(n, 0, -1):
+        dq = dq * h + q
+        q = q * h + max(-s[i], 0.0)
+    return s[0] - h * q, q + h * dq
 
 
 @jit
-def certified_step(d, K, k, lead, rem, vmax):
-    """The largest step (scaled, up to ``vmax``, to a factor ``2^(1/4)``) over which ``g > 0`` is certain (0: none).
+def _monotone_step(s, n, H):
+    """The largest ``h <= H`` with ``b(h) > 0`` (:func:`_below`; ``b`` is concave and decreasing), 0 if none.
 
-    ``lead`` is ``g^(k)/k!`` (or the shifted margin at ``k = 0``); ``rem`` bounds the scaled ``g^(K+1)``.
+    With ``P = s_0 - b`` (a sum of monomials with non-negative coefficients), ``log P`` is a convex, increasing
+    function of ``y = log h`` (a log-sum-exp), nearly linear where one monomial dominates: Newton on
+    ``log P(e^y) = log s_0`` converges onto the root monotonically from the right in a few steps.  Near a
+    simple root the linear term decides: plain Newton from its root, to full precision (the step onto a
+    crossing); elsewhere from the remainder term's root, to 1e-6 (both start right of the root).  The step
+    taken is just left of the root, where ``b > 0`` is checked.
     """
-    k = min(k, K)
-    R = rem * INV_FACT[K + 1]
-    n = LADDER.size
-    if _bracket(d, K, k, lead, R, vmax) > 0:
-        return vmax
-    if not _bracket(d, K, k, lead, R, vmax * LADDER[n - 1]) > 0:
-        return 0.0
-    lo, hi = 0, n - 1                       # bracket fails at rung lo, holds at rung hi
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if _bracket(d, K, k, lead, R, vmax * LADDER[mid]) > 0:
-            hi = mid
-        else:
-            lo = mid
-    v = vmax * LADDER[hi]
-    for fac in (sqrt(2.0), 2.0 ** 0.25):    # refine between ladder rungs
-        x = min(v * fac, vmax)
-        if _bracket(d, K, k, lead, R, x) > 0:
-            v = x
-    return v
+    b, db = _below(s, n, H)
+    if b > 0:
+        return H
+    near = s[1] < 0 and s[0] < -s[1] * H
+    if near:                                   # near a simple root the linear term decides: plain Newton
+        h, tol = s[0] / -s[1], 1e-15
+        b, db = _below(s, n, h)
+        near = b > -s[0]
+    else:
+        h, tol = min(H, (s[0] / -s[n]) ** (1.0 / n)), 1e-6
+        b, db = _below(s, n, h)
+    for _ in range(60):
+        if b > 0 or not db > 0:
+            break
+        if near:
+            x = h + b / db                     # b < 0: x < h, and (concave) still right of the root
+        else:                                  # Newton on log(s_0 - b) = log(s_0) in y = log h
+            P = s[0] - b
+            x = h * exp(-log(P / s[0]) * P / (h * db))
+        done = not h - x > tol * h
+        h = x
+        b, db = _below(s, n, h)
+        if done:
+            break
+    back = 2.0 * max(tol, 1e-15)              # the root is within tol of h
+    for _ in range(20):
+        x = h * (1.0 - back)
+        if _below(s, n, x)[0] > 0:
+            return x
+        back *= 8.0
+    return 0.0
 
 
 @jit
-def quadratic_step(d, K, rem, v):
-    """``rho`` with ``g + g' u - B2 u^2 / 2 > 0`` on ``[0, rho)``, ``B2`` bounding ``|g''|`` over ``[0, v]`` (scaled)."""
-    B2, vj = 0.0, 1.0
-    for j in range(K - 1):
-        B2 += abs(d[2 + j]) * INV_FACT[j] * vj
-        vj *= v
-    B2 += rem * INV_FACT[K - 1] * vj
-    g, g1 = max(d[0], 0.0), d[1]
-    root = sqrt(g1 * g1 + 2.0 * B2 * g)
-    if g1 > 0:
-        return (g1 + root) / B2 if B2 > 0 else np.inf
-    return 2.0 * g / (root - g1) if root - g1 > 0 else np.inf
+def _shift(s, n, h):
+    """Re-expand ``sum s_i x^i`` about ``x = h`` in place (Taylor shift)."""
+    for i in range(n):
+        for j in range(n - 1, i - 1, -1):
+            s[j] += h * s[j + 1]
 
 
 @jit
-def first_order(d, scale, K):
-    """The first order whose derivative is not round-off (``K + 1`` where none is)."""
-    for k in range(K + 1):
-        if abs(d[k]) > (ZERO if k == 0 else SIGNIFICANT) * scale[k]:
+def polynomial_step(s, n, vmax):
+    """The largest ``a <= vmax`` with ``sum_{i<=n} s_i v^i > 0`` on ``[0, a]`` certified (``s_0 > 0``); ``s`` is used
+    as work space.
+
+    Each round takes the monotone lower bound of the polynomial re-expanded about the current point
+    (:func:`_monotone_step`; every step is certified by it) and moves there: near a simple root this is a
+    Newton step from the left (quadratic convergence onto the root of the polynomial), far from one it steps
+    over the polynomial's dips as far as its negative terms allow.
+    """
+    a = 0.0
+    for _ in range(MAX_SHIFTS):
+        H = vmax - a
+        if not H > 0:
+            return vmax
+        h = _monotone_step(s, n, H)
+        if h >= H:
+            return vmax
+        if not h > 4e-16 * a:
+            return a
+        _shift(s, n, h)
+        if not s[0] > 0:                     # round-off at the root: stay where the last step was certified
+            return a
+        a += h
+    return a
+
+
+@jit
+def first_order(d, scale, K, floor):
+    """The first order whose derivative is not round-off (``K + 1`` where none is); the margin itself is round-off
+    below ``ZERO`` times the size of its terms or the problem's own size ``floor``, whichever is larger."""
+    if abs(d[0]) > ZERO * max(scale[0], floor):
+        return 0
+    for k in range(1, K + 1):
+        if abs(d[k]) > SIGNIFICANT * scale[k]:
             return k
     return K + 1
 
 
 @jit
-def decide_step(d, rem, scale, K, vmax, floor):
+def step_from(d, K, k, lead, rem, vmax, s):
+    """:func:`polynomial_step` of ``v^-k`` times the Taylor model's lower bound (orders below ``k`` are round-off):
+    ``lead + sum_{i>k} g^(i) v^(i-k) / i! - B v^(K+1-k) / (K+1)!``."""
+    if not vmax > 0:
+        return 0.0
+    n = K + 1 - k
+    s[0] = lead
+    for i in range(1, n):
+        s[i] = d[k + i] * INV_FACT[k + i]
+    s[n] = -rem * INV_FACT[K + 1]
+    return polynomial_step(s, n, vmax)
+
+
+@jit
+def decide_step(d, rem, scale, K, vmax, floor, s):
     """The decision at a point from its Taylor model: ``(event, step, found)`` (scaled step ``v = Om u``).
 
     * ``event``: the first significant derivative is negative (the state ends here);
-    * ``step``: certified by :func:`certified_step` from that order, by :func:`quadratic_step` near a simple
-      crossing (quadratic convergence onto it from the left), and, where the margin is round-off small but
-      not crossing (``k > 0``, or no derivative significant at all), also for the margin shifted by its
-      round-off level ``ZERO * max(scale, floor)`` (no crossing below that level is missed); ``floor`` is the
-      problem's own size of the margin (a bar at rest has none of its own);
+    * ``step``: the first root of the model's lower bound, certified (:func:`polynomial_step`), from the first
+      significant order; where the margin is round-off small but not crossing (``k > 0``, or no derivative
+      significant at all), also for the margin shifted by its round-off level ``ZERO * max(scale, floor)`` (no
+      crossing below that level is missed); ``floor`` is the problem's own size of the margin (a bar at rest
+      has none of its own);
     * ``found``: some derivative up to the model's order is significant, or the shifted margin certified a step.
+
+    ``s`` is work space of at least ``K + 2`` entries.
     """
-    k = first_order(d, scale, K)
+    k = first_order(d, scale, K, floor)
     found = k <= K
     event = found and d[k] < 0
     go = found and not event
-    v = certified_step(d, K, k, d[k] * INV_FACT[k], rem, vmax) if go else 0.0
+    v = step_from(d, K, k, d[k] * INV_FACT[k], rem, vmax, s) if go else 0.0
     if (go and k > 0) or not found:
         shifted = max(d[0], 0.0) + ZERO * max(scale[0], floor)
-        v = max(v, certified_step(d, K, 0, shifted, rem, vmax))
-    if go and k == 0 and d[1] < 0 and v < vmax:
-        sig = min(2.0 * v, vmax)
-        rho = quadratic_step(d, K, rem, sig)
-        v = max(v, min(rho, sig) * (1 - 1e-15))
+        v = max(v, step_from(d, K, 0, shifted, rem, vmax, s))
     return event, v, found or v > 0

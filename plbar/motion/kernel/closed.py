@@ -22,8 +22,18 @@ from math import cos, cosh, exp, sin, sinh, sqrt
 
 from .jit import jit
 
-__all__ = ["sinc", "half", "kernels", "flow", "roots", "damped_free", "damped_kernels", "damped_flow", "mode_flow",
-           "phi1"]
+__all__ = [
+    "damped_flow",
+    "damped_free",
+    "damped_kernels",
+    "flow",
+    "half",
+    "kernels",
+    "mode_flow",
+    "phi1",
+    "roots",
+    "sinc",
+]
 
 SERIES = 20   #: terms of the phi_1 and kernel series (|x| < 1: error below 1e-19)
 DIRECT = 0.7  #: below this |(w - W) u / 2| its sine is taken directly (the angle difference would cancel)

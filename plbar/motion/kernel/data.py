@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["model", "damping", "trajectories", "records", "accounts", "grow_events"]
+__all__ = ["accounts", "damping", "grow_events", "model", "records", "trajectories"]
 
 W, F, C = 0, 1, 2
 RQ, SIZE = 0, 1

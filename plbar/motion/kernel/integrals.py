@@ -13,8 +13,7 @@ so the energy budget of a simulation is a check, not an identity.
 
 from __future__ import annotations
 
-import cmath
-from math import ceil, cos, inf, isfinite, pi, sin
+from math import ceil, cos, inf, isfinite, sin
 
 import numpy as np
 
@@ -22,7 +21,7 @@ from ...response.flow import CANCEL_LIMIT, gauss
 from .closed import half, mode_flow, phi1, roots, sinc
 from .jit import jit
 
-__all__ = ["psi", "work", "GL_X", "GL_W"]
+__all__ = ["GL_W", "GL_X", "psi", "work"]
 
 
 def _rules():

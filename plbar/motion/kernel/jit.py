@@ -1,14 +1,43 @@
-"""The one compiler setting of the kernel: ``numba.njit`` with an on-disk cache, no GIL, numpy's error model.
+"""How the kernel is compiled: numba, no GIL, numpy's error model; one cached entry point keyed by every source.
 
-``cache=True`` keeps the machine code beside the sources (``__pycache__``), so only the first call after an
-install compiles; ``nogil=True`` lets :func:`plbar.util.threads.map_chunks` run trajectories on every core;
-``error_model="numpy"`` makes a division by zero ``inf``/``nan`` as in numpy (the closed forms test for it).
+* :data:`jit` compiles the kernel's functions (``nogil=True`` lets :func:`plbar.util.threads.map_chunks` run
+  trajectories on every core; ``error_model="numpy"`` makes a division by zero ``inf``/``nan`` as in numpy: the
+  closed forms test for it).  They are not cached on their own: they are compiled into the entry point.
+* :func:`cached` compiles the entry point with an on-disk cache (``__pycache__``), so only the first call after an
+  install compiles.  numba keys a cached function by its own file only: a change in a function it calls from
+  another file would not be seen (a stale kernel after an edit or an upgrade).  The entry point therefore closes
+  over :data:`STAMP`, a hash of every source the kernel is built from, and numba's cache key includes the
+  closure's contents: any change of any of them compiles afresh.
 """
 
 from __future__ import annotations
 
+import hashlib
+from pathlib import Path
+
 import numba
 
-__all__ = ["jit"]
+__all__ = ["SOURCES", "STAMP", "cached", "inline", "jit"]
 
-jit = numba.njit(cache=True, nogil=True, error_model="numpy")
+jit = numba.njit(nogil=True, error_model="numpy")
+inline = numba.njit(nogil=True, error_model="numpy", inline="always")   #: inlined where called (constants propagate)
+
+_HERE = Path(__file__).resolve().parent
+#: the files the compiled kernel is built from (its own modules, and the constants it imports)
+SOURCES = tuple(sorted(_HERE.glob("*.py"))) + (_HERE.parent / "model.py", _HERE.parents[1] / "response" / "flow.py")
+
+
+def _stamp() -> int:
+    h = hashlib.sha256()
+    for path in SOURCES:
+        h.update(path.read_bytes())
+    return int(h.hexdigest()[:15], 16)
+
+
+STAMP = _stamp()   #: 60 bits of the hash of :data:`SOURCES`
+
+
+def cached(factory):
+    """Compile ``factory(STAMP)`` -- a function whose body uses its argument, so that it is in its closure -- with an
+    on-disk cache keyed by every kernel source."""
+    return numba.njit(cache=True, nogil=True, error_model="numpy")(factory(STAMP))

@@ -25,17 +25,32 @@ from ..model import CHATTER, OK, STALLED, STUCK
 from . import data as D
 from .certify import decide_step, taylor
 from .closed import half, mode_flow
-from .jit import jit
+from .jit import cached, inline, jit
 from .pieces import amplitude, piece_accounts
+from .split import SPLIT_MIN, particular, split_step
 
-__all__ = ["OK", "CHATTER", "STALLED", "TINY", "MAX_ZERO", "MAX_STALL", "CAP", "ORDER", "DEEP_MAX", "advance",
-           "flow_all", "switch"]
+__all__ = [
+    "CAP",
+    "CHATTER",
+    "DEEP_MAX",
+    "MAX_STALL",
+    "MAX_ZERO",
+    "OK",
+    "ORDER",
+    "STALLED",
+    "TINY",
+    "advance",
+    "flow_all",
+    "switch",
+]
 
 TINY = 1e-12        #: step (in periods) where no derivative decides, and the snap of a step onto a period boundary
 MAX_ZERO = 50       #: consecutive zero-length segments before a trajectory is stopped as chattering
 MAX_STALL = 5000    #: rounds without an event or a period boundary before a trajectory is stopped as stalled
 CAP = 0.25          #: longest step, in forcing periods (the remainder bound is taken over it)
 ORDER = 8           #: order of the Taylor model of the margin
+LARGE_ORDER = 16    #: order of the Taylor model of a system of SPLIT_MIN modes or more (longer steps, for the cost)
+SPLIT_ORDER = 16    #: order of the split model's (its low modes are slow: a higher order certifies longer steps)
 DEEP_MAX = 40       #: highest order of the deep model (where no derivative up to ORDER is significant)
 
 
@@ -51,19 +66,37 @@ def flow_all(md, st, W, tp, u, eta0, vel0, cphi, sphi, out_e, out_v, damping):
                                        cphi, sphi, cW, sW, sWu, damping)
 
 
-@jit
-def _certify(md, st, eta, vel, W, T, t, phi, K, d, scale, damping):
+@inline
+def _model(md, st, eta, vel, W, T, t, phi, K, d, scale, work, damping):
     """``(event, step)`` at local time ``t`` of the period from a Taylor model of order ``K`` (step -1: undecided)."""
     modal, margin = md[0], md[1]
     cap = min(CAP * T, max(T - t, 0.0))
     if damping is None:
-        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], modal[D.W, st], modal[D.F, st], eta, vel, W, t, phi, cap,
+        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], eta, vel, W, t, phi, cap,
                          K, d, scale, None, None)
     else:
-        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], modal[D.W, st], modal[D.F, st], eta, vel, W, t, phi, cap,
+        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], eta, vel, W, t, phi, cap,
                          K, d, scale, damping[st, D.ZETA], damping[st, D.CV])
-    event, v, found = decide_step(d, rem, scale, K, Om * cap, margin[D.SIZE, st])
+    event, v, found = decide_step(d, rem, scale, K, Om * cap, margin[D.SIZE, st], work)
     return event, (v / Om if found else -1.0)
+
+
+@jit
+def _certify(md, st, eta, vel, W, T, t, phi, deep, d, scale, work, amp, P, fast, damping):
+    """``(event, step)``: from the split model (:mod:`.split`) where it certifies a step, else from the model of
+    order :data:`ORDER` (:data:`LARGE_ORDER` for a large system; a constant here: its loops unroll), else, where
+    that decides nothing (a bar at rest loaded far from its contact), from the deep model of order ``deep``."""
+    if md[0].shape[2] >= SPLIT_MIN:
+        step = split_step(md, st, eta, vel, W, t, phi, min(CAP * T, max(T - t, 0.0)), SPLIT_ORDER, d, scale, work,
+                          amp, P, fast, damping)
+        if step > 0:
+            return False, step
+        event, step = _model(md, st, eta, vel, W, T, t, phi, LARGE_ORDER, d, scale, work, damping)
+    else:
+        event, step = _model(md, st, eta, vel, W, T, t, phi, ORDER, d, scale, work, damping)
+    if step < 0:
+        event, step = _model(md, st, eta, vel, W, T, t, phi, deep, d, scale, work, damping)
+    return event, step
 
 
 @jit
@@ -173,19 +206,19 @@ def _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, damping):
 
 
 @jit
-def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, damping):
+def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, damping):
     """Advance one trajectory (its state in ``f, s, z0, tot``) to the start of forcing period ``stop``."""
     e, v, e2, v2 = scratch[0], scratch[1], scratch[2], scratch[3]
     T, W, phi = f[D.T], f[D.OMEGA], f[D.PHI]
     cphi, sphi = cos(phi), sin(phi)
     deep = min(2 * md[0].shape[2] + 4, DEEP_MAX)
     room = rc[1].shape[1]
+    P, fast = np.empty((2, 2, e.size)), np.empty(2, np.int64)
+    particular(md, damping, W, P, fast)
     while s[D.PERIOD] < stop and s[D.STATUS] == OK:
         st, tp, p = s[D.STATE], f[D.TP], f[D.P]
         flow_all(md, st, W, tp, p, z0[0], z0[1], cphi, sphi, e, v, damping)
-        event, step = _certify(md, st, e, v, W, T, tp + p, phi, ORDER, d, scale, damping)
-        if step < 0:
-            event, step = _certify(md, st, e, v, W, T, tp + p, phi, deep, d, scale, damping)
+        event, step = _certify(md, st, e, v, W, T, tp + p, phi, deep, d, scale, work, scratch[4], P, fast, damping)
         if event and s[D.PERIOD] >= first and s[D.EVENTS] >= room:
             s[D.NEED] = 1                      # no room to record it: the caller grows the record and goes on
             return
@@ -196,6 +229,8 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, damping)
         else:
             end = T - tp
             new_p = p + (step if step > 0 else TINY * T)
+            if not new_p > p:                  # a step below the resolution of t: one ulp (the crossing is there)
+                new_p = np.nextafter(p, np.inf)
             f[D.P] = end if new_p >= end - TINY * T else new_p
             if f[D.P] >= end:
                 _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, damping)
@@ -203,29 +238,36 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, damping)
             s[D.STATUS] = STALLED
 
 
-@jit
-def advance(md, tr, rc, acc, first, idx, stop, damping):
-    """Advance the trajectories ``idx`` to the start of forcing period ``stop`` (or until each stops, or has no room
-    left to record an event: ``NEED``).
+def _advance(stamp):
+    def advance(md, tr, rc, acc, first, idx, stop, damping):
+        """Advance the trajectories ``idx`` to the start of forcing period ``stop`` (or until each stops, or has no
+        room left to record an event: ``NEED``).
 
-    Each trajectory runs on copies of its state (no two threads write near each other) written back at the
-    end.  ``acc`` None: no accounts (a replay of the switches); ``damping`` None: undamped.  Neither's code is
-    then compiled.
-    """
-    tf, ti, z, tot = tr
-    m = md[0].shape[2]
-    scratch, z0 = np.empty((4, m)), np.empty((2, m))
-    d, scale = np.empty(DEEP_MAX + 2), np.empty(DEEP_MAX + 2)
-    f, s, t3 = np.empty(tf.shape[1]), np.empty(ti.shape[1], np.int64), np.empty(3)
-    for b in idx:
-        _set(f, tf[b])
-        _set(s, ti[b])
-        _set(t3, tot[b])
-        _set(z0[0], z[b, 0])
-        _set(z0[1], z[b, 1])
-        _run(md, f, s, z0, t3, rc, acc, first, b, stop, scratch, d, scale, damping)
-        _set(tf[b], f)
-        _set(ti[b], s)
-        _set(tot[b], t3)
-        _set(z[b, 0], z0[0])
-        _set(z[b, 1], z0[1])
+        Each trajectory runs on copies of its state (no two threads write near each other) written back at the
+        end.  ``acc`` None: no accounts (a replay of the switches); ``damping`` None: undamped.  Neither's code is
+        then compiled.
+        """
+        if stamp < 0:                      # never: the stamp keys the on-disk cache (:func:`.jit.cached`)
+            return
+        tf, ti, z, tot = tr
+        m = md[0].shape[2]
+        scratch, z0 = np.empty((5, m)), np.empty((2, m))
+        d, scale, work = np.empty(DEEP_MAX + 2), np.empty(DEEP_MAX + 2), np.empty(DEEP_MAX + 3)
+        f, s, t3 = np.empty(tf.shape[1]), np.empty(ti.shape[1], np.int64), np.empty(3)
+        for b in idx:
+            _set(f, tf[b])
+            _set(s, ti[b])
+            _set(t3, tot[b])
+            _set(z0[0], z[b, 0])
+            _set(z0[1], z[b, 1])
+            _run(md, f, s, z0, t3, rc, acc, first, b, stop, scratch, d, scale, work, damping)
+            _set(tf[b], f)
+            _set(ti[b], s)
+            _set(tot[b], t3)
+            _set(z[b, 0], z0[0])
+            _set(z[b, 1], z0[1])
+
+    return advance
+
+
+advance = cached(_advance)

@@ -22,7 +22,7 @@ from .closed import half, mode_flow
 from .integrals import psi, work
 from .jit import jit
 
-__all__ = ["AMP_SAMPLES", "piece_accounts", "gap", "amplitude"]
+__all__ = ["AMP_SAMPLES", "amplitude", "gap", "piece_accounts"]
 
 AMP_SAMPLES = 48   #: samples per state II piece before the Newton refinement of its largest gap
 

@@ -1,0 +1,198 @@
+"""The compiled kernel (plbar.motion.kernel) against the numpy closed forms, brute force and its own promises."""
+
+import ast
+import subprocess
+import sys
+from math import cos, sin
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.optimize import brentq
+
+import plbar
+from plbar.motion import FREE, Start, padded, run
+from plbar.motion.kernel import closed, data, integrals, jit
+from plbar.motion.kernel.certify import ZERO, decide_step, polynomial_step, taylor
+from plbar.motion.kernel.split import particular, split_step
+from plbar.response import psi, segment, segment_work
+
+RNG = np.random.default_rng(20261125)
+
+
+def _random_case(rng, large=False):
+    if not large and rng.random() < 0.4:
+        n = int(rng.integers(3, 7))
+        return plbar.Case(n=n, load_nodes=((int(rng.integers(1, n + 1)), 1.0),), end_mass=float(rng.choice([0, 0.3])))
+    el, ms = rng.choice(["P1", "P2"]), rng.choice(["lumped", "consistent"])
+    n = int(rng.integers(12, 40)) if large else int(rng.integers(3, 8))
+    return plbar.Case(model="fe", n=n, element=str(el), mass=str(ms), end_mass=float(rng.choice([0.0, 0.5])),
+                      load_points=((float(rng.uniform(0.1, 1.0)), 1.0),))
+
+
+# --- the closed forms, one mode at a time, against the batched numpy functions of plbar.response -------------
+
+@pytest.mark.parametrize("zeta", [None, 0.02, 0.999999, 1.0, 1.5, 40.0])
+def test_flow_psi_and_work_equal_the_numpy_closed_forms(zeta):
+    w = np.array([0.3, 0.7, 1.0, 2.5, 9.0])
+    f, e0, v0 = RNG.normal(size=5), RNG.normal(size=5), RNG.normal(size=5)
+    damping = None if zeta is None else np.zeros(1)
+    z = 0.0 if zeta is None else zeta
+    for W, ts, u, phi in ((0.7, 1.3, 2.9, 0.4), (1.0, 0.0, 5.0, 2.0), (2.5 + 1e-9, 0.2, 1e-7, 5.0), (0.45, 3.0, 0.0, 1.0)):
+        c0, s0, cp, sp = cos(W * ts), sin(W * ts), cos(phi), sin(phi)
+        cW, sW, sWu = closed.half(W, u)
+        ref_e, ref_v = segment(w, f, W, ts, u, e0, v0, cp, sp, zeta=zeta)
+        ref_p = psi(w, f, W, ts, u, e0, v0, cp, sp, zeta=zeta)[0]
+        ref_w = segment_work(w, f, W, ts, u, e0, v0, cp, sp, zeta=zeta)
+        for j in range(5):
+            e, v = closed.mode_flow(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, cW, sW, sWu, damping)
+            size = abs(e0[j]) + abs(v0[j]) / w[j] + abs(f[j]) * (1 + u * u)
+            assert e == pytest.approx(ref_e[j], abs=1e-13 * size) and v == pytest.approx(ref_v[j], abs=1e-13 * size * w[j])
+            p = integrals.psi(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, damping)
+            wk = integrals.work(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, damping)
+            assert p == pytest.approx(ref_p[j], rel=1e-11, abs=1e-13)
+            assert wk == pytest.approx(ref_w[j], rel=1e-10, abs=1e-12 * size * size * w[j])
+
+
+def test_exact_resonance_is_finite_and_right():
+    """W = w exactly: the flow keeps its limit (t sin), Psi and the work fall back to quadrature, no nan."""
+    w, f, W, u = 0.8, 1.3, 0.8, 7.0
+    cW, sW, sWu = closed.half(W, u)
+    e, v = closed.mode_flow(w, 0.0, f, W, 1.0, 0.0, u, 0.0, 0.0, 1.0, 0.0, cW, sW, sWu, None)
+    assert e == pytest.approx(f * u * np.sin(w * u) / (2 * w), rel=1e-13)
+    p = integrals.psi(w, 0.0, f, W, 1.0, 0.0, u, 0.0, 0.0, 1.0, 0.0, None)
+    wk = integrals.work(w, 0.0, f, W, 1.0, 0.0, u, 0.0, 0.0, 1.0, 0.0, None)
+    assert np.isfinite(p) and np.isfinite(wk)
+    assert wk == pytest.approx(0.5 * (v * v + (w * e) ** 2), rel=1e-12)          # work = energy gained
+
+
+# --- the certified step, against brute force -------------------------------------------------------------------
+
+def _state(rng, pad, s):
+    m = pad.m if s == FREE else pad.m - 1
+    eta, vel = np.zeros(pad.m), np.zeros(pad.m)
+    eta[:m] = rng.normal(size=m) / pad.w[s, :m] / (1 + np.arange(m)) ** 2
+    vel[:m] = rng.normal(size=m) / (1 + np.arange(m)) ** 2
+    return eta, vel
+
+
+def _margin(pad, s, eta, vel, W, t, phi, u):
+    """The margin at local times u after t, from the numpy closed form (brute force)."""
+    e, v = segment(pad.w[s], pad.f[s], W, t, u[:, None], eta, vel, np.cos(phi), np.sin(phi))
+    return e @ pad.c[s] + pad.rq[s] * np.cos(W * (t + u) - phi)
+
+
+def _certified(pad, s, eta, vel, W, t, phi, cap, K=8):
+    d, scale, work = np.zeros(44), np.zeros(44), np.zeros(45)
+    rem, Om = taylor(pad.c[s], pad.rq[s], 0.0, pad.w[s], pad.f[s], eta, vel, W, t, phi, cap, K, d, scale, None, None)
+    event, v, found = decide_step(d, rem, scale, K, Om * cap, pad.size[s], work)
+    return event, v / Om, found, scale[0]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 10 ** 6))
+def test_certified_step_never_steps_over_a_crossing(seed):
+    """The margin sampled densely over a certified step never goes below its round-off level."""
+    rng = np.random.default_rng(seed)
+    pad = padded(_random_case(rng).problem())
+    s = int(rng.integers(0, 2))
+    eta, vel = _state(rng, pad, s)
+    W = float(rng.uniform(0.3, 2.0) * pad.w[s, 0])
+    t, phi, cap = float(rng.uniform(0, 3)), float(rng.uniform(0, 6)), float(rng.uniform(0.5, 3.0) / pad.w[s, 0])
+    if _margin(pad, s, eta, vel, W, t, phi, np.array([0.0]))[0] < 0:
+        eta, vel = -eta, -vel
+    event, step, found, level = _certified(pad, s, eta, vel, W, t, phi, cap)
+    if event or not found:
+        return
+    g = _margin(pad, s, eta, vel, W, t, phi, np.linspace(0.0, step, 4001))
+    level = max(level, pad.size[s])
+    assert g.min() >= -ZERO * level - 1e-14 * level
+    assert 0 < step <= cap * (1 + 1e-12)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 10 ** 6))
+def test_split_step_never_steps_over_a_crossing(seed):
+    """The split model (fast modes bounded by their free amplitude) against brute force, on FE bars of 12-40
+    elements with states whose fast modes carry a random share of the motion."""
+    rng = np.random.default_rng(seed)
+    pad = padded(_random_case(rng, large=True).problem())
+    md = data.model(pad)
+    s = int(rng.integers(0, 2))
+    eta, vel = _state(rng, pad, s)
+    eta[pad.m // 3:] *= rng.uniform(0, 30)
+    W = float(rng.uniform(0.3, 2.0) * pad.w[s, 0])
+    t, phi, cap = float(rng.uniform(0, 3)), float(rng.uniform(0, 6)), float(rng.uniform(0.5, 3.0) / pad.w[s, 0])
+    if _margin(pad, s, eta, vel, W, t, phi, np.array([0.0]))[0] < 0:
+        eta, vel = -eta, -vel
+    P, fast = np.zeros((2, 2, pad.m)), np.zeros(2, np.int64)
+    particular(md, None, W, P, fast)
+    step = split_step(md, s, eta, vel, W, t, phi, cap, 16, np.zeros(44), np.zeros(44), np.zeros(45),
+                      np.zeros(pad.m), P, fast, None)
+    if step <= 0:
+        return
+    u = np.linspace(0.0, step, 20001)
+    g = _margin(pad, s, eta, vel, W, t, phi, u)
+    assert g.min() > 0
+    assert step <= cap * (1 + 1e-12)
+
+
+def test_a_grazing_bump_narrower_than_any_step_is_found():
+    """A gap that dips below zero for a sliver of time between two samples of any sampled search: a fast mode's
+    trough pokes through a slowly varying gap.  The certified search stops in the dip; a grid of the step the
+    of 0.3 periods of the fast mode sees nothing."""
+    case = plbar.Case(model="fe", n=24, end_mass=0.5, load_points=((0.05, 1e-9),))
+    pad = padded(case.problem())
+    T, phi, h = 40.0, 0.0, 17
+    W = 2 * np.pi / T
+    eta, vel = np.zeros(pad.m), np.zeros(pad.m)
+    eta[0] = 0.3 / pad.c[FREE, 0]                        # the bar held off the wall: gap 0.3, slowly varying
+    a = -1.0005 * 0.3 / pad.c[FREE, h]                    # a fast mode whose trough reaches 0.05 % below zero
+    vel[h] = a * pad.w[FREE, h]                           # eta_h = a sin(w_h t): its trough at t = pi / (2 w_h)
+    t = np.linspace(0.0, 2 * np.pi / pad.w[FREE, h], 200001)
+    g = _margin(pad, FREE, eta, vel, W, 0.0, phi, t)
+    neg = t[g < 0]
+    assert neg.size and neg[-1] - neg[0] < 0.03 * (2 * np.pi / pad.w[FREE, h])   # a narrow dip
+    r = run(pad, [T], [phi], periods=1, record=1, start=Start(np.array([FREE]), eta[None], vel[None]),
+            accounts=False)
+    dt = t[1] - t[0]
+    root = brentq(lambda x: _margin(pad, FREE, eta, vel, W, 0.0, phi, np.array([x]))[0], neg[0] - dt, neg[0],
+                  xtol=1e-15)
+    assert r.events["kind"][0] == 2 and abs(r.events["time"][0] - root) <= 1e-12 * T
+    step = 0.3 * (2 * np.pi / pad.w[FREE, h])
+    grid = np.arange(0.0, neg[-1] + step, step)
+    assert _margin(pad, FREE, eta, vel, W, 0.0, phi, grid).min() > 0          # a sampled search steps over it
+
+
+def test_polynomial_step_reaches_the_first_root():
+    """q(v) = (1 - v)(2 - v)(1 + v^2): the certified steps approach v = 1, never beyond, and reach it to round-off
+    in a few calls (each re-expands q about where it stops: the next call goes on from there)."""
+    s = np.polynomial.polynomial.polyfromroots([1.0, 2.0, 1j, -1j]).real.copy()
+    total = 0.0
+    for _ in range(4):
+        total += polynomial_step(s, 4, 5.0 - total)
+        assert total <= 1.0
+    assert total > 1 - 1e-13
+    assert polynomial_step(np.array([1.0, 0.0, 1.0]), 2, 3.0) == 3.0            # no root: the whole step
+
+
+# --- the compiled entry point: cache keyed by every source, no numba where no simulation runs --------------------
+
+def test_the_cache_key_covers_every_source_the_kernel_is_built_from():
+    """numba keys a cached function by its own file; the kernel's entry closes over a hash of every file the
+    kernel is compiled from.  Every module it imports from (numba freezes imported constants) must be one."""
+    here = jit.SOURCES[0].parent
+    sources = {p.resolve() for p in jit.SOURCES}
+    assert {p.resolve() for p in here.glob("*.py")} <= sources
+    for path in here.glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level >= 2:
+                target = here.parents[node.level - 2].joinpath(*node.module.split(".")).with_suffix(".py")
+                assert target.resolve() in sources, (path.name, node.module)
+
+
+def test_solving_the_paper_class_does_not_import_numba():
+    code = ("import sys, plbar; plbar.solve(plbar.Case(signatures='paper')); "
+            "assert 'numba' not in sys.modules, 'numba imported'")
+    subprocess.run([sys.executable, "-c", code], check=True)
