@@ -166,7 +166,16 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
     e0 = energy(pad, ti[:, D.STATE], z[:, 0], z[:, 1])
     step = partial(advance, D.model(pad), tr, first=periods - record, damping=D.damping(pad), acc=acc)
     rc = _drive(step, ti, rc, periods, progress)
+    return _collect(pad, T, phi, periods, record, tr, rc, acc, e0)
+
+
+def _collect(pad: Padded, T, phi, periods, record, tr, rc, acc, e0) -> Run:
+    """The :class:`Run` of a finished simulation (events per trajectory in order, boundary states physical)."""
+    from .kernel import data as D
+
     per, ev, sx, sv, ss = rc
+    _, ti, z, tot = tr
+    B = T.size
     state = ti[:, D.STATE].copy()
     e_end = energy(pad, state, z[:, 0], z[:, 1])
     ev_n = ti[:, D.EVENTS]
@@ -174,7 +183,7 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
     cols = np.concatenate([np.arange(k) for k in ev_n]) if B else np.zeros(0, int)
     events = {"traj": rows, "time": ev[rows, cols, D.TIME], "kind": ev[rows, cols, D.KIND].astype(int),
               "loss": ev[rows, cols, D.LOSS]}
-    a = acc if accounts else np.zeros((B, record, 6))
+    a = acc if acc is not None else np.zeros((B, record, 6))
     return Run(T, phi, periods, record, ti[:, D.STATUS].copy(), per[..., D.IMPACTS].astype(int),
                per[..., D.OPENINGS].astype(int), per[..., D.LOSS].copy(), a[..., D.D_EQ].copy(), a[..., D.D_W].copy(),
                a[..., D.WORK_REC].copy(), a[..., D.STUCK_T].copy(), a[..., D.AMP].copy(), _physical(pad, ss, sx),

@@ -28,10 +28,11 @@ __all__ = ["LAYERS", "ROOMS", "HEAVY", "HEAVY_OK", "MAX_MODULE", "MAX_FUNCTION",
 
 #: subpackages from the bottom up; each may import only from those before it (``errors`` is the base)
 LAYERS = ("errors", "util", "model", "response", "paths", "motion", "hybrid", "check", "io", "visuals", "app", "studies", "cli")
-HEAVY = ("pyvista", "vtk", "vtkmodules", "meshio", "matplotlib", "dask", "distributed", "h5py", "PIL")
+HEAVY = ("pyvista", "vtk", "vtkmodules", "meshio", "matplotlib", "dask", "distributed", "h5py", "PIL", "numba",
+         "llvmlite")
 #: layers split into rooms (subpackages), from the bottom up: a room imports only from those before it
 ROOMS = {"studies": ("execution", "loads", "refine", "damping", "survey", "paper")}
-HEAVY_OK = {"io", "visuals", "studies.execution.executor"}
+HEAVY_OK = {"io", "visuals", "studies.execution.executor", "motion.kernel"}
 MAX_MODULE = 400
 MAX_FUNCTION = 60
 ROOT = Path(__file__).resolve().parents[1]

@@ -49,8 +49,9 @@ def test_flow_psi_and_work_equal_the_numpy_closed_forms(zeta):
             e, v = closed.mode_flow(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, cW, sW, sWu, damping)
             size = abs(e0[j]) + abs(v0[j]) / w[j] + abs(f[j]) * (1 + u * u)
             assert e == pytest.approx(ref_e[j], abs=1e-13 * size) and v == pytest.approx(ref_v[j], abs=1e-13 * size * w[j])
-            p = integrals.psi(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, damping)
-            wk = integrals.work(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, damping)
+            cb, sb = cos(0.5 * W * u), sin(0.5 * W * u)
+            p = integrals.psi(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, damping, cb, sb)
+            wk = integrals.work(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, damping, cb, sb)
             assert p == pytest.approx(ref_p[j], rel=1e-11, abs=1e-13)
             assert wk == pytest.approx(ref_w[j], rel=1e-10, abs=1e-12 * size * size * w[j])
 
@@ -61,8 +62,9 @@ def test_exact_resonance_is_finite_and_right():
     cW, sW, sWu = closed.half(W, u)
     e, v = closed.mode_flow(w, 0.0, f, W, 1.0, 0.0, u, 0.0, 0.0, 1.0, 0.0, cW, sW, sWu, None)
     assert e == pytest.approx(f * u * np.sin(w * u) / (2 * w), rel=1e-13)
-    p = integrals.psi(w, 0.0, f, W, 1.0, 0.0, u, 0.0, 0.0, 1.0, 0.0, None)
-    wk = integrals.work(w, 0.0, f, W, 1.0, 0.0, u, 0.0, 0.0, 1.0, 0.0, None)
+    cb, sb = cos(0.5 * W * u), sin(0.5 * W * u)
+    p = integrals.psi(w, 0.0, f, W, 1.0, 0.0, u, 0.0, 0.0, 1.0, 0.0, None, cb, sb)
+    wk = integrals.work(w, 0.0, f, W, 1.0, 0.0, u, 0.0, 0.0, 1.0, 0.0, None, cb, sb)
     assert np.isfinite(p) and np.isfinite(wk)
     assert wk == pytest.approx(0.5 * (v * v + (w * e) ** 2), rel=1e-12)          # work = energy gained
 

@@ -161,11 +161,11 @@ def _monotone_step(s, n, H):
         return H
     near = s[1] < 0 and s[0] < -s[1] * H
     if near:                                   # near a simple root the linear term decides: plain Newton
-        h, tol = s[0] / -s[1], 1e-15
+        h, tol = s[0] / -s[1], 1e-13
         b, db = _below(s, n, h)
         near = b > -s[0]
     else:
-        h, tol = min(H, (s[0] / -s[n]) ** (1.0 / n)), 1e-6
+        h, tol = min(H, (s[0] / -s[n]) ** (1.0 / n)), 1e-3
         b, db = _below(s, n, h)
     for _ in range(60):
         if b > 0 or not db > 0:

@@ -60,8 +60,13 @@ def kernels(w, W, u, cW, sW, sWu):
     ``C' = (w cos(s) snc + sin(W u)) / (w + W)`` with ``s = (w + W) u / 2``, ``snc = u sinc((w - W) u / 2)``.
     """
     a = 0.5 * w * u
-    ca, sa = cos(a), sin(a)
-    dl = a - 0.5 * W * u
+    return kernels_at(w, W, u, cos(a), sin(a), cW, sW, sWu)
+
+
+@jit
+def kernels_at(w, W, u, ca, sa, cW, sW, sWu):
+    """:func:`kernels` from ``ca, sa = cos, sin(w u / 2)`` as well (rotated from sample to sample by a caller)."""
+    dl = 0.5 * (w - W) * u
     sdl = sin(dl) if abs(dl) < DIRECT else sa * cW - ca * sW
     snc = u * (sdl / dl if dl != 0.0 else 1.0)
     wp = w + W
@@ -73,7 +78,14 @@ def kernels(w, W, u, cW, sW, sWu):
 @jit
 def flow(w, f, W, c0, s0, u, eta0, v0, cphi, sphi, cW, sW, sWu):
     """``eta, eta'`` of an undamped mode at ``u`` into a segment (:func:`plbar.response.segment`)."""
-    C, S, Cp, co, si = kernels(w, W, u, cW, sW, sWu)
+    a = 0.5 * w * u
+    return flow_at(w, f, W, c0, s0, u, eta0, v0, cphi, sphi, cos(a), sin(a), cW, sW, sWu)
+
+
+@jit
+def flow_at(w, f, W, c0, s0, u, eta0, v0, cphi, sphi, ca, sa, cW, sW, sWu):
+    """:func:`flow` from ``ca, sa = cos, sin(w u / 2)`` as well."""
+    C, S, Cp, co, si = kernels_at(w, W, u, ca, sa, cW, sW, sWu)
     ec, es = f * (c0 * C - s0 * S), f * (s0 * C + c0 * S)
     vc, vs = f * (c0 * Cp - s0 * W * C), f * (s0 * Cp + c0 * W * C)
     return (co * eta0 + si / w * v0 + ec * cphi + es * sphi,

@@ -18,7 +18,7 @@ from math import ceil, cos, inf, isfinite, sin
 import numpy as np
 
 from ...response.flow import CANCEL_LIMIT, gauss
-from .closed import half, mode_flow, phi1, roots, sinc
+from .closed import DIRECT, half, mode_flow, phi1, roots, sinc
 from .jit import jit
 
 __all__ = ["GL_W", "GL_X", "psi", "work"]
@@ -36,10 +36,24 @@ GL_X, GL_W = _rules()
 
 
 @jit
-def _h(x, u):
-    """``(1 - cos(x u)) / x``, smooth through ``x = 0``."""
-    s = sinc(0.5 * x * u)
-    return 0.5 * x * u * u * s * s
+def _sines(w, W, u, cb, sb):
+    """``sin`` of ``w u, 2 w u, W u, 2 W u, p, 2 p, q, 2 q`` (``p, q = (w +- W) u / 2``) from ``cos, sin(w u / 2)`` and
+    ``cb, sb = cos, sin(W u / 2)``; ``sin q`` directly where it is small (the difference would cancel)."""
+    a = 0.5 * w * u
+    ca, sa = cos(a), sin(a)
+    q = a - 0.5 * W * u
+    sp, cp = sa * cb + ca * sb, ca * cb - sa * sb
+    sq = sin(q) if abs(q) < DIRECT else sa * cb - ca * sb
+    cq = ca * cb + sa * sb
+    sw, cw = 2.0 * sa * ca, 1.0 - 2.0 * sa * sa
+    sW, cW = 2.0 * sb * cb, 1.0 - 2.0 * sb * sb
+    return sw, 2.0 * sw * cw, sW, 2.0 * sW * cW, sp, 2.0 * sp * cp, sq, 2.0 * sq * cq
+
+
+@jit
+def _sc(s, x):
+    """``s / x`` (a sinc from its sine), 1 at ``x = 0``."""
+    return s / x if x != 0.0 else 1.0
 
 
 @jit
@@ -53,14 +67,15 @@ def _decompose(w, f, W, thc, ths, eta0, v0):
 
 
 @jit
-def _psi_undamped(w, f, W, thc, ths, u, eta0, v0):
+def _psi_undamped(w, f, W, thc, ths, u, eta0, v0, cb, sb):
     """Closed-form ``Psi`` of an undamped mode and its cancellation factor (:func:`plbar.response.psi_closed_form`)."""
     A, B, Cc, Cs = _decompose(w, f, W, thc, ths, eta0, v0)
     wp, wm = w + W, w - W
     ht = 0.5 * u
     wt, Wt, pt, mt = w * u, W * u, wp * ht, wm * ht
-    s2w, s2W, sm, sp = sinc(2 * wt), sinc(2 * Wt), sinc(2 * mt), sinc(2 * pt)
-    s1w, s1W, sph, smh = sinc(wt), sinc(Wt), sinc(pt), sinc(mt)
+    sw1, sw2, sW1, sW2, sp1, sp2, sm1, sm2 = _sines(w, W, u, cb, sb)
+    s2w, s2W, sm, sp = _sc(sw2, 2 * wt), _sc(sW2, 2 * Wt), _sc(sm2, 2 * mt), _sc(sp2, 2 * pt)
+    s1w, s1W, sph, smh = _sc(sw1, wt), _sc(sW1, Wt), _sc(sp1, pt), _sc(sm1, mt)
     AA, BB, CC, SS = A * A, B * B, Cc * Cc, Cs * Cs
     ACc, BCs, ACs, BCc = A * Cc, B * Cs, A * Cs, B * Cc
     p = (ht * ((AA + BB + CC + SS) + (AA - BB) * s2w + (CC - SS) * s2W + 2 * (ACc + BCs) * sm
@@ -72,14 +87,15 @@ def _psi_undamped(w, f, W, thc, ths, u, eta0, v0):
 
 
 @jit
-def _work_undamped(w, f, W, thc, ths, u, eta0, v0):
+def _work_undamped(w, f, W, thc, ths, u, eta0, v0, cb, sb):
     """Closed-form work of the load on an undamped mode and its cancellation factor (:mod:`plbar.response.power`)."""
     A, B, Cc, Cs = _decompose(w, f, W, thc, ths, eta0, v0)
     wp, wm = w + W, w - W
-    cm, cp = u * sinc(wm * u), u * sinc(wp * u)
-    hp, hm = _h(wp, u), _h(wm, u)
-    c2 = u * sinc(2 * W * u)
-    sW = sinc(W * u)
+    _, _, sW1, sW2, sp1, sp2, sm1, sm2 = _sines(w, W, u, cb, sb)
+    cm, cp = u * _sc(sm2, wm * u), u * _sc(sp2, wp * u)
+    hp, hm = 0.5 * wp * u * u * _sc(sp1, 0.5 * wp * u) ** 2, 0.5 * wm * u * u * _sc(sm1, 0.5 * wm * u) ** 2
+    c2 = u * _sc(sW2, 2 * W * u)
+    sW = _sc(sW1, W * u)
     scW = 0.5 * W * u * u * sW * sW
     cos_v = A * 0.5 * (cm + cp) + B * 0.5 * (hp + hm) + Cc * 0.5 * (u + c2) + Cs * scW
     sin_v = A * 0.5 * (hp - hm) + B * 0.5 * (cm - cp) + Cc * scW + Cs * 0.5 * (u - c2)
@@ -186,13 +202,15 @@ def _rate(w, zeta):
 
 
 @jit
-def psi(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping):
-    """``Psi = int_0^u eta'^2`` of one mode over a piece (Eq. (20)): closed form, or quadrature where it cancels."""
+def psi(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping, cb, sb):
+    """``Psi = int_0^u eta'^2`` of one mode over a piece (Eq. (20)): closed form, or quadrature where it cancels.
+
+    ``cb, sb = cos, sin(W u / 2)`` (once per piece)."""
     if damping is not None:
         p, cancel = _psi_damped(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi)
     else:
         thc, ths = c0 * cphi + s0 * sphi, s0 * cphi - c0 * sphi
-        p, cancel = _psi_undamped(w, f, W, thc, ths, u, eta0, v0)
+        p, cancel = _psi_undamped(w, f, W, thc, ths, u, eta0, v0, cb, sb)
     if cancel < CANCEL_LIMIT:
         return p
     return _quadrature(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping, 2 * max(_rate(w, zeta), W) * u,
@@ -200,13 +218,14 @@ def psi(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping):
 
 
 @jit
-def work(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping):
-    """Work of the load on one mode over a piece: closed form, or quadrature where it cancels."""
+def work(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping, cb, sb):
+    """Work of the load on one mode over a piece: closed form, or quadrature where it cancels (``cb, sb`` as for
+    :func:`psi`)."""
     if damping is not None:
         p, cancel = _work_damped(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi)
     else:
         thc, ths = c0 * cphi + s0 * sphi, s0 * cphi - c0 * sphi
-        p, cancel = _work_undamped(w, f, W, thc, ths, u, eta0, v0)
+        p, cancel = _work_undamped(w, f, W, thc, ths, u, eta0, v0, cb, sb)
     if cancel < CANCEL_LIMIT:
         return p
     return _quadrature(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping, 2 * (max(_rate(w, zeta), W) + W) * u,

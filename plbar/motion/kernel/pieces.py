@@ -16,9 +16,11 @@ from __future__ import annotations
 
 from math import cos, isfinite, sin
 
+import numpy as np
+
 from ..model import FREE
 from . import data as D
-from .closed import half, mode_flow
+from .closed import flow_at, half, mode_flow
 from .integrals import psi, work
 from .jit import jit
 
@@ -32,13 +34,14 @@ def piece_accounts(md, st, W, cphi, sphi, tp, tau, eta0, vel0, full, damping):
     """``(work, d_eq, d_w, viscous)`` of a piece (``d_eq, d_w`` only where ``full``, viscous only when damped)."""
     modal = md[0]
     c0, s0 = cos(W * tp), sin(W * tp)
+    cb, sb = cos(0.5 * W * tau), sin(0.5 * W * tau)
     wk, d_eq, d_w, visc = 0.0, 0.0, 0.0, 0.0
     for j in range(modal.shape[2]):
         w, f = modal[D.W, st, j], modal[D.F, st, j]
         z = 0.0 if damping is None else damping[st, D.ZETA, j]
-        wk += work(w, z, f, W, c0, s0, tau, eta0[j], vel0[j], cphi, sphi, damping)
+        wk += work(w, z, f, W, c0, s0, tau, eta0[j], vel0[j], cphi, sphi, damping, cb, sb)
         if full or damping is not None:
-            p = psi(w, z, f, W, c0, s0, tau, eta0[j], vel0[j], cphi, sphi, damping)
+            p = psi(w, z, f, W, c0, s0, tau, eta0[j], vel0[j], cphi, sphi, damping, cb, sb)
             d_eq += p * w
             d_w += p
             visc += p * 2.0 * z * w
@@ -64,22 +67,57 @@ def gap(md, W, phi, tp, u, eta0, vel0, cphi, sphi, damping):
 
 
 @jit
+def _samples(md, W, tp, tau, eta0, vel0, cphi, sphi, damping):
+    """``(best, at)``: the largest of the ``AMP_SAMPLES + 1`` equally spaced samples of ``-x_c`` over a state II piece.
+
+    Undamped, the half-angle sines and cosines of the flow are rotated from sample to sample (one sine and cosine
+    per mode per piece instead of per sample).
+    """
+    modal = md[0]
+    m = modal.shape[2]
+    h = tau / AMP_SAMPLES
+    c0, s0 = cos(W * tp), sin(W * tp)
+    if damping is not None:
+        best, at = -1e300, 0.0
+        for i in range(AMP_SAMPLES + 1):
+            g = gap(md, W, 0.0, tp, i * h, eta0, vel0, cphi, sphi, damping)[0]
+            if g > best:
+                best, at = g, i * h
+        return best, at
+    ca, sa, cr, sr = np.ones(m), np.zeros(m), np.empty(m), np.empty(m)
+    for j in range(m):
+        cr[j], sr[j] = cos(0.5 * modal[D.W, FREE, j] * h), sin(0.5 * modal[D.W, FREE, j] * h)
+    cW, sW, cWr, sWr = 1.0, 0.0, cos(0.5 * W * h), sin(0.5 * W * h)
+    best, at = -1e300, 0.0
+    for i in range(AMP_SAMPLES + 1):
+        g = 0.0
+        for j in range(m):
+            e, _ = flow_at(modal[D.W, FREE, j], modal[D.F, FREE, j], W, c0, s0, i * h, eta0[j], vel0[j], cphi, sphi,
+                           ca[j], sa[j], cW, sW, 2.0 * sW * cW)
+            g += modal[D.C, FREE, j] * e
+            ca[j], sa[j] = ca[j] * cr[j] - sa[j] * sr[j], sa[j] * cr[j] + ca[j] * sr[j]
+        cW, sW = cW * cWr - sW * sWr, sW * cWr + cW * sWr
+        if g > best:
+            best, at = g, i * h
+    return best, at
+
+
+@jit
 def amplitude(md, W, phi, tp, tau, eta0, vel0, damping):
     """Largest ``-x_c`` over a state II piece: the best of the samples, refined by Newton on ``v_c = 0``.
 
     Newton steps stay between the neighbours of the best sample; the result is never below the best sample.
     """
     cphi, sphi = cos(phi), sin(phi)
-    best, ub = -1e300, 0.0
-    for i in range(AMP_SAMPLES + 1):
-        u = tau * (i / AMP_SAMPLES)
-        g = gap(md, W, phi, tp, u, eta0, vel0, cphi, sphi, damping)[0]
-        if g > best:
-            best, ub = g, u
+    best, ub = _samples(md, W, tp, tau, eta0, vel0, cphi, sphi, damping)
     h = tau / AMP_SAMPLES
     lo, hi, x = max(ub - h, 0.0), min(ub + h, tau), ub
     for _ in range(8):
         _, g1, g2 = gap(md, W, phi, tp, x, eta0, vel0, cphi, sphi, damping)
         dx = -g1 / g2 if g2 < 0 else 0.0
-        x = min(max(x + (dx if isfinite(dx) else 0.0), lo), hi)
+        x_new = min(max(x + (dx if isfinite(dx) else 0.0), lo), hi)
+        done = not abs(x_new - x) > 1e-15 * tau
+        x = x_new
+        if done:
+            break
     return max(best, gap(md, W, phi, tp, x, eta0, vel0, cphi, sphi, damping)[0])
