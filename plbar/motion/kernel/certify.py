@@ -51,8 +51,8 @@ __all__ = [
     "taylor",
 ]
 
-ZERO = 1e-13          #: |g| below ZERO * (size of its terms) is round-off: the crossing is located to this
-SIGNIFICANT = 1e-9    #: a derivative counts when |g^(k)| > SIGNIFICANT * (size of its terms)
+ZERO = 1e-13          #: ``|g|`` below ZERO times the size of its terms is round-off: the crossing is located to this
+SIGNIFICANT = 1e-9    #: a derivative counts when ``|g^(k)|`` exceeds SIGNIFICANT times the size of its terms
 MAX_SHIFTS = 2        #: re-expansions of the lower bound per step (its first root is reached in a few near a crossing)
 KMAX = 42             #: largest order of a Taylor model (+ 2)
 INV_FACT = np.exp(-np.array([lgamma(i + 1.0) for i in range(KMAX + 2)]))   #: 1 / i!
