@@ -273,3 +273,19 @@ def decide_step(d, rem, scale, K, vmax, floor, s):
         shifted = max(d[0], 0.0) + ZERO * max(scale[0], floor)
         v = max(v, step_from(d, K, 0, shifted, rem, vmax, s))
     return event, v, found or v > 0
+
+
+@jit
+def lands(d, K, rem, v, scale, floor):
+    """Whether the model puts the point ``v`` (scaled) on a crossing: the margin there at most half its round-off
+    level and its slope clearly negative, bounds included (``P(v) + B v^(K+1)/(K+1)!`` and
+    ``P'(v) + B v^K/K!``, ``P`` the Taylor polynomial).  Such a point is an event: the round that would
+    evaluate it would decide just that (:func:`decide_step`: order 0 round-off, order 1 negative).
+    """
+    P, dP = 0.0, 0.0
+    for i in range(K, -1, -1):
+        dP = dP * v + P
+        P = P * v + d[i] * INV_FACT[i]
+    vk = v ** K
+    return (P + rem * INV_FACT[K + 1] * vk * v <= 0.5 * ZERO * max(scale[0], floor)
+            and dP + rem * INV_FACT[K] * vk < -2.0 * SIGNIFICANT * scale[1])

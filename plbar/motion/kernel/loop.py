@@ -23,7 +23,7 @@ import numpy as np
 
 from ..model import CHATTER, OK, STALLED, STUCK
 from . import data as D
-from .certify import decide_step, taylor
+from .certify import decide_step, lands, taylor
 from .closed import half, mode_flow
 from .jit import cached, inline, jit
 from .pieces import amplitude, piece_accounts
@@ -68,7 +68,8 @@ def flow_all(md, st, W, tp, u, eta0, vel0, cphi, sphi, out_e, out_v, damping):
 
 @inline
 def _model(md, st, eta, vel, W, T, t, phi, K, d, scale, work, damping):
-    """``(event, step)`` at local time ``t`` of the period from a Taylor model of order ``K`` (step -1: undecided)."""
+    """``(event, step, lands)`` at local time ``t`` of the period from a Taylor model of order ``K`` (step -1:
+    undecided; ``lands``: the step ends on a crossing, :func:`.certify.lands`)."""
     modal, margin = md[0], md[1]
     cap = min(CAP * T, max(T - t, 0.0))
     if damping is None:
@@ -78,7 +79,8 @@ def _model(md, st, eta, vel, W, T, t, phi, K, d, scale, work, damping):
         rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], eta, vel, W, t, phi, cap,
                          K, d, scale, damping[st, D.ZETA], damping[st, D.CV])
     event, v, found = decide_step(d, rem, scale, K, Om * cap, margin[D.SIZE, st], work)
-    return event, (v / Om if found else -1.0)
+    landing = not event and 0 < v < Om * cap and d[1] < 0 and lands(d, K, rem, v, scale, margin[D.SIZE, st])
+    return event, (v / Om if found else -1.0), landing
 
 
 @jit
@@ -90,13 +92,13 @@ def _certify(md, st, eta, vel, W, T, t, phi, deep, d, scale, work, amp, P, fast,
         step = split_step(md, st, eta, vel, W, t, phi, min(CAP * T, max(T - t, 0.0)), SPLIT_ORDER, d, scale, work,
                           amp, P, fast, damping)
         if step > 0:
-            return False, step
-        event, step = _model(md, st, eta, vel, W, T, t, phi, LARGE_ORDER, d, scale, work, damping)
+            return False, step, False
+        event, step, landing = _model(md, st, eta, vel, W, T, t, phi, LARGE_ORDER, d, scale, work, damping)
     else:
-        event, step = _model(md, st, eta, vel, W, T, t, phi, ORDER, d, scale, work, damping)
+        event, step, landing = _model(md, st, eta, vel, W, T, t, phi, ORDER, d, scale, work, damping)
     if step < 0:
-        event, step = _model(md, st, eta, vel, W, T, t, phi, deep, d, scale, work, damping)
-    return event, step
+        event, step, landing = _model(md, st, eta, vel, W, T, t, phi, deep, d, scale, work, damping)
+    return event, step, landing
 
 
 @jit
@@ -218,7 +220,8 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, da
     while s[D.PERIOD] < stop and s[D.STATUS] == OK:
         st, tp, p = s[D.STATE], f[D.TP], f[D.P]
         flow_all(md, st, W, tp, p, z0[0], z0[1], cphi, sphi, e, v, damping)
-        event, step = _certify(md, st, e, v, W, T, tp + p, phi, deep, d, scale, work, scratch[4], P, fast, damping)
+        event, step, landing = _certify(md, st, e, v, W, T, tp + p, phi, deep, d, scale, work, scratch[4], P, fast,
+                                        damping)
         if event and s[D.PERIOD] >= first and s[D.EVENTS] >= room:
             s[D.NEED] = 1                      # no room to record it: the caller grows the record and goes on
             return
@@ -234,6 +237,9 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, da
             f[D.P] = end if new_p >= end - TINY * T else new_p
             if f[D.P] >= end:
                 _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, damping)
+            elif landing and not (s[D.PERIOD] >= first and s[D.EVENTS] >= room):
+                flow_all(md, st, W, tp, f[D.P], z0[0], z0[1], cphi, sphi, e, v, damping)
+                _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, damping)   # the step ends on a crossing
         if s[D.STALL] > MAX_STALL:
             s[D.STATUS] = STALLED
 
