@@ -87,7 +87,8 @@ def _margin(pad, s, eta, vel, W, t, phi, u):
 
 def _certified(pad, s, eta, vel, W, t, phi, cap, K=8):
     d, scale, work = np.zeros(44), np.zeros(44), np.zeros(45)
-    rem, Om = taylor(pad.c[s], pad.rq[s], 0.0, pad.w[s], pad.f[s], eta, vel, W, t, phi, cap, K, d, scale, None, None)
+    rem, Om = taylor(pad.c[s], pad.rq[s], 0.0, pad.w[s], pad.f[s], eta, vel, W, cos(W * t - phi), sin(W * t - phi),
+                     cap, K, d, scale, None, None)
     event, v, found = decide_step(d, rem, scale, K, Om * cap, pad.size[s], work)
     return event, v / Om, found, scale[0]
 
@@ -130,7 +131,7 @@ def test_split_step_never_steps_over_a_crossing(seed):
         eta, vel = -eta, -vel
     P, fast = np.zeros((2, 2, pad.m)), np.zeros(2, np.int64)
     particular(md, None, W, P, fast)
-    step = split_step(md, s, eta, vel, W, t, phi, cap, 16, np.zeros(44), np.zeros(44), np.zeros(45),
+    step = split_step(md, s, eta, vel, W, cos(W * t - phi), sin(W * t - phi), cap, 16, np.zeros(44), np.zeros(44), np.zeros(45),
                       np.zeros(pad.m), P, fast, None)
     if step <= 0:
         return

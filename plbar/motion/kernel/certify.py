@@ -66,11 +66,11 @@ def _cyc(c, s, i):
 
 
 @jit
-def taylor(c, rq, rs, w, f, eta, vel, W, t, phi, s, K, d, scale, zeta, cv):
+def taylor(c, rq, rs, w, f, eta, vel, W, ca, sa, s, K, d, scale, zeta, cv):
     """Scaled derivatives ``g^(k) / Om^k`` (``k = 0 .. K``) into ``d`` and their sizes into ``scale``.
 
     The margin is ``c . eta + cv . eta' + rq cos(W t - phi) + rs sin(W t - phi)`` (``rs = 0`` but for the low
-    part of a split model, :mod:`.split`).  Returns ``(rem, Om)``: the bound of ``|g^(K+1)| / Om^(K+1)`` over a
+    part of a split model, :mod:`.split`); ``ca, sa`` are ``cos, sin(W t - phi)`` at the point.  Returns ``(rem, Om)``: the bound of ``|g^(K+1)| / Om^(K+1)`` over a
     step of length ``s``, and ``Om``.  ``scale[k]`` is the size of the terms that make ``g^(k)`` (through the
     recursion, so that a derivative that cancels to round-off is seen as such; the load's terms by their
     amplitude: at a zero of ``cos(W t - phi)`` its value is the round-off of the phase, not a size).  ``zeta, cv``: the damping
@@ -80,8 +80,7 @@ def taylor(c, rq, rs, w, f, eta, vel, W, t, phi, s, K, d, scale, zeta, cv):
     Om = W
     for j in range(m):
         Om = max(Om, w[j])
-    Wr, arg = W / Om, W * t - phi
-    ca, sa = cos(arg), sin(arg)
+    Wr = W / Om
     wk = 1.0
     for k in range(K + 1):
         d[k] = wk * (rq * _cyc(ca, sa, k) + rs * _cyc(ca, sa, k - 1))

@@ -57,9 +57,14 @@ DEEP_MAX = 40       #: highest order of the deep model (where no derivative up t
 @jit
 def flow_all(md, st, W, tp, u, eta0, vel0, cphi, sphi, out_e, out_v, damping):
     """Modal ``eta, eta'`` of every mode at ``u`` into a segment of state ``st`` that starts at ``tp``."""
-    modal = md[0]
-    c0, s0 = cos(W * tp), sin(W * tp)
     cW, sW, sWu = half(W, u)
+    flow_at(md, st, W, cos(W * tp), sin(W * tp), u, cW, sW, sWu, eta0, vel0, cphi, sphi, out_e, out_v, damping)
+
+
+@jit
+def flow_at(md, st, W, c0, s0, u, cW, sW, sWu, eta0, vel0, cphi, sphi, out_e, out_v, damping):
+    """:func:`flow_all` from ``c0, s0 = cos, sin(W tp)`` and ``half(W, u)`` (kept by the caller)."""
+    modal = md[0]
     for j in range(modal.shape[2]):
         z = 0.0 if damping is None else damping[st, D.ZETA, j]
         out_e[j], out_v[j] = mode_flow(modal[D.W, st, j], z, modal[D.F, st, j], W, c0, s0, u, eta0[j], vel0[j],
@@ -67,16 +72,16 @@ def flow_all(md, st, W, tp, u, eta0, vel0, cphi, sphi, out_e, out_v, damping):
 
 
 @inline
-def _model(md, st, eta, vel, W, T, t, phi, K, d, scale, work, damping):
+def _model(md, st, eta, vel, W, T, t, ca, sa, K, d, scale, work, damping):
     """``(event, step, lands)`` at local time ``t`` of the period from a Taylor model of order ``K`` (step -1:
     undecided; ``lands``: the step ends on a crossing, :func:`.certify.lands`)."""
     modal, margin = md[0], md[1]
     cap = min(CAP * T, max(T - t, 0.0))
     if damping is None:
-        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], eta, vel, W, t, phi, cap,
+        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], eta, vel, W, ca, sa, cap,
                          K, d, scale, None, None)
     else:
-        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], eta, vel, W, t, phi, cap,
+        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], eta, vel, W, ca, sa, cap,
                          K, d, scale, damping[st, D.ZETA], damping[st, D.CV])
     event, v, found = decide_step(d, rem, scale, K, Om * cap, margin[D.SIZE, st], work)
     landing = not event and 0 < v < Om * cap and d[1] < 0 and lands(d, K, rem, v, scale, margin[D.SIZE, st])
@@ -84,20 +89,20 @@ def _model(md, st, eta, vel, W, T, t, phi, K, d, scale, work, damping):
 
 
 @jit
-def _certify(md, st, eta, vel, W, T, t, phi, deep, d, scale, work, amp, P, fast, damping):
+def _certify(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, amp, P, fast, damping):
     """``(event, step)``: from the split model (:mod:`.split`) where it certifies a step, else from the model of
     order :data:`ORDER` (:data:`LARGE_ORDER` for a large system; a constant here: its loops unroll), else, where
     that decides nothing (a bar at rest loaded far from its contact), from the deep model of order ``deep``."""
     if md[0].shape[2] >= SPLIT_MIN:
-        step = split_step(md, st, eta, vel, W, t, phi, min(CAP * T, max(T - t, 0.0)), SPLIT_ORDER, d, scale, work,
+        step = split_step(md, st, eta, vel, W, ca, sa, min(CAP * T, max(T - t, 0.0)), SPLIT_ORDER, d, scale, work,
                           amp, P, fast, damping)
         if step > 0:
             return False, step, False
-        event, step, landing = _model(md, st, eta, vel, W, T, t, phi, LARGE_ORDER, d, scale, work, damping)
+        event, step, landing = _model(md, st, eta, vel, W, T, t, ca, sa, LARGE_ORDER, d, scale, work, damping)
     else:
-        event, step, landing = _model(md, st, eta, vel, W, T, t, phi, ORDER, d, scale, work, damping)
+        event, step, landing = _model(md, st, eta, vel, W, T, t, ca, sa, ORDER, d, scale, work, damping)
     if step < 0:
-        event, step, landing = _model(md, st, eta, vel, W, T, t, phi, deep, d, scale, work, damping)
+        event, step, landing = _model(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, damping)
     return event, step, landing
 
 
@@ -217,11 +222,17 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, da
     room = rc[1].shape[1]
     P, fast = np.empty((2, 2, e.size)), np.empty(2, np.int64)
     particular(md, damping, W, P, fast)
+    seg, c0, s0 = -1.0, 1.0, 0.0
     while s[D.PERIOD] < stop and s[D.STATUS] == OK:
         st, tp, p = s[D.STATE], f[D.TP], f[D.P]
-        flow_all(md, st, W, tp, p, z0[0], z0[1], cphi, sphi, e, v, damping)
-        event, step, landing = _certify(md, st, e, v, W, T, tp + p, phi, deep, d, scale, work, scratch[4], P, fast,
-                                        damping)
+        if tp != seg:                          # the load's phase at the segment's start, once per segment
+            seg, c0, s0 = tp, cos(W * tp), sin(W * tp)
+        cW, sW, sWu = half(W, p)
+        flow_at(md, st, W, c0, s0, p, cW, sW, sWu, z0[0], z0[1], cphi, sphi, e, v, damping)
+        cth, sth = c0 * cphi + s0 * sphi, s0 * cphi - c0 * sphi      # cos, sin(W tp - phi); then at tp + p:
+        cWp = 1.0 - 2.0 * sW * sW
+        event, step, landing = _certify(md, st, e, v, W, T, tp + p, cth * cWp - sth * sWu, sth * cWp + cth * sWu,
+                                        deep, d, scale, work, scratch[4], P, fast, damping)
         if event and s[D.PERIOD] >= first and s[D.EVENTS] >= room:
             s[D.NEED] = 1                      # no room to record it: the caller grows the record and goes on
             return

@@ -22,7 +22,7 @@ index whose ``E_J`` is at most a quarter of the margin.
 
 from __future__ import annotations
 
-from math import cos, sin, sqrt
+from math import sqrt
 
 from . import data as D
 from .certify import step_from, taylor
@@ -64,13 +64,12 @@ def _free(c, cvj, w, pr, pi, ct, st, W, eta, vel):
 
 
 @jit
-def split_step(md, st, eta, vel, W, t, phi, cap, K, d, scale, work, amp, P, fast, damping):
-    """A certified step (unscaled) from the split model, or -1 where it does not pay (see the module docstring)."""
+def split_step(md, st, eta, vel, W, ct, s_t, cap, K, d, scale, work, amp, P, fast, damping):
+    """A certified step (unscaled) from the split model, or -1 where it does not pay (see the module docstring);
+    ``ct, s_t = cos, sin(W t - phi)`` at the point."""
     modal, margin = md[0], md[1]
     c, w, f = modal[D.C, st], modal[D.W, st], modal[D.F, st]
     m = w.size
-    arg = W * t - phi
-    ct, s_t = cos(arg), sin(arg)
     g = margin[D.RQ, st] * ct
     for j in range(m):
         cvj = 0.0 if damping is None else damping[st, D.CV, j]
@@ -95,9 +94,9 @@ def split_step(md, st, eta, vel, W, t, phi, cap, K, d, scale, work, amp, P, fast
         Rc += c[j] * P[st, 0, j] - cvj * W * P[st, 1, j]
         Rs += -c[j] * P[st, 1, j] - cvj * W * P[st, 0, j]
     if damping is None:
-        rem, Om = taylor(c[:J], Rc, Rs, w[:J], f[:J], eta[:J], vel[:J], W, t, phi, cap, K, d, scale, None, None)
+        rem, Om = taylor(c[:J], Rc, Rs, w[:J], f[:J], eta[:J], vel[:J], W, ct, s_t, cap, K, d, scale, None, None)
     else:
-        rem, Om = taylor(c[:J], Rc, Rs, w[:J], f[:J], eta[:J], vel[:J], W, t, phi, cap, K, d, scale,
+        rem, Om = taylor(c[:J], Rc, Rs, w[:J], f[:J], eta[:J], vel[:J], W, ct, s_t, cap, K, d, scale,
                          damping[st, D.ZETA, :J], damping[st, D.CV, :J])
     lead = d[0] - tail
     if not lead > 0:
