@@ -164,7 +164,8 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
     if record == periods:                         # the boundary at t = 0 is recorded too
         rc[2][:, 0], rc[3][:, 0], rc[4][:, 0] = z[:, 0], z[:, 1], ti[:, D.STATE]
     e0 = energy(pad, ti[:, D.STATE], z[:, 0], z[:, 1])
-    step = partial(advance, D.model(pad), tr, first=periods - record, damping=D.damping(pad), acc=acc)
+    step = partial(advance, D.model(pad), tr, first=periods - record, damping=D.damping(pad), acc=acc,
+                   large=D.large(pad))
     rc = _drive(step, ti, rc, periods, progress)
     return _collect(pad, T, phi, periods, record, tr, rc, acc, e0)
 

@@ -52,6 +52,13 @@ def damping(pad):
     return None if pad.zeta is None else _f64(np.stack([pad.zeta, pad.cv], axis=1))
 
 
+def large(pad):
+    """Not None for a system of :data:`plbar.motion.kernel.split.SPLIT_MIN` modes or more (the split model)."""
+    from .split import SPLIT_MIN
+
+    return np.ones(1) if pad.m >= SPLIT_MIN else None
+
+
 def trajectories(T, phi, state, eta, vel) -> tuple:
     """Trajectories at the start of their first forcing period."""
     B = T.size

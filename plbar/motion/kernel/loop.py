@@ -89,11 +89,13 @@ def _model(md, st, eta, vel, W, T, t, ca, sa, K, d, scale, work, damping):
 
 
 @jit
-def _certify(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, amp, P, fast, damping):
-    """``(event, step)``: from the split model (:mod:`.split`) where it certifies a step, else from the model of
-    order :data:`ORDER` (:data:`LARGE_ORDER` for a large system; a constant here: its loops unroll), else, where
-    that decides nothing (a bar at rest loaded far from its contact), from the deep model of order ``deep``."""
-    if md[0].shape[2] >= SPLIT_MIN:
+def _certify(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, amp, P, fast, large, damping):
+    """``(event, step, lands)``: for a ``large`` system (not None: :data:`SPLIT_MIN` modes or more) from the split
+    model (:mod:`.split`) where it certifies a step, else from the model of order :data:`LARGE_ORDER`; for a small
+    one from the model of order :data:`ORDER` (constants here: their loops unroll; a small system compiles
+    neither the split model nor the large order); where that decides nothing (a bar at rest loaded far from its
+    contact), from the deep model of order ``deep``."""
+    if large is not None:
         step = split_step(md, st, eta, vel, W, ca, sa, min(CAP * T, max(T - t, 0.0)), SPLIT_ORDER, d, scale, work,
                           amp, P, fast, damping)
         if step > 0:
@@ -213,7 +215,7 @@ def _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, damping):
 
 
 @jit
-def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, damping):
+def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, large, damping):
     """Advance one trajectory (its state in ``f, s, z0, tot``) to the start of forcing period ``stop``."""
     e, v, e2, v2 = scratch[0], scratch[1], scratch[2], scratch[3]
     T, W, phi = f[D.T], f[D.OMEGA], f[D.PHI]
@@ -221,7 +223,8 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, da
     deep = min(2 * md[0].shape[2] + 4, DEEP_MAX)
     room = rc[1].shape[1]
     P, fast = np.empty((2, 2, e.size)), np.empty(2, np.int64)
-    particular(md, damping, W, P, fast)
+    if large is not None:
+        particular(md, damping, W, P, fast)
     seg, c0, s0 = -1.0, 1.0, 0.0
     while s[D.PERIOD] < stop and s[D.STATUS] == OK:
         st, tp, p = s[D.STATE], f[D.TP], f[D.P]
@@ -232,7 +235,7 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, da
         cth, sth = c0 * cphi + s0 * sphi, s0 * cphi - c0 * sphi      # cos, sin(W tp - phi); then at tp + p:
         cWp = 1.0 - 2.0 * sW * sW
         event, step, landing = _certify(md, st, e, v, W, T, tp + p, cth * cWp - sth * sWu, sth * cWp + cth * sWu,
-                                        deep, d, scale, work, scratch[4], P, fast, damping)
+                                        deep, d, scale, work, scratch[4], P, fast, large, damping)
         if event and s[D.PERIOD] >= first and s[D.EVENTS] >= room:
             s[D.NEED] = 1                      # no room to record it: the caller grows the record and goes on
             return
@@ -256,13 +259,13 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, da
 
 
 def _advance(stamp):
-    def advance(md, tr, rc, acc, first, idx, stop, damping):
+    def advance(md, tr, rc, acc, first, idx, stop, large, damping):
         """Advance the trajectories ``idx`` to the start of forcing period ``stop`` (or until each stops, or has no
         room left to record an event: ``NEED``).
 
         Each trajectory runs on copies of its state (no two threads write near each other) written back at the
-        end.  ``acc`` None: no accounts (a replay of the switches); ``damping`` None: undamped.  Neither's code is
-        then compiled.
+        end.  ``acc`` None: no accounts (a replay of the switches); ``damping`` None: undamped; ``large`` None: a
+        system of fewer than :data:`SPLIT_MIN` modes.  The code that is not used is then not compiled.
         """
         if stamp < 0:                      # never: the stamp keys the on-disk cache (:func:`.jit.cached`)
             return
@@ -277,7 +280,7 @@ def _advance(stamp):
             _set(t3, tot[b])
             _set(z0[0], z[b, 0])
             _set(z0[1], z[b, 1])
-            _run(md, f, s, z0, t3, rc, acc, first, b, stop, scratch, d, scale, work, damping)
+            _run(md, f, s, z0, t3, rc, acc, first, b, stop, scratch, d, scale, work, large, damping)
             _set(tf[b], f)
             _set(ti[b], s)
             _set(tot[b], t3)
