@@ -52,10 +52,11 @@ def damping(pad):
     return None if pad.zeta is None else _f64(np.stack([pad.zeta, pad.cv], axis=1))
 
 
-def large(pad):
-    """Not None for a system of :data:`plbar.motion.kernel.split.SPLIT_MIN` modes or more (the split model)."""
-    from .split import SPLIT_MIN
+SPLIT_MIN = 12   #: systems with fewer modes never split (their fastest mode is not much faster than the rest)
 
+
+def large(pad):
+    """Not None for a system of :data:`SPLIT_MIN` modes or more (the split model, :mod:`.split`)."""
     return np.ones(1) if pad.m >= SPLIT_MIN else None
 
 

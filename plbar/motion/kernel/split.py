@@ -25,13 +25,11 @@ from __future__ import annotations
 from math import sqrt
 
 from . import data as D
+from .data import SPLIT_MIN
 from .certify import step_from, taylor
 from .jit import jit
 
 __all__ = ["SPLIT_MIN", "particular", "split_step"]
-
-SPLIT_MIN = 12   #: systems with fewer modes never split (their fastest mode is not much faster than the rest)
-
 
 @jit
 def particular(md, damping, W, P, fast):
