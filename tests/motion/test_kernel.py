@@ -14,7 +14,8 @@ from scipy.optimize import brentq
 import plbar
 from plbar.motion import FREE, Start, padded, run
 from plbar.motion.kernel import closed, data, integrals, jit
-from plbar.motion.kernel.certify import ZERO, decide_step, polynomial_step, taylor
+from plbar.motion.kernel.certify import ZERO, bracket, decide_step, polynomial_step, taylor
+from plbar.motion.kernel.locate import locate
 from plbar.motion.kernel.split import particular, split_step
 from plbar.response import psi, segment, segment_work
 
@@ -139,6 +140,46 @@ def test_split_step_never_steps_over_a_crossing(seed):
     g = _margin(pad, s, eta, vel, W, t, phi, u)
     assert g.min() > 0
     assert step <= cap * (1 + 1e-12)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(0, 10 ** 6))
+def test_a_certified_bracket_holds_the_first_crossing_and_locate_finds_it(seed):
+    """Where the model certifies a bracket [step, hi] of one decreasing crossing, brute force agrees: the margin
+    sampled densely is positive before the step, changes sign exactly once in the bracket, is decreasing there;
+    Newton on the closed form (locate) lands on that crossing (brentq on the numpy closed form) to round-off."""
+    rng = np.random.default_rng(seed)
+    pad = padded(_random_case(rng).problem())
+    md = data.model(pad)
+    s = int(rng.integers(0, 2))
+    eta, vel = _state(rng, pad, s)
+    W = float(rng.uniform(0.3, 2.0) * pad.w[s, 0])
+    t, phi, cap = float(rng.uniform(0, 3)), float(rng.uniform(0, 6)), float(rng.uniform(0.5, 6.0) / pad.w[s, 0])
+    if _margin(pad, s, eta, vel, W, t, phi, np.array([0.0]))[0] < 0:
+        eta, vel = -eta, -vel
+    d, scale, work = np.zeros(44), np.zeros(44), np.zeros(45)
+    rem, Om = taylor(pad.c[s], pad.rq[s], 0.0, pad.w[s], pad.f[s], eta, vel, W, cos(W * t - phi), sin(W * t - phi),
+                     cap, 8, d, scale, None, None)
+    event, v, found = decide_step(d, rem, scale, 8, Om * cap, pad.size[s], work)
+    if event or not found or not (0 < v < Om * cap) or not d[0] > ZERO * max(scale[0], pad.size[s]):
+        return
+    hi, guess = bracket(d, 8, rem, v, Om * cap, scale, work)
+    if not hi > 0:
+        return
+    lo, hi, guess = v / Om, hi / Om, guess / Om
+    level = ZERO * max(scale[0], pad.size[s])
+    assert _margin(pad, s, eta, vel, W, t, phi, np.linspace(0.0, lo, 20001)).min() > -level   # nothing before
+    inside = _margin(pad, s, eta, vel, W, t, phi, np.linspace(lo, hi, 20001))
+    assert inside[0] > -level and inside[-1] < level
+    assert np.count_nonzero(np.diff(np.sign(inside[np.abs(inside) > level]))) == 1     # one crossing in the bracket
+    assert np.all(np.diff(inside) <= 1e-15 * level)                    # decreasing through it
+    root = brentq(lambda x: _margin(pad, s, eta, vel, W, t, phi, np.array([x]))[0], lo, hi, xtol=1e-15)
+    z0 = np.stack([eta, vel])
+    e, vv = np.zeros(pad.m), np.zeros(pad.m)
+    x = locate(md, s, W, cos(W * t), sin(W * t), t, lo, hi, guess, z0, phi, e, vv, None)
+    assert abs(x - root) <= 1e-12 * max(hi, 1.0) + 1e-9 * abs(root - guess)
+    ref_e, _ = segment(pad.w[s], pad.f[s], W, t, x, eta, vel, np.cos(phi), np.sin(phi))
+    assert np.allclose(e, ref_e, rtol=0, atol=1e-12 * np.abs(eta).max() + 1e-12)
 
 
 def test_a_grazing_bump_narrower_than_any_step_is_found():

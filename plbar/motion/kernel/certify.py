@@ -44,6 +44,7 @@ __all__ = [
     "MAX_SHIFTS",
     "SIGNIFICANT",
     "ZERO",
+    "bracket",
     "decide_step",
     "first_order",
     "polynomial_step",
@@ -288,3 +289,69 @@ def lands(d, K, rem, v, scale, floor):
     vk = v ** K
     return (P + rem * INV_FACT[K + 1] * vk * v <= 0.5 * ZERO * max(scale[0], floor)
             and dP + rem * INV_FACT[K] * vk < -2.0 * SIGNIFICANT * scale[1])
+
+
+@jit
+def _horner(d, K, x):
+    """``P(x), P'(x)`` of the Taylor polynomial ``P(x) = sum_{i<=K} d_i x^i / i!``."""
+    P, dP = 0.0, 0.0
+    for i in range(K, -1, -1):
+        dP = dP * x + P
+        P = P * x + d[i] * INV_FACT[i]
+    return P, dP
+
+
+@jit
+def _root(d, K, v, vmax):
+    """The Taylor polynomial's root right of ``v`` by Newton from ``v`` (0 where it is not decreasing on the way,
+    or the root is beyond ``vmax``)."""
+    x = v
+    for _ in range(12):
+        P, dP = _horner(d, K, x)
+        if not dP < 0:
+            return 0.0
+        dx = -P / dP
+        x += dx
+        if not x <= vmax:
+            return 0.0
+        if abs(dx) <= 1e-12 * x:
+            break
+    return x if x > v else 0.0
+
+
+@jit
+def bracket(d, K, rem, v, vmax, scale, s):
+    """``(w, x)``: a certified bracket ``[v, w]`` (scaled) of the margin's first crossing after the certified step
+    ``v``, and the Taylor polynomial's root ``x`` in it; ``(0, 0)`` where the model certifies none within ``vmax``.
+
+    With ``P`` the Taylor polynomial and ``B`` the remainder bound (``rem``), the margin ``g`` obeys
+    ``g(w) <= P(w) + B w^(K+1)/(K+1)!`` and ``g'(u) <= P'(u) + B u^K/K!`` (``P'`` is the Taylor polynomial of
+    ``g'``, whose remainder has the same bound).  If the first is negative at ``w`` and the second on all of
+    ``[v, w]`` (``P'`` re-expanded about ``v`` and bounded by its constant term plus its positive terms), ``g``
+    -- positive at ``v`` -- decreases through zero exactly once in ``[v, w]``: the crossing is the first event,
+    and Newton on the closed form finds it (:func:`plbar.motion.kernel.locate.locate`).  ``s`` is work space of
+    ``K`` entries.
+    """
+    if not _horner(d, K, vmax)[0] < 0:             # the polynomial does not even come down: no crossing in sight
+        return 0.0, 0.0
+    x = _root(d, K, v, vmax)
+    if not x > 0:
+        return 0.0, 0.0
+    w, low = x, False
+    for _ in range(6):
+        if _horner(d, K, w)[0] + rem * INV_FACT[K + 1] * w ** (K + 1) < -ZERO * scale[0]:
+            low = True
+            break
+        w = min(vmax, x + 2.0 * (w - v))
+    if not low:
+        return 0.0, 0.0
+    for i in range(K):
+        s[i] = d[i + 1] * INV_FACT[i]
+    _shift(s, K - 1, v)
+    delta = w - v
+    top, hp = s[0], 1.0
+    for i in range(1, K):
+        hp *= delta
+        top += max(s[i], 0.0) * hp
+    top += rem * INV_FACT[K] * w ** K
+    return (w, x) if top < -SIGNIFICANT * scale[1] else (0.0, 0.0)

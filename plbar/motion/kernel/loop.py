@@ -23,9 +23,10 @@ import numpy as np
 
 from ..model import CHATTER, OK, STALLED, STUCK
 from . import data as D
-from .certify import decide_step, lands, taylor
+from .certify import ZERO, bracket, decide_step, lands, taylor
 from .closed import half, mode_flow
 from .jit import cached, inline, jit
+from .locate import locate
 from .pieces import amplitude, piece_accounts
 from .split import SPLIT_MIN, particular, split_step
 
@@ -73,8 +74,9 @@ def flow_at(md, st, W, c0, s0, u, cW, sW, sWu, eta0, vel0, cphi, sphi, out_e, ou
 
 @inline
 def _model(md, st, eta, vel, W, T, t, ca, sa, K, d, scale, work, damping):
-    """``(event, step, lands)`` at local time ``t`` of the period from a Taylor model of order ``K`` (step -1:
-    undecided; ``lands``: the step ends on a crossing, :func:`.certify.lands`)."""
+    """``(event, step, lands, hi, guess)`` at local time ``t`` of the period from a Taylor model of order ``K``
+    (step -1: undecided; ``lands``: the step ends on a crossing, :func:`.certify.lands`; ``hi > 0``: the margin
+    crosses zero once in ``[step, hi]``, near ``guess``, :func:`.certify.bracket`)."""
     modal, margin = md[0], md[1]
     cap = min(CAP * T, max(T - t, 0.0))
     if damping is None:
@@ -85,12 +87,15 @@ def _model(md, st, eta, vel, W, T, t, ca, sa, K, d, scale, work, damping):
                          K, d, scale, damping[st, D.ZETA], damping[st, D.CV])
     event, v, found = decide_step(d, rem, scale, K, Om * cap, margin[D.SIZE, st], work)
     landing = not event and 0 < v < Om * cap and d[1] < 0 and lands(d, K, rem, v, scale, margin[D.SIZE, st])
-    return event, (v / Om if found else -1.0), landing
+    hi, guess = 0.0, 0.0
+    if found and not (event or landing) and 0 < v < Om * cap and d[0] > ZERO * max(scale[0], margin[D.SIZE, st]):
+        hi, guess = bracket(d, K, rem, v, Om * cap, scale, work)
+    return event, (v / Om if found else -1.0), landing, hi / Om, guess / Om
 
 
 @jit
 def _certify(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, amp, P, fast, large, damping):
-    """``(event, step, lands)``: for a ``large`` system (not None: :data:`SPLIT_MIN` modes or more) from the split
+    """``(event, step, lands, hi, guess)`` (:func:`_model`): for a ``large`` system (not None: :data:`SPLIT_MIN` modes or more) from the split
     model (:mod:`.split`) where it certifies a step, else from the model of order :data:`LARGE_ORDER`; for a small
     one from the model of order :data:`ORDER` (constants here: their loops unroll; a small system compiles
     neither the split model nor the large order); where that decides nothing (a bar at rest loaded far from its
@@ -99,13 +104,13 @@ def _certify(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, amp, P, fa
         step = split_step(md, st, eta, vel, W, ca, sa, min(CAP * T, max(T - t, 0.0)), SPLIT_ORDER, d, scale, work,
                           amp, P, fast, damping)
         if step > 0:
-            return False, step, False
-        event, step, landing = _model(md, st, eta, vel, W, T, t, ca, sa, LARGE_ORDER, d, scale, work, damping)
+            return False, step, False, 0.0, 0.0
+        event, step, landing, hi, guess = _model(md, st, eta, vel, W, T, t, ca, sa, LARGE_ORDER, d, scale, work, damping)
     else:
-        event, step, landing = _model(md, st, eta, vel, W, T, t, ca, sa, ORDER, d, scale, work, damping)
+        event, step, landing, hi, guess = _model(md, st, eta, vel, W, T, t, ca, sa, ORDER, d, scale, work, damping)
     if step < 0:
-        event, step, landing = _model(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, damping)
-    return event, step, landing
+        event, step, landing, hi, guess = _model(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, damping)
+    return event, step, landing, hi, guess
 
 
 @jit
@@ -234,7 +239,7 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, la
         flow_at(md, st, W, c0, s0, p, cW, sW, sWu, z0[0], z0[1], cphi, sphi, e, v, damping)
         cth, sth = c0 * cphi + s0 * sphi, s0 * cphi - c0 * sphi      # cos, sin(W tp - phi); then at tp + p:
         cWp = 1.0 - 2.0 * sW * sW
-        event, step, landing = _certify(md, st, e, v, W, T, tp + p, cth * cWp - sth * sWu, sth * cWp + cth * sWu,
+        event, step, landing, hi, guess = _certify(md, st, e, v, W, T, tp + p, cth * cWp - sth * sWu, sth * cWp + cth * sWu,
                                         deep, d, scale, work, scratch[4], P, fast, large, damping)
         if event and s[D.PERIOD] >= first and s[D.EVENTS] >= room:
             s[D.NEED] = 1                      # no room to record it: the caller grows the record and goes on
@@ -251,9 +256,14 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, la
             f[D.P] = end if new_p >= end - TINY * T else new_p
             if f[D.P] >= end:
                 _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, damping)
-            elif landing and not (s[D.PERIOD] >= first and s[D.EVENTS] >= room):
+            elif s[D.PERIOD] >= first and s[D.EVENTS] >= room:
+                pass                           # no room to record an event here: the next round meets it
+            elif landing:
                 flow_all(md, st, W, tp, f[D.P], z0[0], z0[1], cphi, sphi, e, v, damping)
                 _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, damping)   # the step ends on a crossing
+            elif 0 < hi and p + hi < end:      # the one crossing of a certified bracket, on the closed form
+                f[D.P] = locate(md, st, W, c0, s0, tp, f[D.P], p + hi, p + guess, z0, phi, e, v, damping)
+                _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, damping)
         if s[D.STALL] > MAX_STALL:
             s[D.STATUS] = STALLED
 

@@ -1,0 +1,74 @@
+"""The crossing inside a certified bracket, by safeguarded Newton on the closed-form margin.
+
+Where the Taylor model certifies that the margin decreases through zero exactly once in
+``[lo, hi]`` (:func:`plbar.motion.kernel.certify.bracket`), the event is that crossing: Newton on
+the margin evaluated from the closed-form flow (:func:`margin_at`), kept inside the bracket
+(bisection where a Newton step would leave it), finds it to the round-off of the margin in two
+or three evaluations.  This replaces the rounds that would otherwise step towards the crossing
+one certified step at a time.
+"""
+
+from __future__ import annotations
+
+from math import cos, sin
+
+from . import data as D
+from .certify import ZERO
+from .closed import half, mode_flow
+from .jit import jit
+
+__all__ = ["MAX_NEWTON", "locate", "margin_at"]
+
+MAX_NEWTON = 60   #: evaluations at most (bisection halves the bracket where Newton would leave it)
+
+
+@jit
+def margin_at(md, st, W, c0, s0, tp, u, z0, cphi, sphi, phi, e, v, damping):
+    """``(g, g', size)``: the margin, its rate and the size of its terms at ``u`` into the segment of state ``st``
+    that starts at ``tp`` with the modal state ``z0`` (``c0, s0 = cos, sin(W tp)``); the modal state at ``u`` is
+    left in ``e, v``."""
+    modal, margin = md[0], md[1]
+    cW, sW, sWu = half(W, u)
+    arg = W * (tp + u) - phi
+    ca, sa = cos(arg), sin(arg)
+    rq = margin[D.RQ, st]
+    g, g1, size = rq * ca, -rq * W * sa, abs(rq)
+    for j in range(e.size):
+        w, f, c = modal[D.W, st, j], modal[D.F, st, j], modal[D.C, st, j]
+        z = 0.0 if damping is None else damping[st, D.ZETA, j]
+        e[j], v[j] = mode_flow(w, z, f, W, c0, s0, u, z0[0, j], z0[1, j], cphi, sphi, cW, sW, sWu, damping)
+        g += c * e[j]
+        g1 += c * v[j]
+        size += abs(c * e[j])
+        if damping is not None:
+            cv = damping[st, D.CV, j]
+            g += cv * v[j]
+            g1 += cv * (f * ca - w * w * e[j] - 2.0 * z * w * v[j])
+            size += abs(cv * v[j])
+    return g, g1, size
+
+
+@jit
+def locate(md, st, W, c0, s0, tp, lo, hi, x, z0, phi, e, v, damping):
+    """The crossing in ``[lo, hi]`` (segment time; the margin positive at ``lo``, negative at ``hi`` and decreasing
+    in between), from the guess ``x``: the point where the margin is within half its round-off level, or ``hi``
+    where the bracket closes to an ulp first.  The modal state there is left in ``e, v``."""
+    floor = md[1][D.SIZE, st]
+    cphi, sphi = cos(phi), sin(phi)
+    x = min(max(x, lo), hi)
+    for _ in range(MAX_NEWTON):
+        g, g1, size = margin_at(md, st, W, c0, s0, tp, x, z0, cphi, sphi, phi, e, v, damping)
+        if abs(g) <= 0.5 * ZERO * max(size, floor):
+            return x
+        if g > 0:
+            lo = x
+        else:
+            hi = x
+        xn = x - g / g1 if g1 < 0 else 0.5 * (lo + hi)
+        if not lo < xn < hi:
+            xn = 0.5 * (lo + hi)
+        if not lo < xn < hi:                       # the bracket is down to an ulp: the crossing is at hi
+            break
+        x = xn
+    margin_at(md, st, W, c0, s0, tp, hi, z0, cphi, sphi, phi, e, v, damping)
+    return hi
