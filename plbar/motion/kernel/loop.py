@@ -145,8 +145,9 @@ def switch(md, st, eta, vel, out_e, out_v):
 
 
 @jit
-def _account(md, f, s, z0, tot, acc, first, b, tau, damping):
-    """Account the piece ``[tp, tp + tau]`` of the current segment (its start state ``z0``) of trajectory ``b``."""
+def _account(md, f, s, z0, tot, acc, first, b, tau, work, damping):
+    """Account the piece ``[tp, tp + tau]`` of the current segment (its start state ``z0``) of trajectory ``b``
+    (``work``: four rows of work space for :func:`.pieces.amplitude`)."""
     if acc is None:
         return
     st, tp, period = s[D.STATE], f[D.TP], s[D.PERIOD]
@@ -164,7 +165,7 @@ def _account(md, f, s, z0, tot, acc, first, b, tau, damping):
         if st == STUCK:
             acc[b, r, D.STUCK_T] += tau
         elif tau > 0:
-            acc[b, r, D.AMP] = max(acc[b, r, D.AMP], amplitude(md, W, phi, tp, tau, z0[0], z0[1], damping))
+            acc[b, r, D.AMP] = max(acc[b, r, D.AMP], amplitude(md, W, phi, tp, tau, z0[0], z0[1], work, damping))
 
 
 @jit
@@ -174,11 +175,11 @@ def _set(row, x):
 
 
 @jit
-def _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, damping):
+def _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, work, damping):
     """Account the segment that ends here, switch, record the event, count zero-length segments."""
     per, ev = rc[0], rc[1]
     st, tp, p, period = s[D.STATE], f[D.TP], f[D.P], s[D.PERIOD]
-    _account(md, f, s, z0, tot, acc, first, b, p, damping)
+    _account(md, f, s, z0, tot, acc, first, b, p, work, damping)
     time = period * f[D.T] + tp + p
     kind, loss = switch(md, st, e, v, e2, v2)
     f[D.TP] = tp + p
@@ -200,10 +201,10 @@ def _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, damping):
 
 
 @jit
-def _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, damping):
+def _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, work, damping):
     """Account the last piece of the forcing period, restart the segment at its end, record the boundary state."""
     st, tp, period = s[D.STATE], f[D.TP], s[D.PERIOD]
-    _account(md, f, s, z0, tot, acc, first, b, f[D.P], damping)
+    _account(md, f, s, z0, tot, acc, first, b, f[D.P], work, damping)
     phi = f[D.PHI]
     flow_all(md, st, f[D.OMEGA], tp, f[D.T] - tp, z0[0], z0[1], cos(phi), sin(phi), e, v, damping)
     _set(z0[0], e)
@@ -220,14 +221,14 @@ def _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, damping):
 
 
 @jit
-def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, large, damping):
-    """Advance one trajectory (its state in ``f, s, z0, tot``) to the start of forcing period ``stop``."""
-    e, v, e2, v2 = scratch[0], scratch[1], scratch[2], scratch[3]
+def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, P, fast, large, damping):
+    """Advance one trajectory (its state in ``f, s, z0, tot``) to the start of forcing period ``stop`` (``scratch``,
+    ``d, scale, work``, ``P, fast``: work space from :func:`advance`)."""
+    e, v, e2, v2, aw = scratch[0], scratch[1], scratch[2], scratch[3], scratch[5:]
     T, W, phi = f[D.T], f[D.OMEGA], f[D.PHI]
     cphi, sphi = cos(phi), sin(phi)
     deep = min(2 * md[0].shape[2] + 4, DEEP_MAX)
     room = rc[1].shape[1]
-    P, fast = np.empty((2, 2, e.size)), np.empty(2, np.int64)
     if large is not None:
         particular(md, damping, W, P, fast)
     seg, c0, s0 = -1.0, 1.0, 0.0
@@ -247,7 +248,7 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, la
         s[D.STALL] += 1
         s[D.ROUNDS] += 1
         if event:
-            _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, damping)
+            _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, aw, damping)
         else:
             end = T - tp
             new_p = p + (step if step > 0 else TINY * T)
@@ -255,15 +256,15 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, la
                 new_p = np.nextafter(p, np.inf)
             f[D.P] = end if new_p >= end - TINY * T else new_p
             if f[D.P] >= end:
-                _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, damping)
+                _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, aw, damping)
             elif s[D.PERIOD] >= first and s[D.EVENTS] >= room:
                 pass                           # no room to record an event here: the next round meets it
             elif landing:
                 flow_all(md, st, W, tp, f[D.P], z0[0], z0[1], cphi, sphi, e, v, damping)
-                _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, damping)   # the step ends on a crossing
+                _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, aw, damping)   # the step ends on a crossing
             elif 0 < hi and p + hi < end:      # the one crossing of a certified bracket, on the closed form
                 f[D.P] = locate(md, st, W, c0, s0, tp, f[D.P], p + hi, p + guess, z0, phi, e, v, damping)
-                _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, damping)
+                _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, aw, damping)
         if s[D.STALL] > MAX_STALL:
             s[D.STATUS] = STALLED
 
@@ -274,23 +275,25 @@ def _advance(stamp):
         room left to record an event: ``NEED``).
 
         Each trajectory runs on copies of its state (no two threads write near each other) written back at the
-        end.  ``acc`` None: no accounts (a replay of the switches); ``damping`` None: undamped; ``large`` None: a
+        end.  All work space is allocated here: the functions below are compiled without reference counting
+        (:data:`.jit.jit`).  ``acc`` None: no accounts (a replay of the switches); ``damping`` None: undamped; ``large`` None: a
         system of fewer than :data:`SPLIT_MIN` modes.  The code that is not used is then not compiled.
         """
         if stamp < 0:                      # never: the stamp keys the on-disk cache (:func:`.jit.cached`)
             return
         tf, ti, z, tot = tr
         m = md[0].shape[2]
-        scratch, z0 = np.empty((5, m)), np.empty((2, m))
+        scratch, z0 = np.empty((9, m)), np.empty((2, m))
         d, scale, work = np.empty(DEEP_MAX + 2), np.empty(DEEP_MAX + 2), np.empty(DEEP_MAX + 3)
         f, s, t3 = np.empty(tf.shape[1]), np.empty(ti.shape[1], np.int64), np.empty(3)
+        P, fast = np.empty((2, 2, m)), np.empty(2, np.int64)
         for b in idx:
             _set(f, tf[b])
             _set(s, ti[b])
             _set(t3, tot[b])
             _set(z0[0], z[b, 0])
             _set(z0[1], z[b, 1])
-            _run(md, f, s, z0, t3, rc, acc, first, b, stop, scratch, d, scale, work, large, damping)
+            _run(md, f, s, z0, t3, rc, acc, first, b, stop, scratch, d, scale, work, P, fast, large, damping)
             _set(tf[b], f)
             _set(ti[b], s)
             _set(tot[b], t3)

@@ -16,8 +16,6 @@ from __future__ import annotations
 
 from math import cos, isfinite, sin
 
-import numpy as np
-
 from ..model import FREE
 from . import data as D
 from .closed import flow_at, half, mode_flow
@@ -67,11 +65,11 @@ def gap(md, W, phi, tp, u, eta0, vel0, cphi, sphi, damping):
 
 
 @jit
-def _samples(md, W, tp, tau, eta0, vel0, cphi, sphi, damping):
+def _samples(md, W, tp, tau, eta0, vel0, cphi, sphi, work, damping):
     """``(best, at)``: the largest of the ``AMP_SAMPLES + 1`` equally spaced samples of ``-x_c`` over a state II piece.
 
     Undamped, the half-angle sines and cosines of the flow are rotated from sample to sample (one sine and cosine
-    per mode per piece instead of per sample).
+    per mode per piece instead of per sample), in the four rows of ``work``.
     """
     modal = md[0]
     m = modal.shape[2]
@@ -84,8 +82,9 @@ def _samples(md, W, tp, tau, eta0, vel0, cphi, sphi, damping):
             if g > best:
                 best, at = g, i * h
         return best, at
-    ca, sa, cr, sr = np.ones(m), np.zeros(m), np.empty(m), np.empty(m)
+    ca, sa, cr, sr = work[0], work[1], work[2], work[3]
     for j in range(m):
+        ca[j], sa[j] = 1.0, 0.0
         cr[j], sr[j] = cos(0.5 * modal[D.W, FREE, j] * h), sin(0.5 * modal[D.W, FREE, j] * h)
     cW, sW, cWr, sWr = 1.0, 0.0, cos(0.5 * W * h), sin(0.5 * W * h)
     best, at = -1e300, 0.0
@@ -103,13 +102,13 @@ def _samples(md, W, tp, tau, eta0, vel0, cphi, sphi, damping):
 
 
 @jit
-def amplitude(md, W, phi, tp, tau, eta0, vel0, damping):
+def amplitude(md, W, phi, tp, tau, eta0, vel0, work, damping):
     """Largest ``-x_c`` over a state II piece: the best of the samples, refined by Newton on ``v_c = 0``.
 
     Newton steps stay between the neighbours of the best sample; the result is never below the best sample.
     """
     cphi, sphi = cos(phi), sin(phi)
-    best, ub = _samples(md, W, tp, tau, eta0, vel0, cphi, sphi, damping)
+    best, ub = _samples(md, W, tp, tau, eta0, vel0, cphi, sphi, work, damping)
     h = tau / AMP_SAMPLES
     lo, hi, x = max(ub - h, 0.0), min(ub + h, tau), ub
     for _ in range(8):
