@@ -8,7 +8,7 @@
 """
 
 from .model import CHATTER, FREE, OK, STALLED, STUCK, Padded, padded
-from .run import Run, Start, energy, rest, run
+from .run import Run, Start, energy, prepare, rest, run
 from .steady import KINDS, M_MAX, PERIODIC_TOL, Steady, periodicity, steady
 
 __all__ = [
@@ -27,6 +27,7 @@ __all__ = [
            "energy",
            "padded",
            "periodicity",
+           "prepare",
            "rest",
            "run",
            "steady",

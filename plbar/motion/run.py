@@ -14,7 +14,7 @@ from ..util.reprs import build, rng
 from ..util.threads import map_chunks, n_threads
 from .model import OK, STUCK, Padded, padded
 
-__all__ = ["Run", "Start", "energy", "rest", "run"]
+__all__ = ["Run", "Start", "energy", "prepare", "rest", "run"]
 
 
 @dataclass(frozen=True)
@@ -168,6 +168,16 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
                    large=D.large(pad))
     rc = _drive(step, ti, rc, periods, progress)
     return _collect(pad, T, phi, periods, record, tr, rc, acc, e0)
+
+
+def prepare(prob: Problem | Padded, accounts: bool = True) -> None:
+    """Have the compiled kernel for simulations of ``prob`` ready in this process (one forcing period simulated).
+
+    The first call after an install compiles it (cached on disk); later sessions load it from the cache.  A study
+    calls this before its worker processes are forked, so that they inherit the loaded kernel instead of each
+    loading (or compiling) it.
+    """
+    run(prob, [1.0], 0.0, 1, 1, accounts=accounts)
 
 
 def _collect(pad: Padded, T, phi, periods, record, tr, rc, acc, e0) -> Run:

@@ -10,7 +10,7 @@ import numpy as np
 
 from ...app import Case
 from ...errors import InputError
-from ...motion import KINDS
+from ...motion import KINDS, prepare
 from ...util.files import write_csv, write_json
 from ...util.outputs import claim_folder, fingerprint
 from ...util.reprs import build, rng
@@ -191,6 +191,8 @@ def run_survey(case: Case, T, periods: int = 1000, record: int | None = None, ou
     folder = Path(out)
     study = survey_study(case, T, periods, record, modes, chunks, checkpoints=folder / "sweeps")
     claim = _claim(folder, study, overwrite)
+    if executor is not None and not isinstance(executor, SerialExecutor):
+        prepare(case.problem())                  # forked workers inherit the loaded (or first compiled) kernel
     try:
         results = run_study(folder, study, executor, progress=progress, overwrite=True)
     except BaseException:
