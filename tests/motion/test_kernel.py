@@ -87,7 +87,7 @@ def _margin(pad, s, eta, vel, W, t, phi, u):
 
 
 def _certified(pad, s, eta, vel, W, t, phi, cap, K=8):
-    d, scale, work = np.zeros(44), np.zeros(44), np.zeros(45)
+    d, scale, work = np.zeros(44), np.zeros(44), np.zeros(90)
     rem, Om = taylor(pad.c[s], pad.rq[s], 0.0, pad.w[s], pad.f[s], eta, vel, W, cos(W * t - phi), sin(W * t - phi),
                      cap, K, d, scale, None, None)
     event, v, found = decide_step(d, rem, scale, K, Om * cap, pad.size[s], work)
@@ -132,7 +132,7 @@ def test_split_step_never_steps_over_a_crossing(seed):
         eta, vel = -eta, -vel
     P, fast = np.zeros((2, 2, pad.m)), np.zeros(2, np.int64)
     particular(md, None, W, P, fast)
-    step = split_step(md, s, eta, vel, W, cos(W * t - phi), sin(W * t - phi), cap, 16, np.zeros(44), np.zeros(44), np.zeros(45),
+    step = split_step(md, s, eta, vel, W, cos(W * t - phi), sin(W * t - phi), cap, 16, np.zeros(44), np.zeros(44), np.zeros(90),
                       np.zeros(pad.m), P, fast, None)
     if step <= 0:
         return
@@ -157,7 +157,7 @@ def test_a_certified_bracket_holds_the_first_crossing_and_locate_finds_it(seed):
     t, phi, cap = float(rng.uniform(0, 3)), float(rng.uniform(0, 6)), float(rng.uniform(0.5, 6.0) / pad.w[s, 0])
     if _margin(pad, s, eta, vel, W, t, phi, np.array([0.0]))[0] < 0:
         eta, vel = -eta, -vel
-    d, scale, work = np.zeros(44), np.zeros(44), np.zeros(45)
+    d, scale, work = np.zeros(44), np.zeros(44), np.zeros(90)
     rem, Om = taylor(pad.c[s], pad.rq[s], 0.0, pad.w[s], pad.f[s], eta, vel, W, cos(W * t - phi), sin(W * t - phi),
                      cap, 8, d, scale, None, None)
     event, v, found = decide_step(d, rem, scale, 8, Om * cap, pad.size[s], work)
@@ -212,13 +212,14 @@ def test_a_grazing_bump_narrower_than_any_step_is_found():
 def test_polynomial_step_reaches_the_first_root():
     """q(v) = (1 - v)(2 - v)(1 + v^2): the certified steps approach v = 1, never beyond, and reach it to round-off
     in a few calls (each re-expands q about where it stops: the next call goes on from there)."""
-    s = np.polynomial.polynomial.polyfromroots([1.0, 2.0, 1j, -1j]).real.copy()
+    s = np.zeros(10)                                                   # room for 2 (n + 1) entries: work space
+    s[:5] = np.polynomial.polynomial.polyfromroots([1.0, 2.0, 1j, -1j]).real
     total = 0.0
     for _ in range(4):
         total += polynomial_step(s, 4, 5.0 - total)
         assert total <= 1.0
     assert total > 1 - 1e-13
-    assert polynomial_step(np.array([1.0, 0.0, 1.0]), 2, 3.0) == 3.0            # no root: the whole step
+    assert polynomial_step(np.array([1.0, 0.0, 1.0, 0.0, 0.0, 0.0]), 2, 3.0) == 3.0     # no root: the whole step
 
 
 # --- the compiled entry point: cache keyed by every source, no numba where no simulation runs --------------------

@@ -136,18 +136,20 @@ def _mode(cj, cvs, wr, load, damp, e0, e1, amp, wj, Om, Wr, ca, sa, K, damped, d
 
 
 @jit
-def _below(s, n, h):
-    """The monotone lower bound ``b(h) = s_0 - sum_{i>=1} max(-s_i, 0) h^i`` of ``sum s_i h^i``, and ``-b'(h)``."""
+def _below(t, n, h):
+    """The monotone lower bound ``b(h) = s_0 - sum_{i>=1} max(-s_i, 0) h^i`` of ``sum s_i h^i``, and ``-b'(h)``, from
+    ``t = (s_0, max(-s_1, 0), ..., max(-s_n, 0))``."""
     q, dq = 0.0, 0.0
     for i in range(n, 0, -1):
         dq = dq * h + q
-        q = q * h + max(-s[i], 0.0)
-    return s[0] - h * q, q + h * dq
+        q = q * h + t[i]
+    return t[0] - h * q, q + h * dq
 
 
 @jit
 def _monotone_step(s, n, H):
-    """The largest ``h <= H`` with ``b(h) > 0`` (:func:`_below`; ``b`` is concave and decreasing), 0 if none.
+    """The largest ``h <= H`` with ``b(h) > 0`` (:func:`_below`; ``b`` is concave and decreasing), 0 if none
+    (``s`` has room for ``2 (n + 1)`` entries: the negative parts go in the second half).
 
     With ``P = s_0 - b`` (a sum of monomials with non-negative coefficients), ``log P`` is a convex, increasing
     function of ``y = log h`` (a log-sum-exp), nearly linear where one monomial dominates: Newton on
@@ -156,17 +158,21 @@ def _monotone_step(s, n, H):
     crossing); elsewhere from the remainder term's root, to 1e-6 (both start right of the root).  The step
     taken is just left of the root, where ``b > 0`` is checked.
     """
-    b, db = _below(s, n, H)
+    t = s[n + 1:]                              # the negative parts, once
+    t[0] = s[0]
+    for i in range(1, n + 1):
+        t[i] = max(-s[i], 0.0)
+    b, db = _below(t, n, H)
     if b > 0:
         return H
     near = s[1] < 0 and s[0] < -s[1] * H
     if near:                                   # near a simple root the linear term decides: plain Newton
         h, tol = s[0] / -s[1], 1e-13
-        b, db = _below(s, n, h)
+        b, db = _below(t, n, h)
         near = b > -s[0]
     else:
         h, tol = min(H, (s[0] / -s[n]) ** (1.0 / n)), 1e-3
-        b, db = _below(s, n, h)
+        b, db = _below(t, n, h)
     for _ in range(60):
         if b > 0 or not db > 0:
             break
@@ -177,13 +183,13 @@ def _monotone_step(s, n, H):
             x = h * exp(-log(P / s[0]) * P / (h * db))
         done = not h - x > tol * h
         h = x
-        b, db = _below(s, n, h)
+        b, db = _below(t, n, h)
         if done:
             break
     back = 2.0 * max(tol, 1e-15)              # the root is within tol of h
     for _ in range(20):
         x = h * (1.0 - back)
-        if _below(s, n, x)[0] > 0:
+        if _below(t, n, x)[0] > 0:
             return x
         back *= 8.0
     return 0.0
@@ -200,7 +206,7 @@ def _shift(s, n, h):
 @jit
 def polynomial_step(s, n, vmax):
     """The largest ``a <= vmax`` with ``sum_{i<=n} s_i v^i > 0`` on ``[0, a]`` certified (``s_0 > 0``); ``s`` is used
-    as work space.
+    as work space and has room for ``2 (n + 1)`` entries.
 
     Each round takes the monotone lower bound of the polynomial re-expanded about the current point
     (:func:`_monotone_step`; every step is certified by it) and moves there: near a simple root this is a
@@ -262,7 +268,7 @@ def decide_step(d, rem, scale, K, vmax, floor, s):
       has none of its own);
     * ``found``: some derivative up to the model's order is significant, or the shifted margin certified a step.
 
-    ``s`` is work space of at least ``K + 2`` entries.
+    ``s`` is work space of at least ``2 (K + 2)`` entries.
     """
     k = first_order(d, scale, K, floor)
     found = k <= K

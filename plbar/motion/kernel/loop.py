@@ -284,7 +284,7 @@ def _advance(stamp):
         tf, ti, z, tot = tr
         m = md[0].shape[2]
         scratch, z0 = np.empty((9, m)), np.empty((2, m))
-        d, scale, work = np.empty(DEEP_MAX + 2), np.empty(DEEP_MAX + 2), np.empty(DEEP_MAX + 3)
+        d, scale, work = np.empty(DEEP_MAX + 2), np.empty(DEEP_MAX + 2), np.empty(2 * (DEEP_MAX + 3))
         f, s, t3 = np.empty(tf.shape[1]), np.empty(ti.shape[1], np.int64), np.empty(3)
         P, fast = np.empty((2, 2, m)), np.empty(2, np.int64)
         for b in idx:
