@@ -48,7 +48,7 @@ __all__ = [
 TINY = 1e-12        #: step (in periods) where no derivative decides, and the snap of a step onto a period boundary
 MAX_ZERO = 50       #: consecutive zero-length segments before a trajectory is stopped as chattering
 MAX_STALL = 5000    #: rounds without an event or a period boundary before a trajectory is stopped as stalled
-CAP = 0.25          #: longest step, in forcing periods (the remainder bound is taken over it)
+CAP = 0.25          #: longest step, in forcing periods (the remainder bound is taken over it; it may cross a period end)
 ORDER = 8           #: order of the Taylor model of the margin
 LARGE_ORDER = 16    #: order of the Taylor model of a system of SPLIT_MIN modes or more (longer steps, for the cost)
 SPLIT_ORDER = 16    #: order of the split model's (its low modes are slow: a higher order certifies longer steps)
@@ -78,7 +78,7 @@ def _model(md, st, eta, vel, W, T, t, ca, sa, K, d, scale, work, damping):
     (step -1: undecided; ``lands``: the step ends on a crossing, :func:`.certify.lands`; ``hi > 0``: the margin
     crosses zero once in ``[step, hi]``, near ``guess``, :func:`.certify.bracket`)."""
     modal, margin = md[0], md[1]
-    cap = min(CAP * T, max(T - t, 0.0))
+    cap = CAP * T
     if damping is None:
         rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], eta, vel, W, ca, sa, cap,
                          K, d, scale, None, None)
@@ -101,7 +101,7 @@ def _certify(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, amp, P, fa
     neither the split model nor the large order); where that decides nothing (a bar at rest loaded far from its
     contact), from the deep model of order ``deep``."""
     if large is not None:
-        step = split_step(md, st, eta, vel, W, ca, sa, min(CAP * T, max(T - t, 0.0)), SPLIT_ORDER, d, scale, work,
+        step = split_step(md, st, eta, vel, W, ca, sa, CAP * T, SPLIT_ORDER, d, scale, work,
                           amp, P, fast, damping)
         if step > 0:
             return False, step, False, 0.0, 0.0
@@ -257,6 +257,8 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, P,
             f[D.P] = end if new_p >= end - TINY * T else new_p
             if f[D.P] >= end:
                 _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, aw, damping)
+                if step > 0 and new_p > end:    # certified past the boundary: the next round starts there
+                    f[D.P] = new_p - end
             elif s[D.PERIOD] >= first and s[D.EVENTS] >= room:
                 pass                           # no room to record an event here: the next round meets it
             elif landing:
