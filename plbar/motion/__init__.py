@@ -8,11 +8,12 @@
 """
 
 from .model import CHATTER, FREE, OK, STALLED, STUCK, Padded, padded
-from .run import Run, Start, energy, prepare, rest, run
+from .run import COMPILE_NOTE, Run, Start, compiled, energy, prepare, rest, run
 from .steady import KINDS, M_MAX, PERIODIC_TOL, Steady, periodicity, steady
 
 __all__ = [
            "CHATTER",
+           "COMPILE_NOTE",
            "FREE",
            "KINDS",
            "M_MAX",
@@ -24,6 +25,7 @@ __all__ = [
            "Run",
            "Start",
            "Steady",
+           "compiled",
            "energy",
            "padded",
            "periodicity",

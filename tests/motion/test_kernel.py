@@ -241,3 +241,19 @@ def test_solving_the_paper_class_does_not_import_numba():
     code = ("import sys, plbar; plbar.solve(plbar.Case(signatures='paper')); "
             "assert 'numba' not in sys.modules, 'numba imported'")
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_a_compiled_specialisation_is_marked_per_sources_numba_and_kind(tmp_path):
+    """The note 'compiling the simulator' is said only before a specialisation's first compile: a marker per
+    kernel sources (stamp), numba version and kind, in numba's own cache folder; a read-only cache is no error."""
+    entry = type("E", (), {"_cache": type("C", (), {"_cache_path": str(tmp_path / "cache")})()})()
+    assert not jit.is_compiled(entry, "replay-undamped-small")
+    jit.mark_compiled(entry, "replay-undamped-small")
+    assert jit.is_compiled(entry, "replay-undamped-small")
+    assert not jit.is_compiled(entry, "accounts-undamped-small")
+    assert not jit.is_compiled(entry, "replay-undamped-small", stamp=jit.STAMP + 1)     # an edited kernel compiles
+    assert jit.is_compiled(object(), "anything")                                      # no cache: nothing to say
+    (tmp_path / "ro").mkdir()
+    (tmp_path / "ro").chmod(0o500)
+    ro = type("E", (), {"_cache": type("C", (), {"_cache_path": str(tmp_path / "ro")})()})()
+    jit.mark_compiled(ro, "x")                                                        # no exception

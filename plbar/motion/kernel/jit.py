@@ -16,12 +16,13 @@
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 from pathlib import Path
 
 import numba
 
-__all__ = ["SOURCES", "STAMP", "cached", "inline", "jit"]
+__all__ = ["SOURCES", "STAMP", "cached", "inline", "is_compiled", "jit", "mark_compiled"]
 
 jit = numba.njit(nogil=True, error_model="numpy", _nrt=False)
 inline = numba.njit(nogil=True, error_model="numpy", inline="always", _nrt=False)   #: inlined where called (constants propagate)
@@ -45,3 +46,26 @@ def cached(factory):
     """Compile ``factory(STAMP)`` -- a function whose body uses its argument, so that it is in its closure -- with an
     on-disk cache keyed by every kernel source."""
     return numba.njit(cache=True, nogil=True, error_model="numpy")(factory(STAMP))
+
+
+def _marker(entry, stamp: int, kind: str) -> Path | None:
+    """The file that says ``entry`` is compiled for ``kind`` in its on-disk cache (None where numba has none)."""
+    folder = getattr(getattr(entry, "_cache", None), "_cache_path", None)
+    return Path(folder) / f"plbar-{stamp:x}-numba{numba.__version__}-{kind}.ok" if folder else None
+
+
+def is_compiled(entry, kind: str, stamp: int = STAMP) -> bool:
+    """Whether ``entry`` has been compiled for ``kind`` (one specialisation: a name the caller chooses) with these
+    sources and this numba, so that a call loads it from the cache in a fraction of a second: a caller can say
+    beforehand that the first call compiles.  Where it cannot tell, True."""
+    m = _marker(entry, stamp, kind)
+    return m is None or m.exists()
+
+
+def mark_compiled(entry, kind: str, stamp: int = STAMP) -> None:
+    """Record that ``entry`` is compiled for ``kind`` (:func:`is_compiled`); a read-only cache is left alone."""
+    m = _marker(entry, stamp, kind)
+    if m is not None:
+        with contextlib.suppress(OSError):
+            m.parent.mkdir(parents=True, exist_ok=True)
+            m.touch()

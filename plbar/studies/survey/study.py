@@ -10,9 +10,10 @@ import numpy as np
 
 from ...app import Case
 from ...errors import InputError
-from ...motion import KINDS, prepare
+from ...motion import COMPILE_NOTE, KINDS, compiled, prepare
 from ...util.files import write_csv, write_json
 from ...util.outputs import claim_folder, fingerprint
+from ...util.progress import message
 from ...util.reprs import build, rng
 from ..execution import SerialExecutor, Study, run_study
 from .points import COLUMNS
@@ -191,6 +192,8 @@ def run_survey(case: Case, T, periods: int = 1000, record: int | None = None, ou
     folder = Path(out)
     study = survey_study(case, T, periods, record, modes, chunks, checkpoints=folder / "sweeps")
     claim = _claim(folder, study, overwrite)
+    if progress and not compiled(case.problem()):
+        message(f"plbar: {COMPILE_NOTE}")
     if executor is not None and not isinstance(executor, SerialExecutor):
         prepare(case.problem())                  # forked workers inherit the loaded (or first compiled) kernel
     try:
