@@ -17,6 +17,15 @@ def _strict_floats():
 
 @pytest.fixture(scope="session")
 def default_result():
+    """The paper's case, the paper's class only (what most tests are about)."""
+    import plbar
+
+    return plbar.solve(plbar.Case(signatures="paper"))
+
+
+@pytest.fixture(scope="session")
+def default_run():
+    """The default case as ``plbar run`` solves it: the paper's class and every other signature."""
     import plbar
 
     return plbar.solve()
@@ -26,7 +35,8 @@ def default_result():
 def fe_p2_result():
     import plbar
 
-    return plbar.solve(plbar.Case(model="fe", n=8, element="P2", mass="consistent", load_points=((0.37, 1.0),)))
+    return plbar.solve(plbar.Case(signatures="paper", model="fe", n=8, element="P2", mass="consistent",
+                                  load_points=((0.37, 1.0),)))
 
 
 @pytest.fixture(scope="session")
@@ -38,7 +48,8 @@ def fe_p2_coarse():
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", plbar.errors.CoarseGridWarning)
-        return plbar.solve(plbar.Case(model="fe", n=8, element="P2", mass="consistent", load_points=((0.37, 1.0),),
+        return plbar.solve(plbar.Case(signatures="paper", model="fe", n=8, element="P2", mass="consistent",
+                                      load_points=((0.37, 1.0),),
                                       grid=(60, 60)))
 
 
@@ -47,7 +58,7 @@ def small():
     """The default case on a coarse grid (export and render tests)."""
     import plbar
 
-    return plbar.solve(plbar.Case(grid=(60, 60)))
+    return plbar.solve(plbar.Case(signatures="paper", grid=(60, 60)))
 
 
 @pytest.fixture(scope="session")
@@ -55,7 +66,8 @@ def p2_small():
     """A small P2 consistent-mass FE case (export and render tests)."""
     import plbar
 
-    return plbar.solve(plbar.Case(model="fe", n=4, element="P2", mass="consistent", load_points=((0.37, 1.0),),
+    return plbar.solve(plbar.Case(signatures="paper", model="fe", n=4, element="P2", mass="consistent",
+                                  load_points=((0.37, 1.0),),
                                   grid=(50, 50)))
 
 
@@ -68,7 +80,7 @@ def damped_result():
     """The default case with 2 % Rayleigh damping at T = 8 and 12."""
     import plbar
 
-    return plbar.solve(plbar.Case(rayleigh=plbar.rayleigh_from_ratio(0.02, 8.0, 12.0)))
+    return plbar.solve(plbar.Case(signatures="paper", rayleigh=plbar.rayleigh_from_ratio(0.02, 8.0, 12.0)))
 
 
 @pytest.fixture(scope="session")
@@ -76,4 +88,4 @@ def damped_fe_result():
     """FE P1 lumped N = 8 with an end mass 0.5, 2 % Rayleigh damping at T = 2 and 4."""
     import plbar
 
-    return plbar.solve(plbar.Case(**DAMPED_FE, rayleigh=plbar.rayleigh_from_ratio(0.02, 2.0, 4.0)))
+    return plbar.solve(plbar.Case(signatures="paper", **DAMPED_FE, rayleigh=plbar.rayleigh_from_ratio(0.02, 2.0, 4.0)))

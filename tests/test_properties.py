@@ -259,7 +259,8 @@ def test_random_cases_write_finite_results(model, n, element, mass, grading, fra
     """Through ``Case``/``solve``/``write_results``: the files hold finite numbers only."""
     kw = dict(element=element, mass=mass, grading=grading) if model == "fe" else {}
     L = 1.0 if model == "fe" else float(n)
-    case = plbar.Case(model=model, n=n, load_points=((frac * L, amp),), grid=(grid, grid), method="grid", **kw)
+    case = plbar.Case(model=model, n=n, load_points=((frac * L, amp),), grid=(grid, grid), method="grid",
+                      signatures="paper", **kw)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", PlbarWarning)
         res = plbar.solve(case)

@@ -21,7 +21,7 @@ from ..util.check import grid as check_grid
 __all__ = ["Case", "MODELS", "SIGNATURES"]
 
 MODELS = ("chain", "fe")
-SIGNATURES = ("paper", "default", "all")    #: which periodic responses a solve finds (see Case.signatures)
+SIGNATURES = ("default", "paper", "all")    #: which periodic responses a solve finds (see Case.signatures)
 #: default load of an FE bar: a unit point force at this fraction of the length (mid-bar, whatever the mesh)
 DEFAULT_FE_LOAD = 0.5
 
@@ -78,14 +78,14 @@ class Case:
         Search domain; default ``(0, T0^alpha / 2]``.
     method : {"continuation", "grid"}
         How branches are built from the scan (:func:`plbar.find_paths`).
-    signatures : {"paper", "default", "all"}
-        Which periodic responses to find: the paper's class only (one stuck phase, one impact per
-        period; the default, as fast as before); ``"default"``: every signature found without the
-        user (the zero-dwell class, period doublings up to ``m = 4``, the neighbouring signatures
-        where a branch stops being admissible, and the periodic motions of a simulation from rest at
-        81 forcing periods, 600 periods each: :func:`plbar.hybrid.find_hybrid`), about 30x the
-        time; ``"all"``: the same with the survey's simulation (161 periods, 1,000 each) and orbits
-        up to ``m = 8``.
+    signatures : {"default", "paper", "all"}
+        Which periodic responses to find.  ``"default"``: the paper's class and every signature found
+        without the user (the zero-dwell class, period doublings up to ``m = 4``, the neighbouring
+        signatures where a branch stops being admissible, and the periodic motions of a simulation from
+        rest at 81 forcing periods, 600 periods each: :func:`plbar.hybrid.find_hybrid`); ``"paper"``:
+        the paper's class only (one stuck phase, one impact per period: the fastest, no compiled
+        simulator); ``"all"``: the default with the survey's simulation (161 periods, 1,000 each) and
+        orbits up to ``m = 8``.
     modes : int, optional
         Keep only the lowest ``modes`` modes of each state (modal truncation,
         for fine meshes; check it with :func:`plbar.system.truncation_check`).
@@ -117,7 +117,7 @@ class Case:
     T1: tuple[float, float] | None = None
     T2: tuple[float, float] | None = None
     method: str = "continuation"
-    signatures: str = "paper"
+    signatures: str = "default"
     modes: int | None = None
     label: str = field(default="", compare=False)
     rayleigh: tuple[float, float] | None = None

@@ -15,12 +15,16 @@ import numpy as np
 
 from .case import Case
 
-__all__ = ["Cost", "estimate_cost", "cost_note", "MEASURED", "MEMORY", "NOTE_SECONDS"]
+__all__ = ["Cost", "estimate_cost", "cost_note", "MEASURED", "MEMORY", "NOTE_SECONDS", "SIGNATURES"]
 
 #: (modes per state, seconds) measured for a 200 x 200 grid (README "Speed"; the chain N = 5 for n = 5)
 MEASURED = ((5, 0.7), (10, 5.0), (20, 29.0), (50, 239.0), (100, 583.0))
 #: (modes per state, peak memory in GB), measured alike
 MEMORY = ((10, 0.39), (20, 0.93), (100, 2.3))
+#: (degrees of freedom, seconds) of the search for every other signature (``signatures="default"``), measured on
+#: 2 cores (busy): the chain N = 5, FE P1 lumped N = 16 and 32 with an end mass
+SIGNATURES = ((5, 2.0), (16, 70.0), (32, 220.0))
+SIGNATURES_EXPONENT = 1.7    #: beyond the largest size measured
 TIME_EXPONENT = 2.1      #: beyond the largest size measured
 MEMORY_EXPONENT = 0.56   #: beyond the largest size measured
 NOTE_SECONDS = 60.0      #: above this estimate ``plbar run`` says so before it starts
@@ -36,6 +40,7 @@ class Cost:
     modes: int
     dofs: int
     grid: tuple[int, int]
+    signatures: float = 0.0     #: of ``seconds``, the search for the other signatures
 
 
 def _loglog(n: float, table, exponent: float) -> float:
@@ -53,8 +58,9 @@ def estimate_cost(case: Case) -> Cost:
     dofs = case.bar().n_dofs
     modes = dofs if case.modes is None else min(case.modes, dofs)
     g = case.grid[0] * case.grid[1] / GRID
-    return Cost(_loglog(modes, MEASURED, TIME_EXPONENT) * g, _loglog(modes, MEMORY, MEMORY_EXPONENT), modes, dofs,
-                tuple(case.grid))
+    sig = 0.0 if case.signatures == "paper" else _loglog(modes, SIGNATURES, SIGNATURES_EXPONENT)
+    return Cost(_loglog(modes, MEASURED, TIME_EXPONENT) * g + sig, _loglog(modes, MEMORY, MEMORY_EXPONENT), modes,
+                dofs, tuple(case.grid), sig)
 
 
 def _duration(s: float) -> str:
@@ -70,7 +76,9 @@ def cost_note(case: Case, threshold: float = NOTE_SECONDS) -> str | None:
     if c.seconds <= threshold:
         return None
     kept = "the full model" if case.modes is None else f"{c.modes} modes per state"
+    sig = (f", {_duration(c.signatures)} of it the search for every other signature (--signatures paper skips "
+           "it)") if c.signatures > 0.25 * c.seconds else ""
     return (f"plbar: note: this solve ({c.dofs} DOFs, {kept}, grid {c.grid[0]} x {c.grid[1]}) will take about "
-            f"{_duration(c.seconds)} and {c.gigabytes:.1f} GB (the time grows like DOFs^2.1: README 'Speed'); "
+            f"{_duration(c.seconds)}{sig} and {c.gigabytes:.1f} GB (the time grows like DOFs^2.1: README 'Speed'); "
             "to follow one family to fine meshes use 'plbar refine', to locate paths fast use --modes M "
             "(never for xi_eq), or a coarser --grid")

@@ -19,7 +19,7 @@ SCHEMA = {
             "damping_ratio": "float", "damping_at": "pair"},
     "load": {"node": "int", "at": "float", "amplitude": "float"},
     "search": {"grid": "grid", "T1": "pair", "T2": "pair", "method": ("choice", ("continuation", "grid")),
-               "signatures": ("choice", ("paper", "default", "all"))},
+               "signatures": ("choice", ("default", "paper", "all"))},
     "output": {"dir": "str", "vtk": "bool", "format": ("choice", FORMATS), "render": "bool", "field": "str",
                "periods": ("choice", (1, 2)), "steps": "int", "snapshots": "int", "gif": "bool",
                "branch": "int", "index": "int", "overwrite": "bool"},
@@ -53,8 +53,9 @@ HELP = {
     "search": {"grid": "scan grid over (T1, T2) [200, 200]",
                "T1": "search range of T1 [(0, T0_I/2]]", "T2": "search range of T2 [(0, T0_II/2]]",
                "method": "branches by continuation from the scan, or by linking its crossings [continuation]",
-               "signatures": "the paper's class only, also the signatures reached from it, or also those a "
-                             "simulation from rest settles on [paper]"},
+               "signatures": "every signature found without the user (the paper's class, those reached from it, "
+                             "what a simulation from rest settles on), the paper's class only, or also the survey's "
+                             "simulation and orbits up to m = 8 [default]"},
     "output": {"dir": "output folder, relative to the current directory (`--out` overrides it)",
                "vtk": "also write the ParaView time series of one response [false]",
                "format": "ParaView file format [pvd]", "render": "also render pictures of it [false]",

@@ -85,11 +85,12 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
                    help="scan grid over (T1, T2) [200 200]")
     g.add_argument("--T1", type=float, nargs=2, default=None, metavar=("LO", "HI"), help="T1 range [(0, T0_I/2]]")
     g.add_argument("--T2", type=float, nargs=2, default=None, metavar=("LO", "HI"), help="T2 range [(0, T0_II/2]]")
-    g.add_argument("--signatures", choices=("paper", "default", "all"), default=None,
-                   help="which periodic responses: the paper's class only (paper); every signature found "
-                        "without the user: the zero-dwell class, period doublings, the neighbours where a branch "
-                        "stops being admissible and what a simulation from rest settles on (default: ~30x the "
-                        "time); the same with the survey's simulation and orbits up to m = 8 (all) [paper]")
+    g.add_argument("--signatures", choices=("default", "paper", "all"), default=None,
+                   help="which periodic responses: the paper's class and every signature found without the user: "
+                        "the zero-dwell class, period doublings, the neighbours where a branch stops being "
+                        "admissible and what a simulation from rest settles on (default); the paper's class only "
+                        "(paper: the fastest); the default with the survey's simulation and orbits up to m = 8 "
+                        "(all) [default]")
     g.add_argument("--method", choices=("continuation", "grid"), default=None,
                    help="branches by pseudo-arclength continuation seeded by the scan, or by linking the "
                         "scan's crossings only (faster, may fragment) [continuation]")

@@ -53,9 +53,9 @@ def _human(summary: dict, files: dict, verbose: bool) -> str:
             lo, hi = min(b["T_range"][0] for b in bs), max(b["T_range"][1] for b in bs)
             lines.append(f"    {lab:8s} {len(bs):3d} branch(es), T in [{lo:.5g}, {hi:.5g}], xi_eq up to "
                          f"{max(b['xi_range'][1] for b in bs):.4g}, {sum(b['stable_points'] for b in bs)} stable points")
-    elif summary.get("signatures", "paper") == "paper":
-        lines.append("  (the paper's class only: --signatures default adds zero-dwell impacts, subharmonics and "
-                     "several impacts per period)")
+    elif summary.get("signatures", "default") == "paper":
+        lines.append("  (the paper's class only: without --signatures paper, plbar run adds zero-dwell impacts, "
+                     "subharmonics and several impacts per period)")
     lines.append("  wrote " + ", ".join(str(p) for p in files.values() if not isinstance(p, (list, tuple))))
     return "\n".join(lines)
 

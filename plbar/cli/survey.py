@@ -8,6 +8,7 @@ and load options, ``--case``), the executor options of the studies.
 from __future__ import annotations
 
 import importlib.util
+from dataclasses import replace
 
 import numpy as np
 
@@ -18,7 +19,7 @@ from .common import case_args, case_from_args, output_args, progress, report
 __all__ = ["register"]
 
 #: the search options of ``plbar run``: a survey simulates, it does not search
-_SEARCH = ("grid", "T1", "T2", "method")
+_SEARCH = ("grid", "T1", "T2", "method", "signatures")
 
 
 def _periods(a, case) -> np.ndarray:
@@ -75,7 +76,7 @@ def _cmd_survey(a) -> int:
     plot = not a.no_plot and importlib.util.find_spec("matplotlib") is not None
     paths = None
     if plot and not a.no_paths and (a.paths or case.n_eff <= 12):
-        paths = solve(case, progress=False).paths
+        paths = solve(replace(case, signatures="paper"), progress=False).paths     # the paper's class under it
     kind = "dask" if a.scheduler else a.executor
     modes = ("rest",) + tuple(dict.fromkeys(a.cont or ()))
     with get_executor(kind, a.scheduler, a.workers) as ex:

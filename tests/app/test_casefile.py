@@ -50,7 +50,7 @@ def test_paper_cases_mean_what_they_say():
 def test_small_examples_solve(name):
     case, _ = load_case(next(p for p in CASES if p.stem == name))
     if case.grid[0] > 100:                       # keep the test fast: same case, coarser scan
-        case = plbar.Case(**{**case.to_dict(), "grid": (60, 60), "label": case.label})
+        case = plbar.Case(**{**case.to_dict(), "grid": (60, 60), "label": case.label, "signatures": "paper"})
     res = plbar.solve(case)
     assert res.branches and max(b.xi.max() for b in res.branches) > 0
 

@@ -10,6 +10,8 @@ from plbar.app import dump_case, loads_case, read_paths
 from plbar.cli import main
 from plbar.errors import CaseFileError, InputError
 
+PAPER = ["--signatures", "paper"]      # the paper's class only: these runs are not about the other signatures
+
 
 def test_rayleigh_from_ratio():
     a, b = plbar.rayleigh_from_ratio(0.02, 8.0, 12.0)
@@ -58,7 +60,7 @@ def test_toml_rayleigh_and_damping_ratio():
 
 def test_cli_run_with_damping_ratio(tmp_path, capsys):
     out = tmp_path / "r"
-    assert main(["run", "--damping-ratio", "0.02", "--at", "8", "12", "--grid", "60", "60", "--out", str(out),
+    assert main(["run", *PAPER, "--damping-ratio", "0.02", "--at", "8", "12", "--grid", "60", "60", "--out", str(out),
                  "--no-plot"]) == 0
     assert "Rayleigh damping alpha" in capsys.readouterr().out
     cols = read_paths(out / "paths.csv")
@@ -71,7 +73,7 @@ def test_cli_run_with_damping_ratio(tmp_path, capsys):
     assert s["rayleigh"] == pytest.approx([a, b]) and s["case"]["rayleigh"] == pytest.approx([a, b])
     assert all("viscous_loss_range" in br and "xi_total_range" in br for br in s["branches"])
     # the same case by --rayleigh: same results folder accepted without --overwrite
-    assert main(["run", "--rayleigh", repr(a), repr(b), "--grid", "60", "60", "--out", str(out), "--no-plot",
+    assert main(["run", *PAPER, "--rayleigh", repr(a), repr(b), "--grid", "60", "60", "--out", str(out), "--no-plot",
                  "--quiet"]) == 0
 
 

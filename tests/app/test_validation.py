@@ -27,6 +27,8 @@ from plbar.errors import (CaseFileError, CoarseGridWarning, InputError, NonFinit
                           PlbarError)
 from plbar.io import read_nodes, write_nodes
 
+PAPER = ["--signatures", "paper"]      # the paper's class only: these runs are not about the other signatures
+
 B5 = plbar.chain(5)
 
 
@@ -249,7 +251,7 @@ CLI = [
 
 @pytest.mark.parametrize("args, expect", [c[1:] for c in CLI], ids=[c[0] for c in CLI])
 def test_cli_bad_input(capsys, tmp_path, args, expect):
-    code, err = _cli(capsys, ["run", "--out", str(tmp_path / "o"), "--no-plot", "-q"] + args)
+    code, err = _cli(capsys, ["run", *PAPER, "--out", str(tmp_path / "o"), "--no-plot", "-q"] + args)
     assert code == 2
     lines = err.strip("\n").split("\n")
     assert len(lines) == 1 and lines[0].startswith("plbar"), err
@@ -260,7 +262,7 @@ def test_cli_bad_input(capsys, tmp_path, args, expect):
 
 def test_cli_bad_mesh_and_case_file(capsys, tmp_path):
     f = _mesh(tmp_path / "br.msh", X5, [("line", [[0, 1], [1, 2], [1, 3], [3, 4]])])
-    code, err = _cli(capsys, ["run", "--out", str(tmp_path / "o"), "--model", "fe", "--mesh-file", str(f)])
+    code, err = _cli(capsys, ["run", *PAPER, "--out", str(tmp_path / "o"), "--model", "fe", "--mesh-file", str(f)])
     assert code == 2 and err.count("\n") == 1 and "branched" in err
     c = tmp_path / "c.toml"
     c.write_text(GOOD.replace("n = 4", "n = 4\nlenght = 2.0"))
@@ -278,7 +280,7 @@ def test_cli_other_commands_bad_input(capsys, tmp_path):
 def test_cli_out_is_a_file(capsys, tmp_path):
     f = tmp_path / "f"
     f.write_text("x")
-    code, err = _cli(capsys, ["run", "--out", str(f / "sub"), "--grid", "24", "24", "--no-plot", "-q"])
+    code, err = _cli(capsys, ["run", *PAPER, "--out", str(f / "sub"), "--grid", "24", "24", "--no-plot", "-q"])
     assert code == 2 and err.count("\n") == 1 and "is a file" in err
 
 
@@ -286,7 +288,7 @@ def test_cli_out_is_a_file(capsys, tmp_path):
 
 def test_rerun_same_case_other_case_and_overwrite(capsys, tmp_path):
     out = tmp_path / "o"
-    base = ["run", "--out", str(out), "--no-plot", "-q", "--method", "grid"]
+    base = ["run", *PAPER, "--out", str(out), "--no-plot", "-q", "--method", "grid"]
     assert main(base + ["--grid", "24", "24"]) == 0
     first = (out / "paths.csv").read_text()
     assert main(base + ["--grid", "24", "24"]) == 0                 # same case: replaced
@@ -301,8 +303,8 @@ def test_rerun_same_case_other_case_and_overwrite(capsys, tmp_path):
 
 
 def test_write_results_refuses_other_case_and_unreadable_summary(tmp_path):
-    res = plbar.solve(plbar.Case(n=3, grid=(24, 24), method="grid"))
-    other = plbar.solve(plbar.Case(n=3, grid=(24, 24), method="grid", load_nodes=((2, 1.0),)))
+    res = plbar.solve(plbar.Case(signatures="paper", n=3, grid=(24, 24), method="grid"))
+    other = plbar.solve(plbar.Case(signatures="paper", n=3, grid=(24, 24), method="grid", load_nodes=((2, 1.0),)))
     plbar.write_results(res, tmp_path)
     plbar.write_results(res, tmp_path)                              # same case: fine
     with pytest.raises(OutputExistsError, match="another case"):
@@ -354,7 +356,7 @@ def test_write_csv_and_json_refuse_non_finite(tmp_path):
 
 
 def test_write_results_refuses_nan_and_writes_nothing(tmp_path):
-    res = plbar.solve(plbar.Case(n=3, grid=(24, 24), method="grid"))
+    res = plbar.solve(plbar.Case(signatures="paper", n=3, grid=(24, 24), method="grid"))
     assert res.branches
     b = res.branches[0]
     bad = np.array(b.damping.xi, float)
@@ -372,7 +374,7 @@ def test_cli_non_finite_result_is_exit_1(capsys, tmp_path, monkeypatch):
         raise NonFiniteError("paths.csv: xi[0] = nan is not finite")
 
     monkeypatch.setattr(run, "write_csv", boom)
-    code, err = _cli(capsys, ["run", "--out", str(tmp_path / "o"), "--grid", "24", "24", "--no-plot", "-q",
+    code, err = _cli(capsys, ["run", *PAPER, "--out", str(tmp_path / "o"), "--grid", "24", "24", "--no-plot", "-q",
                               "--method", "grid"])
     lines = [x for x in err.strip().split("\n") if not x.startswith("plbar: warning: ")]
     assert code == 1 and lines == ["plbar: failed: paths.csv: xi[0] = nan is not finite"]
@@ -382,8 +384,8 @@ def test_cli_non_finite_result_is_exit_1(capsys, tmp_path, monkeypatch):
 
 def test_coarse_grid_warns(capsys, tmp_path):
     with pytest.warns(CoarseGridWarning, match=r"grid = \(10, 12\) is coarse"):
-        plbar.solve(plbar.Case(n=3, grid=(10, 12), method="grid"))
-    code, err = _cli(capsys, ["run", "--out", str(tmp_path / "o"), "--grid", "10", "10", "--no-plot", "-q",
+        plbar.solve(plbar.Case(signatures="paper", n=3, grid=(10, 12), method="grid"))
+    code, err = _cli(capsys, ["run", *PAPER, "--out", str(tmp_path / "o"), "--grid", "10", "10", "--no-plot", "-q",
                               "--method", "grid"])
     assert code == 0
     assert "plbar: warning: grid = (10, 10) is coarse" in err
@@ -392,7 +394,7 @@ def test_coarse_grid_warns(capsys, tmp_path):
 
 def test_short_branch_warns():
     with pytest.warns(CoarseGridWarning, match="fewer than 3 points"):
-        plbar.solve(plbar.Case(n=5, grid=(8, 8), method="grid"))
+        plbar.solve(plbar.Case(signatures="paper", n=5, grid=(8, 8), method="grid"))
 
 
 def test_no_warning_on_fine_grid():
@@ -400,7 +402,7 @@ def test_no_warning_on_fine_grid():
     with warnings.catch_warnings():
         warnings.simplefilter("error", CoarseGridWarning)
         plbar.Case(grid=(20, 20))               # building a case never warns
-        res = plbar.solve(plbar.Case(n=3, grid=(40, 40)))
+        res = plbar.solve(plbar.Case(signatures="paper", n=3, grid=(40, 40)))
     assert res.branches and min(len(b) for b in res.branches) >= 3
     with pytest.warns(CoarseGridWarning):       # the same case, coarser: the check is live
-        plbar.solve(plbar.Case(n=3, grid=(12, 12)))
+        plbar.solve(plbar.Case(signatures="paper", n=3, grid=(12, 12)))

@@ -15,7 +15,7 @@ from plbar.response import periodic_state
 @pytest.fixture(scope="module")
 def fe_small():
     """The FE P2 consistent case of conftest, on a small window of the (T1, T2) plane around one branch."""
-    return plbar.solve(plbar.Case(**FE_POINT))
+    return plbar.solve(plbar.Case(**FE_POINT, signatures="paper"))
 
 
 def _returns(prob, orb, k):

@@ -8,6 +8,8 @@ import pytest
 from plbar.cli import main
 from plbar.app import CSV_HEADER
 
+PAPER = ["--signatures", "paper"]      # the paper's class only: these runs are not about the other signatures
+
 
 def _csv(path):
     lines = path.read_text().splitlines()
@@ -42,16 +44,16 @@ def test_run_default_writes_exact_header_and_summary(tmp_path, capsys):
 
 
 def test_run_json_and_quiet(tmp_path, capsys):
-    assert main(["run", "--out", str(tmp_path / "a"), "--json", "--no-plot", "--grid", "60", "60"]) == 0
+    assert main(["run", *PAPER, "--out", str(tmp_path / "a"), "--json", "--no-plot", "--grid", "60", "60"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["summary"]["case"]["grid"] == [60, 60]
-    assert main(["run", "--out", str(tmp_path / "b"), "--quiet", "--no-plot", "--grid", "60", "60"]) == 0
+    assert main(["run", *PAPER, "--out", str(tmp_path / "b"), "--quiet", "--no-plot", "--grid", "60", "60"]) == 0
     assert capsys.readouterr().out == ""
 
 
 def test_run_fe_options(tmp_path):
-    rc = main(["run", "--model", "fe", "-N", "4", "--element", "P2", "--mass", "consistent", "--load-at", "0.37",
-               "--grid", "60", "60", "--out", str(tmp_path), "--quiet", "--no-plot"])
+    rc = main(["run", *PAPER, "--model", "fe", "-N", "4", "--element", "P2", "--mass", "consistent",
+               "--load-at", "0.37", "--grid", "60", "60", "--out", str(tmp_path), "--quiet", "--no-plot"])
     assert rc == 0
     s = json.loads((tmp_path / "summary.json").read_text())
     assert s["case"]["element"] == "P2" and s["case"]["load_points"] == [[0.37, 1.0]]
@@ -82,18 +84,19 @@ def test_malformed_case_file_exit_2_one_line(tmp_path, capsys, text, key):
 
 
 def test_bad_cli_input_exit_2(tmp_path, capsys):
-    assert main(["run", "--load-at", "7.5", "--out", str(tmp_path), "--no-plot"]) == 2
+    assert main(["run", *PAPER, "--load-at", "7.5", "--out", str(tmp_path), "--no-plot"]) == 2
     err = capsys.readouterr().err.strip()
     assert "7.5" in err and "\n" not in err
-    assert main(["run", "--element", "P3"]) == 2
+    assert main(["run", *PAPER, "--element", "P3"]) == 2
     assert main([]) == 2
 
 
 def test_refuses_other_case_in_same_folder(tmp_path, capsys):
-    assert main(["run", "--out", str(tmp_path), "--quiet", "--no-plot", "--grid", "40", "40"]) == 0
-    assert main(["run", "--out", str(tmp_path), "--quiet", "--no-plot", "--grid", "41", "41"]) == 2
+    assert main(["run", *PAPER, "--out", str(tmp_path), "--quiet", "--no-plot", "--grid", "40", "40"]) == 0
+    assert main(["run", *PAPER, "--out", str(tmp_path), "--quiet", "--no-plot", "--grid", "41", "41"]) == 2
     assert "--overwrite" in capsys.readouterr().err
-    assert main(["run", "--out", str(tmp_path), "--quiet", "--no-plot", "--grid", "41", "41", "--overwrite"]) == 0
+    assert main(["run", *PAPER, "--out", str(tmp_path), "--quiet", "--no-plot", "--grid", "41", "41",
+                 "--overwrite"]) == 0
 
 
 CASES = sorted((__import__("pathlib").Path(__file__).resolve().parents[2] / "examples" / "cases").glob("*.toml"))

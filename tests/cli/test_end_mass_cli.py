@@ -7,11 +7,13 @@ import pytest
 import plbar
 from plbar.cli.main import main
 
+PAPER = ["--signatures", "paper"]      # the paper's class only: these runs are not about the other signatures
+
 
 def test_run_end_mass_in_summary(tmp_path):
     out = tmp_path / "em"
-    assert main(["run", "--model", "fe", "-N", "6", "--grid", "40", "40", "--end-mass", "0.5", "--out", str(out),
-                 "--no-plot", "--quiet"]) == 0
+    assert main(["run", *PAPER, "--model", "fe", "-N", "6", "--grid", "40", "40", "--end-mass", "0.5",
+                 "--out", str(out), "--no-plot", "--quiet"]) == 0
     s = json.loads((out / "summary.json").read_text())
     assert s["case"]["end_mass"] == 0.5 and s["case"]["end_mass_absolute"] is False
     with_mass = plbar.Case(model="fe", n=6, end_mass=0.5).problem().system.T0[1]
@@ -22,7 +24,7 @@ def test_run_end_mass_in_summary(tmp_path):
 
 def test_run_end_mass_absolute(tmp_path):
     out = tmp_path / "abs"
-    assert main(["run", "-N", "4", "--grid", "30", "30", "--end-mass", "0.5", "--end-mass-absolute",
+    assert main(["run", *PAPER, "-N", "4", "--grid", "30", "30", "--end-mass", "0.5", "--end-mass-absolute",
                  "--out", str(out), "--no-plot", "--quiet"]) == 0
     s = json.loads((out / "summary.json").read_text())
     assert s["case"]["end_mass"] == 0.5 and s["case"]["end_mass_absolute"] is True
@@ -41,6 +43,6 @@ def test_end_mass_with_case_file_exit_2(tmp_path, capsys, opt):
 
 
 def test_negative_end_mass_exit_2(tmp_path, capsys):
-    assert main(["run", "--end-mass", "-1", "--out", str(tmp_path / "o"), "--no-plot"]) == 2
+    assert main(["run", *PAPER, "--end-mass", "-1", "--out", str(tmp_path / "o"), "--no-plot"]) == 2
     err = capsys.readouterr().err.strip()
     assert "end_mass = -1.0" in err and ">= 0" in err and "\n" not in err

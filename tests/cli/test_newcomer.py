@@ -17,6 +17,8 @@ import pytest
 import plbar
 from plbar.cli import main
 
+PAPER = ["--signatures", "paper"]      # the paper's class only: these runs are not about the other signatures
+
 CASES = Path(__file__).resolve().parents[2] / "examples" / "cases"
 
 
@@ -30,13 +32,13 @@ def _run(capsys, argv):
 
 def test_overwrite_clears_the_previous_export_and_render(tmp_path, capsys):
     out = tmp_path / "X"
-    assert _run(capsys, ["run", "-N", "5", "--grid", "40", "40", "--out", out, "-q", "--no-plot"])[0] == 0
+    assert _run(capsys, ["run", *PAPER, "-N", "5", "--grid", "40", "40", "--out", out, "-q", "--no-plot"])[0] == 0
     (out / "vtk").mkdir()
     (out / "vtk" / "response.pvd").write_text("old")
     (out / "vtk" / "response.xdmf").write_text("old")
     (out / "render").mkdir()
     (out / "render" / "snapshot_00.png").write_text("old")
-    assert _run(capsys, ["run", "-N", "4", "--grid", "40", "40", "--out", out, "-q", "--no-plot",
+    assert _run(capsys, ["run", *PAPER, "-N", "4", "--grid", "40", "40", "--out", out, "-q", "--no-plot",
                          "--overwrite"])[0] == 0
     assert not (out / "vtk").exists() and not (out / "render").exists()
     assert json.loads((out / "summary.json").read_text())["dofs"] == 4
@@ -45,7 +47,7 @@ def test_overwrite_clears_the_previous_export_and_render(tmp_path, capsys):
 def test_export_clears_the_other_format(tmp_path, capsys):
     pytest.importorskip("pyvista")
     out = tmp_path / "r"
-    assert _run(capsys, ["run", "-N", "4", "--grid", "40", "40", "--out", out, "-q", "--no-plot"])[0] == 0
+    assert _run(capsys, ["run", *PAPER, "-N", "4", "--grid", "40", "40", "--out", out, "-q", "--no-plot"])[0] == 0
     (out / "vtk").mkdir()
     for name in ("response.xdmf", "response.h5", "response_0099.vtu"):
         (out / "vtk" / name).write_text("stale")
@@ -66,7 +68,7 @@ def test_option_conflicting_with_case_file_is_exit_2(tmp_path, capsys):
 # 3. fine FE output fits on one screen ------------------------------------------------------------------------
 
 def test_many_branches_print_a_short_summary(tmp_path, capsys):
-    argv = ["run", "--model", "fe", "-N", "8", "--element", "P2", "--grid", "60", "60", "--out", tmp_path / "f",
+    argv = ["run", *PAPER, "--model", "fe", "-N", "8", "--element", "P2", "--grid", "60", "60", "--out", tmp_path / "f",
             "--no-plot"]
     code, out, _ = _run(capsys, argv)
     n = json.loads((tmp_path / "f" / "summary.json").read_text())["n_branches"]
@@ -96,7 +98,7 @@ def test_scan_shows_progress(monkeypatch):
 
 # 5. an unusable output folder is found before the solve --------------------------------------------------------
 
-@pytest.mark.parametrize("cmd", [["run", "--model", "fe", "-N", "8"], ["sweep-loads"], ["figures"],
+@pytest.mark.parametrize("cmd", [["run", *PAPER, "--model", "fe", "-N", "8"], ["sweep-loads"], ["figures"],
                                  ["export", "--case", str(CASES / "chain_N3_node1.toml")]])
 def test_bad_destination_exit_2_before_work(tmp_path, capsys, cmd):
     blocker = tmp_path / "file"
@@ -109,7 +111,7 @@ def test_bad_destination_exit_2_before_work(tmp_path, capsys, cmd):
 
 
 def test_unwritable_destination_exit_2(tmp_path, capsys):
-    code, _, err = _run(capsys, ["run", "--model", "fe", "-N", "8", "--out", "/proc/plbar_x"])
+    code, _, err = _run(capsys, ["run", *PAPER, "--model", "fe", "-N", "8", "--out", "/proc/plbar_x"])
     assert code == 2 and "cannot be written" in err and err.count("\n") == 1
 
 
@@ -117,7 +119,7 @@ def test_unwritable_destination_exit_2(tmp_path, capsys):
 
 def test_missing_pyvista_names_the_extra(tmp_path, capsys, monkeypatch):
     out = tmp_path / "r"
-    assert _run(capsys, ["run", "-N", "4", "--grid", "40", "40", "--out", out, "-q", "--no-plot"])[0] == 0
+    assert _run(capsys, ["run", *PAPER, "-N", "4", "--grid", "40", "40", "--out", out, "-q", "--no-plot"])[0] == 0
     import importlib.util
 
     real = importlib.util.find_spec
@@ -133,7 +135,7 @@ def test_missing_matplotlib_is_said_once(tmp_path, capsys, monkeypatch):
 
     real = importlib.util.find_spec
     monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "matplotlib" else real(name, *a))
-    code, _, err = _run(capsys, ["run", "-N", "3", "--grid", "30", "30", "--out", tmp_path / "o"])
+    code, _, err = _run(capsys, ["run", *PAPER, "-N", "3", "--grid", "30", "30", "--out", tmp_path / "o"])
     assert code == 0 and err.count('pip install "plbar[plot]"') == 1
     code, _, err = _run(capsys, ["figures", "--out", tmp_path / "f"])
     assert code == 2 and 'pip install "plbar[plot]"' in err and not (tmp_path / "f").exists()
@@ -212,7 +214,8 @@ def test_same_names_for_the_same_things(tmp_path, capsys):
     assert code == 0 and json.loads(text)["summary"]["positions"] == 2
     assert _run(capsys, ["refine", "-N", "3", "--grid", "30", "30", "--executor", "serial", "--out",
                          tmp_path / "r", "-q"])[0] == 0
-    assert _run(capsys, ["run", "-N", "3", "--grid", "30", "30", "--out", tmp_path / "o", "-q", "--no-plot"])[0] == 0
+    assert _run(capsys, ["run", *PAPER, "-N", "3", "--grid", "30", "30", "--out", tmp_path / "o", "-q",
+                         "--no-plot"])[0] == 0
     if __import__("importlib").util.find_spec("pyvista"):
         code, text, _ = _run(capsys, ["export", "--from", tmp_path / "o", "--out", tmp_path / "v", "--steps", "8",
                                       "--json"])
@@ -228,7 +231,8 @@ def test_default_fe_load_is_a_fixed_position():
 
 
 def test_summary_length_of_the_chain_is_N(tmp_path, capsys):
-    assert _run(capsys, ["run", "-N", "4", "--grid", "30", "30", "--out", tmp_path / "o", "-q", "--no-plot"])[0] == 0
+    assert _run(capsys, ["run", *PAPER, "-N", "4", "--grid", "30", "30", "--out", tmp_path / "o", "-q",
+                         "--no-plot"])[0] == 0
     assert json.loads((tmp_path / "o" / "summary.json").read_text())["case"]["length"] == 4.0
 
 
@@ -239,7 +243,8 @@ def test_output_folders_are_ignored_by_git():
 
 
 def test_paths_csv_has_amplitude_and_frequency(tmp_path, capsys):
-    assert _run(capsys, ["run", "-N", "5", "--grid", "60", "60", "--out", tmp_path / "o", "-q", "--no-plot"])[0] == 0
+    assert _run(capsys, ["run", *PAPER, "-N", "5", "--grid", "60", "60", "--out", tmp_path / "o", "-q",
+                         "--no-plot"])[0] == 0
     cols = plbar.app.read_paths(tmp_path / "o" / "paths.csv")
     assert np.allclose(cols["omega"], 2 * np.pi / cols["T"], rtol=1e-15)
     assert np.all(cols["max_abs_xc"] > 0)
@@ -248,7 +253,7 @@ def test_paths_csv_has_amplitude_and_frequency(tmp_path, capsys):
 # 8. short reprs ---------------------------------------------------------------------------------------------------
 
 def test_result_repr_is_short():
-    res = plbar.solve(plbar.Case(model="fe", n=8, grid=(60, 60)))
+    res = plbar.solve(plbar.Case(signatures="paper", model="fe", n=8, grid=(60, 60)))
     text = repr(res)
     assert len(text) < 3000 and text.startswith("Result(") and f"{len(res.branches)} branches" in text
     assert len(repr(res.case)) < 500 and len(repr(res.paths.prob)) < 2000

@@ -17,6 +17,8 @@ import plbar
 from plbar.cli import main
 from plbar.errors import InputError, OutputExistsError
 
+PAPER = ["--signatures", "paper"]      # the paper's class only: these runs are not about the other signatures
+
 ROOT = Path(__file__).resolve().parents[2]
 MESH = ROOT / "meshes" / "bar_uniform_8.msh"
 FAST = ["--grid", "30", "30", "-q", "--no-plot"]
@@ -64,11 +66,11 @@ def test_case_is_the_one_validator(kw):
 
 
 def test_summary_records_only_the_options_used(tmp_path, capsys):
-    assert _run(capsys, ["run", "-N", "4", "--out", tmp_path / "c", *FAST])[0] == 0
+    assert _run(capsys, ["run", *PAPER, "-N", "4", "--out", tmp_path / "c", *FAST])[0] == 0
     case = json.loads((tmp_path / "c" / "summary.json").read_text())["case"]
     assert not {"element", "mass", "grading", "mesh_file", "EA", "rhoA", "point_masses"} & set(case)
     assert case["n"] == 4 and case["length"] == 4.0
-    assert _run(capsys, ["run", "--model", "fe", "--mesh-file", MESH, "--out", tmp_path / "m", *FAST])[0] == 0
+    assert _run(capsys, ["run", *PAPER, "--model", "fe", "--mesh-file", MESH, "--out", tmp_path / "m", *FAST])[0] == 0
     s = json.loads((tmp_path / "m" / "summary.json").read_text())
     assert not {"n", "grading", "length", "m", "k"} & set(s["case"]) and s["dofs"] == 8
     assert plbar.app.case_of_run(tmp_path / "m").bar().n_elements == 8
@@ -85,7 +87,7 @@ def test_refine_refuses_grading_on_the_chain_before_any_folder(tmp_path, capsys)
 
 def test_run_then_sweep_loads_into_one_folder_is_refused(tmp_path, capsys):
     out = tmp_path / "Y"
-    assert _run(capsys, ["run", "-N", "4", "--out", out, *FAST])[0] == 0
+    assert _run(capsys, ["run", *PAPER, "-N", "4", "--out", out, *FAST])[0] == 0
     before = (out / "summary.json").read_text()
     _refused(capsys, ["sweep-loads", "-N", "4", "--out", out, *FAST], "'plbar run'", "--overwrite")
     assert (out / "summary.json").read_text() == before
@@ -98,7 +100,7 @@ def test_run_into_a_refine_folder_is_refused_and_overwrite_clears_only_the_owner
     assert _run(capsys, ["refine", "-N", "3", "4", "--grid", "30", "30", "--executor", "serial", "--out", out,
                          "-q", "--no-plot"])[0] == 0
     (out / "notes.txt").write_text("mine")
-    _refused(capsys, ["run", "-N", "4", "--out", out, *FAST], "'plbar refine'")
+    _refused(capsys, ["run", *PAPER, "-N", "4", "--out", out, *FAST], "'plbar refine'")
     _refused(capsys, ["sweep-loads", "-N", "4", "--out", out, *FAST], "'plbar refine'")
     assert (out / "study.json").is_file() and (out / "levels").is_dir()
     assert _run(capsys, ["sweep-loads", "-N", "4", "--out", out, *FAST, "--overwrite"])[0] == 0
@@ -109,7 +111,7 @@ def test_run_into_a_refine_folder_is_refused_and_overwrite_clears_only_the_owner
 
 
 def test_the_marker_names_command_case_and_owned_files(tmp_path, capsys):
-    assert _run(capsys, ["run", "-N", "4", "--out", tmp_path, *FAST])[0] == 0
+    assert _run(capsys, ["run", *PAPER, "-N", "4", "--out", tmp_path, *FAST])[0] == 0
     m = json.loads((tmp_path / ".plbar-owner.json").read_text())
     assert set(m) == {"command", "fingerprint", "owned", "plbar"} and m["command"] == "run"
     assert m["fingerprint"] == plbar.app.case_fingerprint(plbar.Case(n=4, grid=(30, 30)))
@@ -142,10 +144,10 @@ def test_claim_folder_is_one_rule_for_every_command(tmp_path):
 def test_export_into_the_run_folder_then_run_overwrite_leaves_no_stale_paraview_data(tmp_path, capsys):
     pytest.importorskip("pyvista")
     R = tmp_path / "R"
-    assert _run(capsys, ["run", "-N", "4", "--out", R, *FAST])[0] == 0
+    assert _run(capsys, ["run", *PAPER, "-N", "4", "--out", R, *FAST])[0] == 0
     assert _run(capsys, ["export", "--from", R, "--out", R, "--steps", "8", "-q"])[0] == 0
     assert (R / "response.pvd").is_file() and (R / "response.json").is_file()
-    assert _run(capsys, ["run", "-N", "4", "--load-node", "3", "--out", R, *FAST, "--overwrite"])[0] == 0
+    assert _run(capsys, ["run", *PAPER, "-N", "4", "--load-node", "3", "--out", R, *FAST, "--overwrite"])[0] == 0
     left = sorted(p.name for p in R.iterdir() if p.name.startswith("response"))
     assert left == [] and json.loads((R / "summary.json").read_text())["case"]["load_nodes"] == [[3, 1.0]]
 
@@ -171,7 +173,7 @@ def test_progress_is_whole_lines_and_messages_start_on_a_new_line(monkeypatch):
 
 def test_a_piped_run_writes_whole_lines(tmp_path):
     """A real run with progress on and stderr a pipe: no carriage return, every line a plbar message."""
-    r = subprocess.run([sys.executable, "-m", "plbar", "run", "--model", "fe", "-N", "6", "--element", "P2",
+    r = subprocess.run([sys.executable, "-m", "plbar", "run", *PAPER, "--model", "fe", "-N", "6", "--element", "P2",
                         "--grid", "40", "40", "--out", str(tmp_path / "o"), "--no-plot"],
                        capture_output=True, text=True, env=dict(os.environ, PLBAR_PROGRESS_DELAY="0"), timeout=600)
     assert r.returncode == 0, r.stderr
@@ -203,13 +205,13 @@ def test_run_says_what_a_large_solve_costs_before_it_starts(tmp_path, capsys, mo
         raise KeyboardInterrupt                                     # the user's Ctrl-C, right at the start
 
     monkeypatch.setattr(cli_run, "solve", stop)
-    code, _, err = _run(capsys, ["run", "--model", "fe", "-N", "2000", "--out", tmp_path / "big"])
+    code, _, err = _run(capsys, ["run", *PAPER, "--model", "fe", "-N", "2000", "--out", tmp_path / "big"])
     lines = err.splitlines()
     assert code == 130 and len(lines) == 2 and "days" in lines[0] and "GB" in lines[0]
     assert "'plbar refine'" in lines[0] and "--modes" in lines[0]
     assert lines[1].startswith("plbar: interrupted") and "continue a study" not in lines[1]
     assert not (tmp_path / "big").exists()                      # an interrupted run leaves no empty folder
-    code, _, err = _run(capsys, ["run", "--model", "fe", "-N", "8", "--out", tmp_path / "small"])
+    code, _, err = _run(capsys, ["run", *PAPER, "--model", "fe", "-N", "8", "--out", tmp_path / "small"])
     assert code == 130 and "note" not in err
 
 
@@ -217,10 +219,15 @@ def test_cost_estimate_follows_the_measured_scaling():
     from plbar.app.cost import estimate_cost
 
     for n, seconds in ((10, 4.6), (20, 32.0), (50, 239.0), (100, 583.0)):        # docs/speed.md
-        c = estimate_cost(plbar.Case(model="fe", n=n))
+        c = estimate_cost(plbar.Case(model="fe", n=n, signatures="paper"))
         assert seconds / 2 < c.seconds < 2 * seconds, (n, c)
-    assert estimate_cost(plbar.Case(model="fe", n=100, modes=20)).seconds < 60
-    assert estimate_cost(plbar.Case(model="fe", n=100, grid=(100, 100))).seconds < 200
+        assert c.signatures == 0
+    assert estimate_cost(plbar.Case(model="fe", n=100, modes=20, signatures="paper")).seconds < 60
+    assert estimate_cost(plbar.Case(model="fe", n=100, grid=(100, 100), signatures="paper")).seconds < 200
+    for n, seconds in ((16, 70.0), (32, 220.0)):                                 # the search for every signature
+        c = estimate_cost(plbar.Case(model="fe", n=n, end_mass=0.5))
+        assert seconds / 2 < c.signatures < 2 * seconds, (n, c)
+    assert estimate_cost(plbar.Case()).signatures < 5
 
 
 # 4. sweep-loads: a compact positions table, a warning above a size, bad input before the solve --------------------
@@ -318,7 +325,7 @@ def test_no_rate_for_values_that_wander():
 def test_bad_export_and_render_options_create_nothing(tmp_path, capsys, cmd, opts, word):
     pytest.importorskip("pyvista")
     R = tmp_path / "R"
-    assert _run(capsys, ["run", "-N", "4", "--out", R, *FAST])[0] == 0
+    assert _run(capsys, ["run", *PAPER, "-N", "4", "--out", R, *FAST])[0] == 0
     _refused(capsys, [cmd, "--from", R, "--out", tmp_path / "d", *opts], word)
     assert not (tmp_path / "d").exists()
 
@@ -372,7 +379,7 @@ def test_impact_loss_is_exact_near_grazing(fe_p2_coarse):
 def test_truncated_impact_loss_keeps_the_projection_loss():
     from plbar.response import impact_loss, kinetic_energy_loss
 
-    res = plbar.solve(plbar.Case(model="fe", n=12, modes=4, grid=(40, 40)))
+    res = plbar.solve(plbar.Case(signatures="paper", model="fe", n=12, modes=4, grid=(40, 40)))
     orb = res.branches[0].orbits
     S = res.paths.prob.system.impact_mass
     vc = orb.contact_velocity(orb.T2[:, None])[:, 0]
@@ -399,7 +406,7 @@ def test_export_index_minus_one_is_documented(capsys):
 
 
 def test_summary_has_the_plbar_version(tmp_path, capsys):
-    assert _run(capsys, ["run", "-N", "3", "--out", tmp_path, *FAST])[0] == 0
+    assert _run(capsys, ["run", *PAPER, "-N", "3", "--out", tmp_path, *FAST])[0] == 0
     assert json.loads((tmp_path / "summary.json").read_text())["plbar_version"] == plbar.__version__
 
 

@@ -10,7 +10,7 @@ from plbar.paths import default_domain, scan_field
 
 @pytest.fixture(scope="module")
 def grid_result():
-    return plbar.solve(plbar.Case(method="grid"))
+    return plbar.solve(plbar.Case(signatures="paper", method="grid"))
 
 
 def test_continuation_contains_every_admissible_scan_point(default_result, grid_result):

@@ -25,7 +25,7 @@ CASES = {
 def solved(request):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", plbar.errors.CoarseGridWarning)   # a few short branches at 60 x 60
-        return plbar.solve(plbar.Case(grid=(60, 60), **CASES[request.param]))
+        return plbar.solve(plbar.Case(signatures="paper", grid=(60, 60), **CASES[request.param]))
 
 
 def test_impact_loss_is_half_S_vc_squared(solved):

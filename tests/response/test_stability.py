@@ -56,7 +56,7 @@ def test_multipliers_match_finite_differences(default_result):
 
 
 def test_fe_p2_consistent_multipliers_match_finite_differences():
-    res = plbar.solve(plbar.Case(**FE_POINT))
+    res = plbar.solve(plbar.Case(**FE_POINT, signatures="paper"))
     prob = res.paths.prob
     orb, k = good_points(res, per_branch=1, min_len=10)[0]
     o = orb.take([k])
@@ -174,7 +174,7 @@ def test_modal_monodromy_is_the_physical_one_in_modal_coordinates(default_result
 
 def test_truncated_model_multipliers_converge_to_the_full_ones():
     """With every mode kept the truncated path is the full one; with most modes the multipliers agree closely."""
-    full = plbar.Case(model="fe", n=12, grid=(80, 80))
+    full = plbar.Case(model="fe", n=12, grid=(80, 80), signatures="paper")
     res = plbar.solve(full)
     b = max(res.branches, key=len)
     k = len(b) // 2

@@ -22,9 +22,9 @@ from plbar.model import two_state
 from plbar.model import with_load_vector as _with_q
 
 CASES = {
-    "chain": plbar.Case(grid=(60, 60)),
+    "chain": plbar.Case(grid=(60, 60), signatures="paper"),
     "fe_p2": plbar.Case(model="fe", n=5, element="P2", mass="consistent", point_masses=((1.0, 0.3),),
-                        load_points=((0.37, 1.0),), grid=(60, 60)),
+                        load_points=((0.37, 1.0),), grid=(60, 60), signatures="paper"),
 }
 
 

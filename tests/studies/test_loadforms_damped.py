@@ -17,9 +17,9 @@ from plbar.response import check, coefficients, damping, orbits, phase
 from plbar.studies.loads.forms import DampedLoadForms, load_forms
 
 CASES = {
-    "chain": plbar.Case(grid=(80, 80), rayleigh=plbar.rayleigh_from_ratio(0.02, 8.0, 12.0)),
+    "chain": plbar.Case(grid=(80, 80), rayleigh=plbar.rayleigh_from_ratio(0.02, 8.0, 12.0), signatures="paper"),
     "fe_p2": plbar.Case(model="fe", n=5, element="P2", mass="consistent", point_masses=((1.0, 0.3),),
-                        load_points=((0.37, 1.0),), grid=(60, 60), rayleigh=(0.05, 0.01)),
+                        load_points=((0.37, 1.0),), grid=(60, 60), rayleigh=(0.05, 0.01), signatures="paper"),
 }
 
 

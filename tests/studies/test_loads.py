@@ -19,7 +19,7 @@ PAIRS = [((1.0, 0.5), (3.0, 0.5)), ((2.0, 0.5), (4.0, 0.5))]
 @pytest.fixture(scope="module")
 def study(tmp_path_factory):
     out = tmp_path_factory.mktemp("loads")
-    first = plbar.solve(plbar.Case(grid=GRID))
+    first = plbar.solve(plbar.Case(signatures="paper", grid=GRID))
     s = first.paths.prob.system
     T = float(first.branches[-1].T[len(first.branches[-1]) // 2])
     q = (s.K - (2 * np.pi / T) ** 2 * s.M)[:, 0]                 # h(q) = 0 at that path point (u = e_1)

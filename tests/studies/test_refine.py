@@ -205,12 +205,12 @@ def test_refine_refuses_bad_input(tmp_path, capsys):
 def test_truncation_warns_for_xi_and_refine_refuses_it(tmp_path, capsys):
     res = None
     with pytest.warns(plbar.errors.TruncationWarning, match="truncated"):
-        res = plbar.solve(plbar.Case(model="fe", n=12, modes=5, grid=(40, 40)))
+        res = plbar.solve(plbar.Case(signatures="paper", model="fe", n=12, modes=5, grid=(40, 40)))
     assert res.branches                                    # the paths are still located
     import warnings
     with warnings.catch_warnings():
         warnings.simplefilter("error", plbar.errors.TruncationWarning)
-        plbar.solve(plbar.Case(model="fe", n=6, grid=(40, 40)))          # the full model: no warning
+        plbar.solve(plbar.Case(signatures="paper", model="fe", n=6, grid=(40, 40)))     # the full model: no warning
     assert main(["refine", "--model", "fe", "-N", "6", "8", "--modes", "4", "--out", str(tmp_path), "-q"]) == 2
     assert "full model" in capsys.readouterr().err
 

@@ -37,7 +37,7 @@ def test_sweep_max_matches_core_api(sweep):
     _, _, tables = sweep
     best = tables.summary["best"]["T0_II/2"]["single"]
     s = best["s1"]
-    res = plbar.solve(plbar.Case(load_points=((s, 1.0),), grid=GRID))
+    res = plbar.solve(plbar.Case(signatures="paper", load_points=((s, 1.0),), grid=GRID))
     T0I, T0II = res.paths.prob.system.T0
     labels = assign_families([(b.T.min(), b.T.max()) for b in res.branches], [len(b) for b in res.branches],
                              T0I, T0II)

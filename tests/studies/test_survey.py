@@ -93,6 +93,8 @@ def test_same_command_twice_and_dask_give_identical_files(tmp_path):
 SCRIPT = """
 import sys, numpy as np, plbar
 from plbar.studies.survey import run_survey
+
+PAPER = ["--signatures", "paper"]      # the paper's class only: these runs are not about the other signatures
 run_survey(plbar.Case(), np.linspace(8.0, 9.0, 8), 150, 20, sys.argv[1], ("rest", "down"), plot=False)
 """
 
@@ -151,5 +153,5 @@ def test_short_survey_without_record(tmp_path, capsys):
 
 
 def test_run_and_survey_do_not_share_a_folder(tmp_path, capsys):
-    assert main(["run", "--out", str(tmp_path), "--no-plot", "-q"]) == 0
+    assert main(["run", *PAPER, "--out", str(tmp_path), "--no-plot", "-q"]) == 0
     assert main(["survey", "--T-list", "10", "--periods", "50", "--record", "5", "--out", str(tmp_path), "-q"]) == 2

@@ -32,7 +32,7 @@ def test_helpers():
 
 @pytest.fixture(scope="module")
 def fe8():
-    return plbar.solve(plbar.Case(model="fe", n=8, grid=(60, 60)))
+    return plbar.solve(plbar.Case(signatures="paper", model="fe", n=8, grid=(60, 60)))
 
 
 def _check(obj, name, *parts):

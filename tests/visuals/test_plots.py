@@ -14,7 +14,7 @@ from plbar.visuals import plots  # noqa: E402
 @pytest.fixture(scope="module")
 def fe8():
     """An FE bar with many branches whose two anchor periods nearly coincide (T0_I ~ T0_II/2 ~ 2)."""
-    return plbar.solve(plbar.Case(model="fe", n=8, grid=(60, 60)))
+    return plbar.solve(plbar.Case(signatures="paper", model="fe", n=8, grid=(60, 60)))
 
 
 @pytest.fixture

@@ -65,7 +65,8 @@ def with_rayleigh(case: Case | None = None, ratios=RATIOS, at=None, progress: bo
     runs = []
     for z in ratios:
         ab = rayleigh_from_ratio(z, *at)
-        runs.append(DampedRun(float(z), at, ab, solve(replace(case, rayleigh=ab), progress=progress)))
+        runs.append(DampedRun(float(z), at, ab, solve(replace(case, rayleigh=ab, signatures="paper"),
+                                                      progress=progress)))
     return runs
 
 

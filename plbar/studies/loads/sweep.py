@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import contextlib
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -289,7 +289,7 @@ def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pair
     files = {}
     with claim or contextlib.nullcontext():
         t0 = time.perf_counter()
-        res = solve(case, progress=progress)
+        res = solve(replace(case, signatures="paper"), progress=progress)    # the study is of the paper's class
         r = _study(res, positions, per_element, pairs, loads, {"solve": time.perf_counter() - t0})
         if claim is not None:
             claim.take()
