@@ -25,15 +25,16 @@ periodic response (FORMULATION §4) written as a root of ``F``.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
 from ..model import Problem
-from ..response import forced_coeffs
 from ..response import flow_matrix as modal_flow
 from .signature import Signature
 
-__all__ = ["Chain", "Segment", "evaluate", "layout", "flow_matrix", "vector_field", "switch_maps", "state_data"]
+__all__ = ["Chain", "Segment", "evaluate", "layout", "flow_matrix", "vector_field", "switch_maps", "state_data", "model",
+           "dwell_of"]
 
 
 @dataclass(frozen=True)
@@ -121,96 +122,56 @@ def _build_switch_maps(prob: Problem):
     return E, G
 
 
-class _Walker:
-    """Forward propagation of the state and (optionally) of its derivative with respect to ``X``."""
+def model(prob: Problem):
+    """``(md, damping)``: the compiled chain's view of the problem (:mod:`plbar.hybrid.kernel.walk`; cached).
 
-    def __init__(self, prob, sig, T, X, jac):
-        self.prob, self.T, self.W = prob, float(T), 2 * np.pi / float(T)
-        self.nz, self.q, self.nX = layout(prob, sig)
-        self.X = np.asarray(X, float)
-        self.phi = float(self.X[-1])
-        self.z = self.X[:self.nz].copy()
-        self.D = np.eye(self.nz, self.nX) if jac else None
-        self.t = 0.0
-        self.tcol = np.zeros(self.nX)          # dt/dX: the durations passed so far
-        self.jac = jac
+    ``damping`` is None undamped (the undamped flows are compiled), else a marker array (the damped ones)."""
+    return prob.cached("hybrid_kernel_model", _build_model)
 
-    def flow(self, s: int, col: int) -> Segment:
-        w, f, _, _, zeta, _ = state_data(self.prob, s)
-        tau = float(self.X[self.nz + col])
-        z0 = self.z
-        Phi = flow_matrix(w, tau, zeta)
-        ec, es, vc, vs = forced_coeffs(w, f, self.W, self.t, tau, zeta=zeta)
-        Fc, Fs = np.concatenate([ec, vc]), np.concatenate([es, vs])
-        cp, sp = np.cos(self.phi), np.sin(self.phi)
-        z1 = Phi @ z0 + Fc * cp + Fs * sp
-        if self.jac:
-            dphi = -Fc * sp + Fs * cp
-            D = Phi @ self.D
-            D[:, -1] += dphi
-            D += np.outer(-self.W * dphi, self.tcol)             # a later start shifts the load's phase
-            D[:, self.nz + col] += vector_field(w, f, self.W, self.t + tau, self.phi, z1, zeta)
-            self.D = D
-        seg = Segment(s, self.t, tau, z0, z1, col, "open" if s == 1 else "impact")
-        self.z = z1
-        self.t += tau
-        self.tcol[self.nz + col] = 1.0
-        return seg
 
-    def margin(self, s: int):
-        """``(g, dg/dX, size)`` of the state's margin at the current point (``-R`` in I, ``-x_c`` in II)."""
-        w, _, c, rq, _, cv = state_data(self.prob, s)
-        m = w.size
-        arg = self.W * self.t - self.phi
-        g = c @ self.z[:m] + rq * np.cos(arg)
-        size = np.abs(c) @ np.abs(self.z[:m]) + abs(rq)
-        if cv is not None:
-            g += cv @ self.z[m:]
-            size += np.abs(cv) @ np.abs(self.z[m:])
-        if not self.jac:
-            return g, None, size
-        dg = c @ self.D[:m] - rq * np.sin(arg) * (self.W * self.tcol - np.eye(1, self.nX, self.nX - 1)[0])
-        if cv is not None:
-            dg = dg + cv @ self.D[m:]
-        return g, dg, size
+def _build_model(prob: Problem):
+    tabs = []
+    for s in (1, 2):
+        w, f, c, rq, zeta, cv = state_data(prob, s)
+        none = np.zeros_like(w)
+        tabs.append(np.ascontiguousarray(np.stack([w, f, c, none if zeta is None else zeta,
+                                                   none if cv is None else cv]), dtype=float))
+    E, G = switch_maps(prob)
+    damping = np.ones(1) if getattr(prob.system, "damped", False) else None
+    return (tabs[0], tabs[1], np.ascontiguousarray(E, float), np.ascontiguousarray(G, float),
+            float(state_data(prob, 1)[3])), damping
 
-    def switch(self, M: np.ndarray) -> None:
-        self.z = M @ self.z
-        if self.jac:
-            self.D = M @ self.D
+
+@lru_cache(maxsize=256)
+def dwell_of(sig: Signature) -> np.ndarray:
+    """The signature's dwell kinds as the compiled chain takes them (1 positive, 0 zero)."""
+    out = np.array(sig.dwell, np.int64)
+    out.setflags(write=False)
+    return out
 
 
 def evaluate(prob: Problem, sig: Signature, T: float, X, jac: bool = True) -> Chain:
-    """Residuals ``F(X)`` (and the exact Jacobian) of the orbit of signature ``sig`` at period ``T``."""
-    E, G = switch_maps(prob)
-    wk = _Walker(prob, sig, T, X, jac)
-    F, rows, segs, zero, scale = [], [], [], [], []
-    col = 0
-    for i, positive in enumerate(sig.dwell):
-        if positive:
-            segs.append(wk.flow(1, col))
-            col += 1
-            g, dg, size = wk.margin(1)
-            F.append(g)
-            rows.append(dg)
-            scale.append(size)
-        else:
-            g, _, _ = wk.margin(1)                               # just after the impact: must pull (< 0)
-            zero.append(g)
-        wk.switch(E)
-        segs.append(wk.flow(2, col))
-        col += 1
-        g, dg, size = wk.margin(2)
-        F.append(g)
-        rows.append(dg)
-        scale.append(size)
-        wk.switch(G)
-    nz, q, nX = wk.nz, wk.q, wk.nX
-    total = float(np.sum(wk.X[nz:nz + q])) - sig.m * float(T)
-    F = np.concatenate([np.array(F), [total], wk.z - wk.X[:nz]])
-    J = None
-    if jac:
-        tot = np.zeros(nX)
-        tot[nz:nz + q] = 1.0
-        J = np.vstack([np.array(rows), tot[None], wk.D - np.eye(nz, nX)])
-    return Chain(F, J, tuple(segs), np.array(zero), np.array(scale))
+    """Residuals ``F(X)`` (and the exact Jacobian) of the orbit of signature ``sig`` at period ``T`` (compiled:
+    :func:`plbar.hybrid.kernel.walk.walk`)."""
+    from .kernel import chain
+
+    md, damping = model(prob)
+    X = np.ascontiguousarray(X, dtype=float)
+    nz, q, nX = layout(prob, sig)
+    if X.shape != (nX,):
+        raise ValueError(f"X has shape {X.shape}, the chain of {sig} takes {nX} unknowns")
+    dwell = dwell_of(sig)
+    m1, m2 = md[0].shape[1], md[1].shape[1]
+    nseg = sig.k + (sig.k - sig.zero)
+    F, J = np.empty(nX), np.empty((nX, nX) if jac else (0, 0))
+    times, zs = np.empty((nseg, 2)), np.zeros((nseg, 2, 2 * max(m1, m2)))
+    zero, scale = np.empty(sig.zero), np.empty(q)
+    chain(md, damping, dwell, sig.m, float(T), X, F, J, times, zs, zero, scale)
+    segs, i, col = [], 0, 0
+    for positive in sig.dwell:
+        for s in ((1, 2) if positive else (2,)):
+            n = 2 * (m1 if s == 1 else m2)
+            segs.append(Segment(s, float(times[i, 0]), float(times[i, 1]), zs[i, 0, :n], zs[i, 1, :n], col,
+                                "open" if s == 1 else "impact"))
+            i, col = i + 1, col + 1
+    return Chain(F, J if jac else None, tuple(segs), zero, scale)

@@ -20,7 +20,7 @@ from ..errors import PlbarError
 from ..model import Problem
 from ..response import psi, segment
 from ..util.reprs import build
-from .chain import Chain, evaluate, layout, state_data
+from .chain import Chain, dwell_of, evaluate, layout, model, state_data
 from .signature import Signature
 
 __all__ = ["HybridOrbit", "NotConverged", "polish", "orbit_at", "ACCEPT", "ROUNDOFF"]
@@ -187,35 +187,25 @@ def orbit_at(prob: Problem, sig: Signature, T: float, X, ch: Chain | None = None
 
 
 def polish(prob: Problem, sig: Signature, T: float, X0, maxit: int = 30) -> HybridOrbit:
-    """Newton on the chain's residuals from the guess ``X0`` (exact Jacobian, damped by halving).
+    """Newton on the chain's residuals from the guess ``X0`` (exact Jacobian, damped by halving; compiled:
+    :func:`plbar.hybrid.kernel.newton.polish`).
 
     Raises
     ------
     NotConverged
         If the relative residual does not reach :data:`ACCEPT`, or a duration turns negative.
     """
+    from .kernel import SINGULAR
+    from .kernel import polish as newton
+
     X = np.array(X0, float)
-    nz, q, _ = layout(prob, sig)
+    nz, q, nX = layout(prob, sig)
     T = float(T)
-    for _ in range(maxit):
-        ch = evaluate(prob, sig, T, X)
-        sc = _scales(prob, ch, X, nz, q, T)
-        r = np.max(np.abs(ch.F) / sc)
-        if r <= ROUNDOFF:
-            break
-        try:
-            dX = np.linalg.solve(ch.J, -ch.F)
-        except np.linalg.LinAlgError:
-            raise NotConverged(f"singular Jacobian for {sig} at T = {T:.12g}") from None
-        lam = 1.0
-        for _ in range(20):
-            Xn = X + lam * dX
-            if np.all(Xn[nz:nz + q] > 0):
-                rn = np.max(np.abs(evaluate(prob, sig, T, Xn, jac=False).F) / sc)
-                if rn < r or lam < 1e-3:
-                    break
-            lam *= 0.5
-        X = Xn
+    md, damping = model(prob)
+    if X.shape != (nX,):
+        raise ValueError(f"X0 has shape {X.shape}, the chain of {sig} takes {nX} unknowns")
+    if newton(md, damping, dwell_of(sig), sig.m, T, X, int(maxit), ROUNDOFF) == SINGULAR:
+        raise NotConverged(f"singular Jacobian for {sig} at T = {T:.12g}")
     orb = orbit_at(prob, sig, T, X)
     if not orb.residual <= 10 * ROUNDOFF or np.any(X[nz:nz + q] <= 0):
         raise NotConverged(f"{sig} at T = {T:.12g}: residual {orb.residual:.2e} after Newton")
