@@ -115,20 +115,41 @@ def _curve(prob, orb: HybridOrbit, window, st) -> tuple[list[HybridOrbit], list[
 
 
 def _mults(prob, orbs) -> list[np.ndarray]:
-    return [multipliers(monodromy(prob, o.sig, o.T, o.phi, o.chain)) for o in orbs]
+    """The Floquet multipliers of each orbit (the eigenvalues of orbits of one signature in one call)."""
+    if not orbs:
+        return []
+    Ms = [monodromy(prob, o.sig, o.T, o.phi, o.chain) for o in orbs]
+    if len({M.shape for M in Ms}) == 1:
+        return list(multipliers(np.stack(Ms)))
+    return [multipliers(M) for M in Ms]
+
+
+def _flags(mus) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per orbit: a real multiplier below -1; a complex pair; the largest modulus of the complex ones."""
+    if len({mu.shape for mu in mus}) == 1:
+        M = np.stack(mus)
+        real = np.abs(M.imag) < 1e-9
+        cmod = np.where(real, -np.inf, np.abs(M))
+        return np.any(real & (M.real < -1), axis=1), np.any(~real, axis=1), cmod.max(axis=1)
+    out = [_flags([mu]) for mu in mus]
+    return tuple(np.concatenate([o[j] for o in out]) for j in range(3))
 
 
 def _events(orbs, mus) -> list[dict]:
     ev = []
-    for i in range(1, len(orbs)):
-        a, b = mus[i - 1], mus[i]
-        ra, rb = a[np.abs(a.imag) < 1e-9].real, b[np.abs(b.imag) < 1e-9].real
-        if (np.any(ra < -1) != np.any(rb < -1)):
+    if len(orbs) < 2:
+        return ev
+    pd, cplx, cmax = _flags(mus)
+    T = np.array([o.T for o in orbs])
+    flip_pd = pd[1:] != pd[:-1]
+    flip_ns = cplx[1:] & cplx[:-1] & ((cmax[1:] > 1) != (cmax[:-1] > 1))
+    fold = np.r_[False, (T[2:] - T[1:-1]) * (T[1:-1] - T[:-2]) < 0]
+    for i in np.flatnonzero(flip_pd | flip_ns | fold) + 1:
+        if flip_pd[i - 1]:
             ev.append({"kind": PD, "index": i, "T": orbs[i].T})
-        ca, cb = np.abs(a[np.abs(a.imag) >= 1e-9]), np.abs(b[np.abs(b.imag) >= 1e-9])
-        if ca.size and cb.size and (ca.max() > 1) != (cb.max() > 1):
+        if flip_ns[i - 1]:
             ev.append({"kind": NS, "index": i, "T": orbs[i].T})
-        if i >= 2 and (orbs[i].T - orbs[i - 1].T) * (orbs[i - 1].T - orbs[i - 2].T) < 0:
+        if fold[i - 1]:
             ev.append({"kind": FOLD, "index": i - 1, "T": orbs[i - 1].T})
     return ev
 

@@ -20,21 +20,22 @@ vector field at the end of the segment, a later start time shifts the load's
 phase (``d/dt_start = -W d/dphi`` of the forced part), and the switch maps and
 flows are linear.  For ``m = 1`` and one positive dwell this is the paper's
 periodic response (FORMULATION §4) written as a root of ``F``.
+
+:func:`evaluate` walks the chain in compiled code (:mod:`plbar.hybrid.kernel.walk`: the
+closed-form flows of :mod:`plbar.motion.kernel.closed`, one mode at a time).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from functools import lru_cache
+from dataclasses import dataclass, field
+from functools import cached_property, lru_cache
 
 import numpy as np
 
 from ..model import Problem
-from ..response import flow_matrix as modal_flow
 from .signature import Signature
 
-__all__ = ["Chain", "Segment", "evaluate", "layout", "flow_matrix", "vector_field", "switch_maps", "state_data", "model",
-           "dwell_of"]
+__all__ = ["Chain", "Segment", "evaluate", "layout", "switch_maps", "state_data", "model", "dwell_of"]
 
 
 @dataclass(frozen=True)
@@ -59,14 +60,34 @@ class Chain:
     """An evaluated chain: residuals ``F``, Jacobian ``J`` (or None), the segments, and the zero-dwell margins.
 
     ``zero_margins`` holds ``-R`` just after each impact followed by a zero dwell (it must be < 0: the reaction
-    pulls at once); ``switch_scale`` the size of the terms of each switching residual (for relative tests).
+    pulls at once); ``switch_scale`` the size of the terms of each switching residual (for relative tests);
+    ``residual`` the largest relative residual (each switching residual by its ``switch_scale``, the sum of the
+    durations by ``T``, the periodicity by the largest component of ``z0``); ``v_impact`` the contact velocity
+    just before each impact.  The segments (:class:`Segment`, built on first access) are in ``times`` (start,
+    length), ``states`` (start and end state, padded to the larger state: the arrays the compiled code takes)
+    and ``kinds`` (the state of each: 1 or 2); ``sizes`` is ``(2 m1, 2 m2)``.
     """
 
     F: np.ndarray
     J: np.ndarray | None
-    segments: tuple
     zero_margins: np.ndarray
     switch_scale: np.ndarray
+    residual: float
+    v_impact: np.ndarray = field(repr=False)
+    times: np.ndarray = field(repr=False)
+    states: np.ndarray = field(repr=False)
+    kinds: tuple = field(repr=False)
+    sizes: tuple = field(repr=False)
+
+    @cached_property
+    def segments(self) -> tuple:
+        """The :class:`Segment` of every duration, in order."""
+        out = []
+        for i, s in enumerate(self.kinds):
+            n = self.sizes[s - 1]
+            out.append(Segment(s, float(self.times[i, 0]), float(self.times[i, 1]), self.states[i, 0, :n],
+                               self.states[i, 1, :n], i, "open" if s == 1 else "impact"))
+        return tuple(out)
 
 
 def layout(prob: Problem, sig: Signature) -> tuple[int, int, int]:
@@ -74,26 +95,6 @@ def layout(prob: Problem, sig: Signature) -> tuple[int, int, int]:
     nz = 2 * prob.system.w1.size
     q = sig.durations
     return nz, q, nz + q + 1
-
-
-def flow_matrix(w: np.ndarray, tau: float, zeta=None) -> np.ndarray:
-    """The modal free flow over ``tau`` on ``(eta, etadot)``: ``(2m, 2m)``, 2 x 2 blocks per mode (damped with
-    ``zeta``)."""
-    p11, p12, p21, p22 = modal_flow(w, tau, zeta)
-    m = w.size
-    A = np.zeros((2 * m, 2 * m))
-    i = np.arange(m)
-    A[i, i], A[i, m + i], A[m + i, i], A[m + i, m + i] = p11, p12, p21, p22
-    return A
-
-
-def vector_field(w, f, W, t, phi, z, zeta=None) -> np.ndarray:
-    """``dz/dt = (etadot, f cos(W t - phi) - w^2 eta - 2 zeta w etadot)`` (Eq. (1) in modal form)."""
-    m = w.size
-    acc = f * np.cos(W * t - phi) - w * w * z[:m]
-    if zeta is not None:
-        acc = acc - 2.0 * zeta * w * z[m:]
-    return np.concatenate([z[m:], acc])
 
 
 def state_data(prob: Problem, s: int):
@@ -150,28 +151,27 @@ def dwell_of(sig: Signature) -> np.ndarray:
     return out
 
 
+@lru_cache(maxsize=256)
+def _plan(sig: Signature) -> tuple:
+    """``(dwell, segment states, zero dwells, unknown durations, segments)`` of a signature."""
+    states = tuple(s for positive in sig.dwell for s in ((1, 2) if positive else (2,)))
+    return dwell_of(sig), states, sig.zero, sig.durations, len(states)
+
+
 def evaluate(prob: Problem, sig: Signature, T: float, X, jac: bool = True) -> Chain:
     """Residuals ``F(X)`` (and the exact Jacobian) of the orbit of signature ``sig`` at period ``T`` (compiled:
-    :func:`plbar.hybrid.kernel.walk.walk`)."""
+    :func:`plbar.hybrid.kernel.walk.chain`)."""
     from .kernel import chain
 
     md, damping = model(prob)
+    dwell, states, zeros, q, nseg = _plan(sig)
+    m1, m2 = md[0].shape[1], md[1].shape[1]
+    nX = 2 * m1 + q + 1
     X = np.ascontiguousarray(X, dtype=float)
-    nz, q, nX = layout(prob, sig)
     if X.shape != (nX,):
         raise ValueError(f"X has shape {X.shape}, the chain of {sig} takes {nX} unknowns")
-    dwell = dwell_of(sig)
-    m1, m2 = md[0].shape[1], md[1].shape[1]
-    nseg = sig.k + (sig.k - sig.zero)
     F, J = np.empty(nX), np.empty((nX, nX) if jac else (0, 0))
     times, zs = np.empty((nseg, 2)), np.zeros((nseg, 2, 2 * max(m1, m2)))
-    zero, scale = np.empty(sig.zero), np.empty(q)
-    chain(md, damping, dwell, sig.m, float(T), X, F, J, times, zs, zero, scale)
-    segs, i, col = [], 0, 0
-    for positive in sig.dwell:
-        for s in ((1, 2) if positive else (2,)):
-            n = 2 * (m1 if s == 1 else m2)
-            segs.append(Segment(s, float(times[i, 0]), float(times[i, 1]), zs[i, 0, :n], zs[i, 1, :n], col,
-                                "open" if s == 1 else "impact"))
-            i, col = i + 1, col + 1
-    return Chain(F, J if jac else None, tuple(segs), zero, scale)
+    zero, scale, vimp = np.empty(zeros), np.empty(q), np.empty(dwell.size)
+    res = chain(md, damping, dwell, sig.m, float(T), X, F, J, times, zs, zero, scale, vimp)
+    return Chain(F, J if jac else None, zero, scale, res, vimp, times, zs, states, (2 * m1, 2 * m2))

@@ -12,7 +12,7 @@ period (``loss_per_T``); ``xi_eq`` of Eq. (22) over all its segments
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, lru_cache
 
 import numpy as np
 
@@ -138,23 +138,17 @@ class HybridOrbit:
                                      "loss_per_T": self.loss_per_T, "xi": self.xi, "residual": self.residual})
 
 
-def _scales(prob: Problem, ch: Chain, X, nz: int, q: int, T: float) -> np.ndarray:
-    zs = max(float(np.abs(X[:nz]).max(initial=0.0)), 1e-300)
-    return np.concatenate([np.maximum(ch.switch_scale, 1e-300), [T], np.full(nz, zs)])
-
-
 def durations_of(sig: Signature, X: np.ndarray, nz: int) -> np.ndarray:
     """The ``2k`` durations (zero dwells filled in) from the unknowns."""
-    out, col = [], 0
-    for positive in sig.dwell:
-        if positive:
-            out.append(X[nz + col])
-            col += 1
-        else:
-            out.append(0.0)
-        out.append(X[nz + col])
-        col += 1
-    return np.array(out, float)
+    out = np.zeros(2 * sig.k)
+    out[_duration_slots(sig)] = X[nz:nz + sig.durations]
+    return out
+
+
+@lru_cache(maxsize=256)
+def _duration_slots(sig: Signature) -> np.ndarray:
+    """Where each unknown duration goes among the ``2k`` durations."""
+    return np.array([2 * i + s for i, positive in enumerate(sig.dwell) for s in ((0, 1) if positive else (1,))])
 
 
 def _psi_sums(prob: Problem, ch: Chain, T: float, phi: float) -> tuple[float, float, float]:
@@ -178,12 +172,8 @@ def orbit_at(prob: Problem, sig: Signature, T: float, X, ch: Chain | None = None
     an evaluation of the same ``X`` without Jacobian)."""
     X = np.asarray(X, float)
     ch = ch if ch is not None and ch.J is None else evaluate(prob, sig, T, X, jac=False)
-    nz, q, _ = layout(prob, sig)
-    res = float(np.max(np.abs(ch.F) / _scales(prob, ch, X, nz, q, T)))
-    m2 = prob.system.w2.size
-    vimp = np.array([float(prob.system.gap_row @ seg.z1[m2:]) for seg in ch.segments if seg.state == 2])
-    return HybridOrbit(prob, sig, float(T), float(np.mod(X[-1], 2 * np.pi)), X, durations_of(sig, X, nz), res,
-                       vimp, ch.zero_margins, ch)
+    return HybridOrbit(prob, sig, float(T), float(np.mod(X[-1], 2 * np.pi)), X,
+                       durations_of(sig, X, 2 * prob.system.w1.size), ch.residual, ch.v_impact, ch.zero_margins, ch)
 
 
 def polish(prob: Problem, sig: Signature, T: float, X0, maxit: int = 30) -> HybridOrbit:

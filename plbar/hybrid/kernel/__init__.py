@@ -4,11 +4,13 @@
 * :mod:`.walk` -- the chain's residuals, their exact Jacobian and its segments, one mode at a time with the
   closed-form flows of :mod:`plbar.motion.kernel.closed` (entry point :func:`chain`);
 * :mod:`.newton` -- LU, the tangent, the corrector, a continuation step (entry point :func:`step`) and the
-  polish (entry point :func:`polish`).
+  polish (entry point :func:`polish`);
+* :mod:`.floquet` -- the monodromy of an evaluated chain (entry point :func:`monodromy`).
 """
 
 from .newton import CHORD, CONVERGED, DONE, ENDED, FAILED, FOLLOW, NEWTON, SINGULAR, polish, step
+from .floquet import monodromy
 from .walk import chain
 
-__all__ = ["chain", "step", "polish", "CHORD", "CONVERGED", "DONE", "ENDED", "FAILED", "FOLLOW", "NEWTON",
+__all__ = ["chain", "step", "polish", "monodromy", "CHORD", "CONVERGED", "DONE", "ENDED", "FAILED", "FOLLOW", "NEWTON",
            "SINGULAR"]

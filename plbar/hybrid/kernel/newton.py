@@ -16,9 +16,9 @@ import numpy as np
 
 from ...motion.kernel.jit import jit
 from .stamp import cached
-from .walk import chain, copy, segments
+from .walk import chain, copy, relative, segments
 
-__all__ = ["lu_factor", "lu_solve", "augmented", "tangent", "correct", "relative", "step", "polish", "FAILED",
+__all__ = ["lu_factor", "lu_solve", "scratch", "augmented", "tangent", "correct", "step", "polish", "FAILED",
            "CONVERGED", "DONE", "SINGULAR", "ENDED", "FOLLOW", "CHORD", "NEWTON"]
 
 FAILED, CONVERGED, DONE = 0, 1, 2     #: corrector outcomes (converged at its last point, or its last step taken)
@@ -76,23 +76,8 @@ def lu_solve(A, piv, b):
 def scratch(md, dwell, nX):
     """What :func:`.walk.chain` fills besides ``F`` and ``J``, for a call that does not keep it."""
     k, n = segments(dwell), 2 * max(md[0].shape[1], md[1].shape[1])
-    return np.empty((k, 2)), np.empty((k, 2, n)), np.empty(dwell.size), np.empty(nX - 2 * md[0].shape[1] - 1)
-
-
-@jit
-def relative(F, scale, X, nz, T):
-    """Largest relative residual: each switching residual by the size of its terms, the sum by ``T``, the
-    periodicity by the largest state component."""
-    q = scale.size
-    zs = 1e-300
-    for i in range(nz):
-        zs = max(zs, abs(X[i]))
-    r = abs(F[q]) / T
-    for i in range(q):
-        r = max(r, abs(F[i]) / max(scale[i], 1e-300))
-    for i in range(nz):
-        r = max(r, abs(F[q + 1 + i]) / zs)
-    return r
+    return (np.empty((k, 2)), np.empty((k, 2, n)), np.empty(dwell.size), np.empty(nX - 2 * md[0].shape[1] - 1),
+            np.empty(dwell.size))
 
 
 @jit
@@ -102,10 +87,10 @@ def augmented(md, damping, dwell, m, Y, F, A):
     nX = Y.size - 1
     X, T = Y[:nX], Y[nX]
     J, F2 = np.empty((nX, nX)), np.empty(nX)
-    times, zs, zero, scale = scratch(md, dwell, nX)
-    chain(md, damping, dwell, m, T, X, F, J, times, zs, zero, scale)
+    times, zs, zero, scale, vimp = scratch(md, dwell, nX)
+    chain(md, damping, dwell, m, T, X, F, J, times, zs, zero, scale, vimp)
     h = 1e-7 * T
-    chain(md, damping, dwell, m, T + h, X, F2, np.empty((0, 0)), times, zs, zero, np.empty(scale.size))
+    chain(md, damping, dwell, m, T + h, X, F2, np.empty((0, 0)), times, zs, zero, np.empty(scale.size), vimp)
     for i in range(nX):
         copy(J[i], A[i])
         A[i, nX] = (F2[i] - F[i]) / h
@@ -177,7 +162,7 @@ def correct(md, damping, dwell, m, Yp, t, S, newton, Ja, chord, Y):
     q = n - nz - 2
     A, piv = np.empty((n, n)), np.empty(n, np.int64)
     F, dY, none = np.empty(n - 1), np.empty(n), np.empty((0, 0))
-    times, zs, zero, scale = scratch(md, dwell, n - 1)
+    times, zs, zero, scale, vimp = scratch(md, dwell, n - 1)
     copy(Yp, Y)
     have, last = False, inf
     for it in range(2 * newton if chord else newton):
@@ -187,7 +172,7 @@ def correct(md, damping, dwell, m, Yp, t, S, newton, Ja, chord, Y):
         if fresh:
             augmented(md, damping, dwell, m, Y, F, A)
         else:
-            chain(md, damping, dwell, m, Y[n - 1], Y[:n - 1], F, none, times, zs, zero, scale)
+            chain(md, damping, dwell, m, Y[n - 1], Y[:n - 1], F, none, times, zs, zero, scale, vimp)
         if fresh or not have:
             for i in range(n):
                 if not fresh and i < n - 1:
@@ -250,11 +235,10 @@ def _polish(stamp):
         q = nX - nz - 1
         F, J, Fn = np.empty(nX), np.empty((nX, nX)), np.empty(nX)
         piv, dX, Xn = np.empty(nX, np.int64), np.empty(nX), X.copy()
-        times, zs, zero, scale = scratch(md, dwell, nX)
+        times, zs, zero, scale, vimp = scratch(md, dwell, nX)
         sn, none = np.empty(scale.size), np.empty((0, 0))
         for _ in range(maxit if stamp >= 0 else 0):     # (the stamp keys the on-disk cache)
-            chain(md, damping, dwell, m, T, X, F, J, times, zs, zero, scale)
-            r = relative(F, scale, X, nz, T)
+            r = chain(md, damping, dwell, m, T, X, F, J, times, zs, zero, scale, vimp)
             if r <= roundoff:
                 break
             if not lu_factor(J, piv):
@@ -267,7 +251,7 @@ def _polish(stamp):
                 for i in range(nX):
                     Xn[i] = X[i] + lam * dX[i]
                 if _positive(Xn, nz, q):
-                    chain(md, damping, dwell, m, T, Xn, Fn, none, times, zs, zero, sn)
+                    chain(md, damping, dwell, m, T, Xn, Fn, none, times, zs, zero, sn, vimp)
                     if relative(Fn, scale, X, nz, T) < r or lam < 1e-3:     # at the scales of X
                         break
                 lam *= 0.5

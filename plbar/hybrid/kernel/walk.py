@@ -23,7 +23,7 @@ from ...motion.kernel.closed import half, mode_flow
 from ...motion.kernel.jit import jit
 from .stamp import cached
 
-__all__ = ["W", "F", "C", "ZETA", "CV", "chain", "segments", "copy"]
+__all__ = ["W", "F", "C", "ZETA", "CV", "chain", "segments", "copy", "relative"]
 
 W, F, C, ZETA, CV = 0, 1, 2, 3, 4
 
@@ -49,22 +49,19 @@ def _flow_jac(tab, damping, Om, t, tau, phi, z, z1, D, Dn, tcol, dcol):
     c0, s0 = cos(Om * t), sin(Om * t)
     cW, sW, sWu = half(Om, tau)
     load = cos(Om * (t + tau) - phi)
-    unit = np.array([[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [cphi, 0.0, 0.0, -sphi], [sphi, 0.0, 0.0, cphi]])
-    out = np.empty((2, 4))
     for j in range(m):
         w, f, zeta = tab[W, j], tab[F, j], tab[ZETA, j]
-        unit[0, 0], unit[1, 0] = z[j], z[m + j]
-        for c in range(4):                        # the end state, the free flow's columns, d/dphi
-            out[0, c], out[1, c] = mode_flow(w, zeta, f, Om, c0, s0, tau, unit[0, c], unit[1, c], unit[2, c],
-                                             unit[3, c], cW, sW, sWu, damping)
-        e, v = out[0, 0], out[1, 0]
+        e, v = mode_flow(w, zeta, f, Om, c0, s0, tau, z[j], z[m + j], cphi, sphi, cW, sW, sWu, damping)
+        p11, p21 = mode_flow(w, zeta, f, Om, c0, s0, tau, 1.0, 0.0, 0.0, 0.0, cW, sW, sWu, damping)
+        p12, p22 = mode_flow(w, zeta, f, Om, c0, s0, tau, 0.0, 1.0, 0.0, 0.0, cW, sW, sWu, damping)
+        de, dv = mode_flow(w, zeta, f, Om, c0, s0, tau, 0.0, 0.0, -sphi, cphi, cW, sW, sWu, damping)
         z1[j], z1[m + j] = e, v
         for k in range(nX):
             a, b = D[j, k], D[m + j, k]
-            Dn[j, k] = out[0, 1] * a + out[0, 2] * b - Om * out[0, 3] * tcol[k]
-            Dn[m + j, k] = out[1, 1] * a + out[1, 2] * b - Om * out[1, 3] * tcol[k]
-        Dn[j, nX - 1] += out[0, 3]
-        Dn[m + j, nX - 1] += out[1, 3]
+            Dn[j, k] = p11 * a + p12 * b - Om * de * tcol[k]
+            Dn[m + j, k] = p21 * a + p22 * b - Om * dv * tcol[k]
+        Dn[j, nX - 1] += de
+        Dn[m + j, nX - 1] += dv
         Dn[j, dcol] += v
         Dn[m + j, dcol] += f * load - w * w * e - 2.0 * zeta * w * v
 
@@ -148,6 +145,22 @@ def _segment(tab, rq, damping, Om, t, tau, phi, z, z1, D, D1, tcol, dcol, jac, d
 
 
 @jit
+def relative(F, scale, X, nz, T):
+    """Largest relative residual: each switching residual by the size of its terms, the sum by ``T``, the
+    periodicity by the largest state component."""
+    q = scale.size
+    zs = 1e-300
+    for i in range(nz):
+        zs = max(zs, abs(X[i]))
+    r = abs(F[q]) / T
+    for i in range(q):
+        r = max(r, abs(F[i]) / max(scale[i], 1e-300))
+    for i in range(nz):
+        r = max(r, abs(F[q + 1 + i]) / zs)
+    return r
+
+
+@jit
 def _close(X, nz, q, m, T, z, D, F, J, jac):
     """The last rows: ``sum tau = m T`` and the periodicity ``z(m T) = z0`` (with ``jac`` their Jacobian rows)."""
     total = 0.0
@@ -164,22 +177,26 @@ def _close(X, nz, q, m, T, z, D, F, J, jac):
 
 
 def _chain(stamp):
-    def chain(md, damping, dwell, m, T, X, F, J, times, zs, zero, scale):
+    def chain(md, damping, dwell, m, T, X, F, J, times, zs, zero, scale, vimp):
         """Residuals ``F`` (and, unless ``J`` is empty, the Jacobian ``J``) of the chain of ``dwell`` over ``m``
-        periods at ``T``.
+        periods at ``T``; returns the largest relative residual (:func:`relative`).
 
         Also fills the segments' start times and lengths ``times[i]``, their states ``zs[i, 0 | 1]`` (start, end;
         padded; segment ``i`` is the one of duration ``X[nz + i]``), the margins after impacts followed by a zero
-        dwell ``zero`` and the size of the terms of every switching residual ``scale``.  The state and its
-        derivative live in two buffers each (``a``: the current one).
+        dwell ``zero``, the size of the terms of every switching residual ``scale`` and the contact velocity
+        before every impact ``vimp``.  The state and its derivative live in two buffers each (``a``: the current
+        one).
         """
         tab1, tab2, E, G, rq1 = md
         nz, nX = 2 * tab1.shape[1], X.size
         n, jac = 2 * max(tab1.shape[1], tab2.shape[1]), J.size > 0 and stamp >= 0   # (the stamp keys the cache)
         Om, phi = 2.0 * pi / T, X[nX - 1]
-        Z, DD, tcol, dg = np.zeros((2, n)), np.zeros((2, n, nX)), np.zeros(nX), np.zeros(nX)
+        Z, tcol, dg = np.zeros((2, n)), np.zeros(nX), np.zeros(nX)
+        DD = np.zeros((2, n, nX) if jac else (2, 1, 1))
         for i in range(nz):
-            Z[0, i], DD[0, i, i] = X[i], 1.0
+            Z[0, i] = X[i]
+            if jac:
+                DD[0, i, i] = 1.0
         t, col, nzero, a = 0.0, 0, 0, 0
         for i in range(dwell.size):
             for s in range(2):
@@ -196,10 +213,15 @@ def _chain(stamp):
                     copy(Z[1 - a], zs[col, 1])
                     if jac:
                         copy(dg, J[col])
+                    if s == 1:                        # the contact velocity: the margin -x_c's rate, negated
+                        vimp[i] = 0.0
+                        for j in range(tab2.shape[1]):
+                            vimp[i] -= tab2[C, j] * Z[1 - a, tab2.shape[1] + j]
                     a, t, col = 1 - a, t + tau, col + 1
                 _switch_all(E if s == 0 else G, Z[a], Z[1 - a], DD[a], DD[1 - a], jac)      # opening, impact
                 a = 1 - a
         _close(X, nz, nX - nz - 1, m, T, Z[a], DD[a], F, J, jac)
+        return relative(F, scale, X, nz, T)
 
     return chain
 
