@@ -156,19 +156,26 @@ def _events(orbs, mus) -> list[dict]:
 
 def _known(curves, orb: HybridOrbit) -> bool:
     """Is ``orb`` on a curve already followed (same canonical signature; its loss on the curve's piecewise
-    linear interpolation at its ``T``, between two neighbouring points)?  ``curves``: ``(label, T, loss)``."""
+    linear interpolation at its ``T``, between two neighbouring points)?  ``curves``: :func:`_curve_entry`."""
     lab = str(orb.sig.canonical())
-    for label, T, L in curves:
-        if label != lab or len(T) < 2:
+    T, loss = orb.T, orb.loss_per_T
+    for label, Tc, L, lo, hi in curves:
+        if label != lab or len(Tc) < 2:
             continue
-        a, b = T[:-1], T[1:]
-        inside = (np.minimum(a, b) <= orb.T) & (orb.T <= np.maximum(a, b))
-        for i in np.flatnonzero(inside):
-            w = 0.0 if b[i] == a[i] else (orb.T - a[i]) / (b[i] - a[i])
+        for i in np.flatnonzero((lo <= T) & (T <= hi)):
+            a, b = Tc[i], Tc[i + 1]
+            w = 0.0 if b == a else (T - a) / (b - a)
             Li = L[i] + w * (L[i + 1] - L[i])
-            if abs(Li - orb.loss_per_T) <= 1e-2 * abs(L[i + 1] - L[i]) + 1e-6 * max(abs(orb.loss_per_T), 1e-12):
+            if abs(Li - loss) <= 1e-2 * abs(L[i + 1] - L[i]) + 1e-6 * max(abs(loss), 1e-12):
                 return True
     return False
+
+
+def _curve_entry(label: str, T, L) -> tuple:
+    """``(label, T, loss, lo, hi)`` of a followed curve (``lo, hi``: the ``T`` range of each piece) for
+    :func:`_known`."""
+    T, L = np.asarray(T, float), np.asarray(L, float)
+    return label, T, L, np.minimum(T[:-1], T[1:]), np.maximum(T[:-1], T[1:])
 
 
 def _zero_dwell_seeds(prob, window, num: int) -> list[HybridOrbit]:
@@ -262,7 +269,7 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
         _paper_ends(prob, paper_branches, window, st) + list(extra_seeds)
     # the paper's branches count as followed: a seed of class 1P on them is known; one off them (outside the
     # paper's search domain, e.g. a stuck phase longer than T0_I / 2) is followed here
-    curves = [("1P", np.asarray(b.T, float), np.asarray(b.dPL, float)) for b in paper_branches]
+    curves = [_curve_entry("1P", b.T, b.dPL) for b in paper_branches]
     branches = []
     while queue:
         orb = queue.pop(0)
@@ -271,8 +278,7 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
         orbs, ends = _curve(prob, orb, window, st)
         if progress is not None:
             progress()
-        curves.append((str(orb.sig.canonical()), np.array([o.T for o in orbs]),
-                       np.array([o.loss_per_T for o in orbs])))
+        curves.append(_curve_entry(str(orb.sig.canonical()), [o.T for o in orbs], [o.loss_per_T for o in orbs]))
         mus = _mults(prob, orbs)
         ok = admissible(orbs)
         if orb.sig.canonical() == PAPER:              # the paper's own points stay with its branches

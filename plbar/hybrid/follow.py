@@ -47,9 +47,14 @@ class FollowSettings:
 
 
 def scale_of(prob: Problem, sig: Signature, X: np.ndarray, T: float) -> np.ndarray:
-    nz, q, _ = layout(prob, sig)
-    zs = max(float(np.abs(X[:nz]).max(initial=0.0)), 1e-12)
-    return np.concatenate([np.full(nz, zs), np.full(q, T), [1.0], [T]])
+    """The scales of ``Y = (X, T)``: the state by its largest component, the durations and ``T`` by ``T``, the phase
+    by 1."""
+    nz, q = 2 * prob.system.w1.size, sig.durations
+    S = np.empty(nz + q + 2)
+    S[:nz] = max(float(np.abs(X[:nz]).max(initial=0.0)), 1e-12)
+    S[nz:] = T
+    S[-2] = 1.0
+    return S
 
 
 def _kernel(prob, sig):
@@ -97,7 +102,7 @@ def _final(prob, sig, orb: HybridOrbit):
 def plausible(orb: HybridOrbit) -> bool:
     """The necessary conditions of admissibility that cost nothing: every impact comes in (``v_c > 0``) and the
     reaction pulls after every impact followed by a zero dwell."""
-    return bool(np.all(orb.v_impact > 0) and np.all(orb.zero_margins < 0))
+    return bool((orb.v_impact > 0).all() and (orb.zero_margins < 0).all())
 
 
 def follow(prob: Problem, sig: Signature, start: HybridOrbit, window: tuple[float, float], direction: float = 1.0,

@@ -18,9 +18,8 @@ import numpy as np
 
 from ..errors import PlbarError
 from ..model import Problem
-from ..response import psi, segment
 from ..util.reprs import build
-from .chain import Chain, dwell_of, evaluate, layout, model, state_data
+from .chain import Chain, dwell_of, evaluate, layout, model
 from .signature import Signature
 
 __all__ = ["HybridOrbit", "NotConverged", "polish", "orbit_at", "ACCEPT", "ROUNDOFF"]
@@ -93,7 +92,9 @@ class HybridOrbit:
 
     @cached_property
     def _psi(self) -> tuple[float, float, float]:
-        return _psi_sums(self.prob, self.chain, self.T, float(self.X[-1]))
+        from .kernel import PSI
+
+        return _energy(self.prob, self.sig, self.chain, self.T, float(self.X[-1]), PSI)
 
     @property
     def xi(self) -> float:
@@ -119,18 +120,9 @@ class HybridOrbit:
     @cached_property
     def amplitude(self) -> float:
         """``max |x_c|`` over the orbit, sampled on every free phase (200 points each, as the paper's class)."""
-        prob = self.prob
-        sy = prob.system
-        m = sy.w2.size
-        W = 2 * np.pi / self.T
-        best = 0.0
-        for seg in self.chain.segments:
-            if seg.state == 2:
-                u = np.linspace(0.0, seg.tau, 200)
-                e, _ = segment(sy.w2, prob.f2, W, seg.t0, u[:, None], seg.z0[:m], seg.z0[m:], np.cos(self.phi),
-                               np.sin(self.phi), zeta=state_data(prob, 2)[4])
-                best = max(best, float(np.abs(e @ sy.gap_row).max()))
-        return best
+        from .kernel import AMPLITUDE
+
+        return _energy(self.prob, self.sig, self.chain, self.T, self.phi, AMPLITUDE)[0]
 
     def __repr__(self) -> str:
         return build("HybridOrbit", {"sig": str(self.sig), "T": self.T, "phi": self.phi,
@@ -151,20 +143,14 @@ def _duration_slots(sig: Signature) -> np.ndarray:
     return np.array([2 * i + s for i, positive in enumerate(sig.dwell) for s in ((0, 1) if positive else (1,))])
 
 
-def _psi_sums(prob: Problem, ch: Chain, T: float, phi: float) -> tuple[float, float, float]:
-    """``sum_j w_j Psi_j``, ``sum_j Psi_j`` and the viscous loss ``sum_j 2 zeta_j w_j Psi_j`` over every segment of
-    an evaluated chain (Eqs. (20)-(21); damped velocities with inherent damping)."""
-    W = 2 * np.pi / T
-    den, kin, visc = 0.0, 0.0, 0.0
-    for seg in ch.segments:
-        w, f, _, _, zeta, _ = state_data(prob, seg.state)
-        m = w.size
-        p, _ = psi(w, f, W, seg.t0, seg.tau, seg.z0[:m], seg.z0[m:], np.cos(phi), np.sin(phi), zeta=zeta)
-        den += float(p @ w)
-        kin += float(np.sum(p))
-        if zeta is not None:
-            visc += float(p @ (2.0 * zeta * w))
-    return den, kin, visc
+def _energy(prob: Problem, sig: Signature, ch: Chain, T: float, phi: float, what: int) -> tuple[float, float, float]:
+    """``sum_j w_j Psi_j``, ``sum_j Psi_j`` and the viscous loss ``sum_j 2 zeta_j w_j Psi_j`` over every segment of an
+    evaluated chain (Eqs. (20)-(21); damped velocities with inherent damping), or ``(max |x_c|, 0, 0)`` over 200
+    samples of every free phase (compiled: :mod:`plbar.hybrid.kernel.energy`)."""
+    from .kernel import energy
+
+    md, damping = model(prob)
+    return energy(md, damping, dwell_of(sig), float(T), float(phi), ch.times, ch.states, what, 200)
 
 
 def orbit_at(prob: Problem, sig: Signature, T: float, X, ch: Chain | None = None) -> HybridOrbit:

@@ -12,7 +12,7 @@ from plbar.hybrid.chain import layout, state_data, switch_maps
 from plbar.hybrid.follow import correct, scale_of
 from plbar.model import rayleigh_from_ratio
 from plbar.motion import run, steady
-from plbar.response import segment
+from plbar.response import psi, segment
 
 SIGNATURES = ["1P", "1Z", "1PZ", "2PZ", "2PZZ", "3PPZZ"]
 
@@ -118,6 +118,35 @@ def test_polished_orbits_have_residuals_at_round_off(prob):
         nz = 2 * prob.system.w1.size
         sc = np.concatenate([np.maximum(scale, 1e-300), [o.T], np.full(nz, np.abs(o.X[:nz]).max())])
         assert o.residual <= 1e-12 and np.max(np.abs(F) / sc) <= 1e-12
+
+
+def test_energy_against_the_numpy_integrals(prob):
+    """Psi sums (xi, xi_w, the viscous loss) and the contact amplitude of orbits of several signatures against
+    plbar.response.psi and samples of plbar.response.segment."""
+    sy = prob.system
+    m2 = sy.w2.size
+    for text in ("1Z", "1PZ", "2PZZ"):
+        sig = signature(text)
+        X, T = random_point(prob, sig, 20)
+        o = orbit_at(prob, sig, T, X)
+        W = 2 * np.pi / T
+        den = kin = visc = 0.0
+        amp = 0.0
+        for seg in o.chain.segments:
+            w, f, _, _, zeta, _ = state_data(prob, seg.state)
+            m = w.size
+            p, _ = psi(w, f, W, seg.t0, seg.tau, seg.z0[:m], seg.z0[m:], np.cos(o.phi), np.sin(o.phi), zeta=zeta)
+            den, kin = den + p @ w, kin + p.sum()
+            visc += 0.0 if zeta is None else p @ (2 * zeta * w)
+            if seg.state == 2:
+                u = np.linspace(0.0, seg.tau, 200)[:, None]
+                e, _ = segment(sy.w2, prob.f2, W, seg.t0, u, seg.z0[:m2], seg.z0[m2:], np.cos(o.phi), np.sin(o.phi),
+                               zeta=zeta)
+                amp = max(amp, np.abs(e @ sy.gap_row).max())
+        assert o.xi == pytest.approx(o.dPL / (2 * den), rel=1e-12)
+        assert o.xi_w == pytest.approx(o.dPL / (2 * W * kin), rel=1e-12)
+        assert o.viscous == pytest.approx(visc, rel=1e-12, abs=1e-15 * kin)
+        assert o.amplitude == pytest.approx(amp, rel=1e-12)
 
 
 def test_corrector_lands_on_the_curve_and_the_plane(prob):

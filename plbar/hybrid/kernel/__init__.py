@@ -5,12 +5,14 @@
   closed-form flows of :mod:`plbar.motion.kernel.closed` (entry point :func:`chain`);
 * :mod:`.newton` -- LU, the tangent, the corrector, a continuation step (entry point :func:`step`) and the
   polish (entry point :func:`polish`);
-* :mod:`.floquet` -- the monodromy of an evaluated chain (entry point :func:`monodromy`).
+* :mod:`.floquet` -- the monodromy of an evaluated chain (entry point :func:`monodromy`);
+* :mod:`.energy` -- its ``Psi`` sums and contact amplitude (entry point :func:`energy`).
 """
 
 from .newton import CHORD, CONVERGED, DONE, ENDED, FAILED, FOLLOW, NEWTON, SINGULAR, polish, step
+from .energy import AMPLITUDE, PSI, energy
 from .floquet import monodromy
 from .walk import chain
 
-__all__ = ["chain", "step", "polish", "monodromy", "CHORD", "CONVERGED", "DONE", "ENDED", "FAILED", "FOLLOW", "NEWTON",
+__all__ = ["chain", "step", "polish", "monodromy", "energy", "PSI", "AMPLITUDE", "CHORD", "CONVERGED", "DONE", "ENDED", "FAILED", "FOLLOW", "NEWTON",
            "SINGULAR"]

@@ -102,16 +102,14 @@ def _switch(M, z, zn):
 
 
 @jit
-def _switch_all(M, z, zn, D, Dn, jac):
-    """:func:`_switch` of the state and (with ``jac``) ``Dn = M D``."""
-    _switch(M, z, zn)
-    if jac:
-        for i in range(M.shape[0]):
-            for k in range(D.shape[1]):
-                s = 0.0
-                for j in range(M.shape[1]):
-                    s += M[i, j] * D[j, k]
-                Dn[i, k] = s
+def _switch_rows(M, D, Dn):
+    """``Dn = M D`` (the switch map on every column of the derivative)."""
+    for i in range(M.shape[0]):
+        for k in range(D.shape[1]):
+            s = 0.0
+            for j in range(M.shape[1]):
+                s += M[i, j] * D[j, k]
+            Dn[i, k] = s
 
 
 @jit
@@ -128,20 +126,6 @@ def segments(dwell):
     for d in dwell:
         n += 2 if d else 1
     return n
-
-
-@jit
-def _segment(tab, rq, damping, Om, t, tau, phi, z, z1, D, D1, tcol, dcol, jac, dg):
-    """The segment of ``tau`` (duration column ``dcol``) from ``z`` (and ``D``) into ``z1`` (and ``D1``); its end
-    margin and the size of its terms, with ``jac`` its gradient in ``dg``."""
-    if jac:
-        _flow_jac(tab, damping, Om, t, tau, phi, z, z1, D, D1, tcol, dcol)
-    else:
-        _flow(tab, damping, Om, t, tau, cos(phi), sin(phi), z, z1)
-    tcol[dcol] = 1.0
-    if jac:
-        _gradient(tab, rq, Om, t + tau, phi, D1, tcol, dg)
-    return _margin(tab, rq, Om, t + tau, phi, z1)
 
 
 @jit
@@ -191,7 +175,8 @@ def _chain(stamp):
         nz, nX = 2 * tab1.shape[1], X.size
         n, jac = 2 * max(tab1.shape[1], tab2.shape[1]), J.size > 0 and stamp >= 0   # (the stamp keys the cache)
         Om, phi = 2.0 * pi / T, X[nX - 1]
-        Z, tcol, dg = np.zeros((2, n)), np.zeros(nX), np.zeros(nX)
+        cphi, sphi = cos(phi), sin(phi)
+        Z, tcol = np.zeros((2, n)), np.zeros(nX)
         DD = np.zeros((2, n, nX) if jac else (2, 1, 1))
         for i in range(nz):
             Z[0, i] = X[i]
@@ -206,19 +191,25 @@ def _chain(stamp):
                     nzero += 1
                 else:
                     tau = X[nz + col]
-                    F[col], scale[col] = _segment(tab, rq, damping, Om, t, tau, phi, Z[a], Z[1 - a], DD[a],
-                                                  DD[1 - a], tcol, nz + col, jac, dg)
+                    if jac:
+                        _flow_jac(tab, damping, Om, t, tau, phi, Z[a], Z[1 - a], DD[a], DD[1 - a], tcol, nz + col)
+                        tcol[nz + col] = 1.0
+                        _gradient(tab, rq, Om, t + tau, phi, DD[1 - a], tcol, J[col])
+                    else:
+                        _flow(tab, damping, Om, t, tau, cphi, sphi, Z[a], Z[1 - a])
+                    F[col], scale[col] = _margin(tab, rq, Om, t + tau, phi, Z[1 - a])
                     times[col, 0], times[col, 1] = t, tau
                     copy(Z[a], zs[col, 0])
                     copy(Z[1 - a], zs[col, 1])
-                    if jac:
-                        copy(dg, J[col])
                     if s == 1:                        # the contact velocity: the margin -x_c's rate, negated
                         vimp[i] = 0.0
                         for j in range(tab2.shape[1]):
                             vimp[i] -= tab2[C, j] * Z[1 - a, tab2.shape[1] + j]
                     a, t, col = 1 - a, t + tau, col + 1
-                _switch_all(E if s == 0 else G, Z[a], Z[1 - a], DD[a], DD[1 - a], jac)      # opening, impact
+                M = E if s == 0 else G
+                _switch(M, Z[a], Z[1 - a])               # opening, impact
+                if jac:
+                    _switch_rows(M, DD[a], DD[1 - a])
                 a = 1 - a
         _close(X, nz, nX - nz - 1, m, T, Z[a], DD[a], F, J, jac)
         return relative(F, scale, X, nz, T)
