@@ -9,10 +9,10 @@
 * :mod:`.energy` -- its ``Psi`` sums and contact amplitude (entry point :func:`energy`).
 """
 
-from .newton import CHORD, CONVERGED, DONE, ENDED, FAILED, FOLLOW, NEWTON, SINGULAR, polish, step
 from .energy import AMPLITUDE, PSI, energy
 from .floquet import monodromy
+from .newton import CHORD, CONVERGED, DONE, ENDED, FAILED, FOLLOW, NEWTON, SINGULAR, polish, step
 from .walk import chain
 
-__all__ = ["chain", "step", "polish", "monodromy", "energy", "PSI", "AMPLITUDE", "CHORD", "CONVERGED", "DONE", "ENDED", "FAILED", "FOLLOW", "NEWTON",
-           "SINGULAR"]
+__all__ = ["chain", "step", "polish", "monodromy", "energy", "PSI", "AMPLITUDE", "CHORD", "CONVERGED", "DONE",
+           "ENDED", "FAILED", "FOLLOW", "NEWTON", "SINGULAR"]

@@ -14,7 +14,7 @@ from math import cos, pi, sin
 from ...motion.kernel.closed import half, mode_flow
 from ...motion.kernel.integrals import psi
 from .stamp import cached
-from .walk import C, F, W, ZETA
+from .walk import C, LOAD, W, ZETA
 
 __all__ = ["energy", "PSI", "AMPLITUDE"]
 
@@ -38,7 +38,7 @@ def _energy(stamp):
                     cb, sb = cos(0.5 * Om * tau), sin(0.5 * Om * tau)
                     for j in range(m):
                         w, zeta = tab[W, j], tab[ZETA, j]
-                        p = psi(w, zeta, tab[F, j], Om, c0, s0, tau, z[j], z[m + j], cphi, sphi, damping, cb, sb)
+                        p = psi(w, zeta, tab[LOAD, j], Om, c0, s0, tau, z[j], z[m + j], cphi, sphi, damping, cb, sb)
                         a, b, c = a + w * p, b + p, c + 2.0 * zeta * w * p
                 elif s == 1 or not dwell[i]:
                     for k in range(samples):
@@ -46,7 +46,7 @@ def _energy(stamp):
                         cW, sW, sWu = half(Om, u)
                         g = 0.0
                         for j in range(m):
-                            g += tab[C, j] * mode_flow(tab[W, j], tab[ZETA, j], tab[F, j], Om, c0, s0, u, z[j],
+                            g += tab[C, j] * mode_flow(tab[W, j], tab[ZETA, j], tab[LOAD, j], Om, c0, s0, u, z[j],
                                                        z[m + j], cphi, sphi, cW, sW, sWu, damping)[0]
                         a = max(a, abs(g))
         return a, b, c

@@ -16,7 +16,7 @@ import numpy as np
 from ...motion.kernel.closed import half, mode_flow
 from ...motion.kernel.jit import jit
 from .stamp import cached
-from .walk import C, CV, F, W, ZETA
+from .walk import C, CV, LOAD, W, ZETA
 
 __all__ = ["monodromy"]
 
@@ -29,7 +29,7 @@ def _field(tab, Om, t, phi, z, out):
     for j in range(m):
         w = tab[W, j]
         out[j] = z[m + j]
-        out[m + j] = tab[F, j] * load - w * w * z[j] - 2.0 * tab[ZETA, j] * w * z[m + j]
+        out[m + j] = tab[LOAD, j] * load - w * w * z[j] - 2.0 * tab[ZETA, j] * w * z[m + j]
 
 
 @jit
@@ -38,7 +38,7 @@ def _free(tab, damping, Om, tau, P, Pn):
     m = tab.shape[1]
     cW, sW, sWu = half(Om, tau)
     for j in range(m):
-        w, f, zeta = tab[W, j], tab[F, j], tab[ZETA, j]
+        w, f, zeta = tab[W, j], tab[LOAD, j], tab[ZETA, j]
         p11, p21 = mode_flow(w, zeta, f, Om, 1.0, 0.0, tau, 1.0, 0.0, 0.0, 0.0, cW, sW, sWu, damping)
         p12, p22 = mode_flow(w, zeta, f, Om, 1.0, 0.0, tau, 0.0, 1.0, 0.0, 0.0, cW, sW, sWu, damping)
         for k in range(P.shape[1]):

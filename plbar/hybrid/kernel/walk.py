@@ -7,7 +7,7 @@ the free flow's 2 x 2 block of each mode (unit initial states, no load) and the 
 part's derivative in the phase (zero initial state, ``(cos, sin)`` of the phase replaced by
 ``(-sin phi, cos phi)``), all linear in those arguments.
 
-A state's table ``tab[W | F | C | ZETA | CV, j]`` holds its frequencies, modal loads, the
+A state's table ``tab[W | LOAD | C | ZETA | CV, j]`` holds its frequencies, modal loads, the
 weights of its margin (``-r_eta`` in state I, ``-gap_row`` in state II), its damping ratios and
 the damper's share of the reaction (zero where there is none).  The model is
 ``md = (tab1, tab2, E, G, rq1)`` (switch maps: opening ``E``, impact ``G``; ``rq1 = -r_q``).
@@ -23,9 +23,9 @@ from ...motion.kernel.closed import half, mode_flow
 from ...motion.kernel.jit import jit
 from .stamp import cached
 
-__all__ = ["W", "F", "C", "ZETA", "CV", "chain", "segments", "copy", "relative"]
+__all__ = ["W", "LOAD", "C", "ZETA", "CV", "chain", "segments", "copy", "relative"]
 
-W, F, C, ZETA, CV = 0, 1, 2, 3, 4
+W, LOAD, C, ZETA, CV = 0, 1, 2, 3, 4   #: rows of a state's table
 
 
 @jit
@@ -35,7 +35,7 @@ def _flow(tab, damping, Om, t, tau, cphi, sphi, z, z1):
     c0, s0 = cos(Om * t), sin(Om * t)
     cW, sW, sWu = half(Om, tau)
     for j in range(m):
-        z1[j], z1[m + j] = mode_flow(tab[W, j], tab[ZETA, j], tab[F, j], Om, c0, s0, tau, z[j], z[m + j], cphi, sphi,
+        z1[j], z1[m + j] = mode_flow(tab[W, j], tab[ZETA, j], tab[LOAD, j], Om, c0, s0, tau, z[j], z[m + j], cphi, sphi,
                                      cW, sW, sWu, damping)
 
 
@@ -50,7 +50,7 @@ def _flow_jac(tab, damping, Om, t, tau, phi, z, z1, D, Dn, tcol, dcol):
     cW, sW, sWu = half(Om, tau)
     load = cos(Om * (t + tau) - phi)
     for j in range(m):
-        w, f, zeta = tab[W, j], tab[F, j], tab[ZETA, j]
+        w, f, zeta = tab[W, j], tab[LOAD, j], tab[ZETA, j]
         e, v = mode_flow(w, zeta, f, Om, c0, s0, tau, z[j], z[m + j], cphi, sphi, cW, sW, sWu, damping)
         p11, p21 = mode_flow(w, zeta, f, Om, c0, s0, tau, 1.0, 0.0, 0.0, 0.0, cW, sW, sWu, damping)
         p12, p22 = mode_flow(w, zeta, f, Om, c0, s0, tau, 0.0, 1.0, 0.0, 0.0, cW, sW, sWu, damping)

@@ -95,7 +95,8 @@ def test_jacobian_by_central_differences(prob, text):
             h = 1e-6 * max(1.0, abs(X[j]))
             e = np.zeros(X.size)
             e[j] = h
-            fd[:, j] = (evaluate(prob, sig, T, X + e, jac=False).F - evaluate(prob, sig, T, X - e, jac=False).F) / (2 * h)
+            fd[:, j] = (evaluate(prob, sig, T, X + e, jac=False).F
+                        - evaluate(prob, sig, T, X - e, jac=False).F) / (2 * h)
         assert np.max(np.abs(fd - J)) <= 1e-6 * np.abs(J).max()
 
 
