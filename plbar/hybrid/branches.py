@@ -154,28 +154,32 @@ def _events(orbs, mus) -> list[dict]:
     return ev
 
 
-def _known(curves, orb: HybridOrbit) -> bool:
-    """Is ``orb`` on a curve already followed (same canonical signature; its loss on the curve's piecewise
-    linear interpolation at its ``T``, between two neighbouring points)?  ``curves``: :func:`_curve_entry`."""
-    lab = str(orb.sig.canonical())
-    T, loss = orb.T, orb.loss_per_T
-    for label, Tc, L, lo, hi in curves:
-        if label != lab or len(Tc) < 2:
-            continue
-        for i in np.flatnonzero((lo <= T) & (T <= hi)):
-            a, b = Tc[i], Tc[i + 1]
-            w = 0.0 if b == a else (T - a) / (b - a)
-            Li = L[i] + w * (L[i + 1] - L[i])
-            if abs(Li - loss) <= 1e-2 * abs(L[i + 1] - L[i]) + 1e-6 * max(abs(loss), 1e-12):
-                return True
-    return False
+class _Curves:
+    """The curves followed so far, as pieces (two neighbouring points) per canonical signature: is an orbit on one?"""
 
+    def __init__(self):
+        self.pieces: dict = {}
 
-def _curve_entry(label: str, T, L) -> tuple:
-    """``(label, T, loss, lo, hi)`` of a followed curve (``lo, hi``: the ``T`` range of each piece) for
-    :func:`_known`."""
-    T, L = np.asarray(T, float), np.asarray(L, float)
-    return label, T, L, np.minimum(T[:-1], T[1:]), np.maximum(T[:-1], T[1:])
+    def add(self, label: str, T, L) -> None:
+        T, L = np.asarray(T, float), np.asarray(L, float)
+        new = (T[:-1], T[1:], L[:-1], L[1:])
+        old = self.pieces.get(label)
+        self.pieces[label] = new if old is None else tuple(np.concatenate([o, n]) for o, n in zip(old, new))
+
+    def known(self, orb: HybridOrbit) -> bool:
+        """Same canonical signature, and its loss on a piece's linear interpolation at its ``T`` (the piece's ``T``
+        range holding it)."""
+        p = self.pieces.get(str(orb.sig.canonical()))
+        if p is None:
+            return False
+        a, b, La, Lb = p
+        T, loss = orb.T, orb.loss_per_T
+        i = np.flatnonzero((np.minimum(a, b) <= T) & (T <= np.maximum(a, b)))
+        if not i.size:
+            return False
+        a, b, La, Lb = a[i], b[i], La[i], Lb[i]
+        w = np.divide(T - a, b - a, out=np.zeros(i.size), where=b != a)
+        return bool(np.any(np.abs(La + w * (Lb - La) - loss) <= 1e-2 * np.abs(Lb - La) + 1e-6 * max(abs(loss), 1e-12)))
 
 
 def _zero_dwell_seeds(prob, window, num: int) -> list[HybridOrbit]:
@@ -269,20 +273,23 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
         _paper_ends(prob, paper_branches, window, st) + list(extra_seeds)
     # the paper's branches count as followed: a seed of class 1P on them is known; one off them (outside the
     # paper's search domain, e.g. a stuck phase longer than T0_I / 2) is followed here
-    curves = [_curve_entry("1P", b.T, b.dPL) for b in paper_branches]
+    curves, paper = _Curves(), _Curves()
+    for b in paper_branches:
+        curves.add("1P", b.T, b.dPL)
+        paper.add("1P", b.T, b.dPL)
     branches = []
     while queue:
         orb = queue.pop(0)
-        if orb.sig.m > m_max or _known(curves, orb):
+        if orb.sig.m > m_max or curves.known(orb):
             continue
         orbs, ends = _curve(prob, orb, window, st)
         if progress is not None:
             progress()
-        curves.append(_curve_entry(str(orb.sig.canonical()), [o.T for o in orbs], [o.loss_per_T for o in orbs]))
+        curves.add(str(orb.sig.canonical()), [o.T for o in orbs], [o.loss_per_T for o in orbs])
         mus = _mults(prob, orbs)
         ok = admissible(orbs)
         if orb.sig.canonical() == PAPER:              # the paper's own points stay with its branches
-            ok &= np.array([not _known(curves[:len(paper_branches)], o) for o in orbs])
+            ok &= np.array([not paper.known(o) for o in orbs])
         ev = _events(orbs, mus)
         for e in ev:
             if e["kind"] == PD and orb.sig.m * 2 <= m_max:

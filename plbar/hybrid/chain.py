@@ -35,7 +35,7 @@ import numpy as np
 from ..model import Problem
 from .signature import Signature
 
-__all__ = ["Chain", "Segment", "evaluate", "layout", "switch_maps", "state_data", "model", "dwell_of"]
+__all__ = ["Chain", "Segment", "evaluate", "layout", "switch_maps", "state_data", "model", "dwell_of", "compiled"]
 
 
 @dataclass(frozen=True)
@@ -151,6 +151,14 @@ def dwell_of(sig: Signature) -> np.ndarray:
     return out
 
 
+@lru_cache(maxsize=None)
+def compiled():
+    """The compiled kernel, :mod:`plbar.hybrid.kernel` (numba: imported on first use, not with plbar)."""
+    from . import kernel
+
+    return kernel
+
+
 @lru_cache(maxsize=256)
 def _plan(sig: Signature) -> tuple:
     """``(dwell, segment states, zero dwells, unknown durations, segments)`` of a signature."""
@@ -161,8 +169,6 @@ def _plan(sig: Signature) -> tuple:
 def evaluate(prob: Problem, sig: Signature, T: float, X, jac: bool = True) -> Chain:
     """Residuals ``F(X)`` (and the exact Jacobian) of the orbit of signature ``sig`` at period ``T`` (compiled:
     :func:`plbar.hybrid.kernel.walk.chain`)."""
-    from .kernel import chain
-
     md, damping = model(prob)
     dwell, states, zeros, q, nseg = _plan(sig)
     m1, m2 = md[0].shape[1], md[1].shape[1]
@@ -173,5 +179,5 @@ def evaluate(prob: Problem, sig: Signature, T: float, X, jac: bool = True) -> Ch
     F, J = np.empty(nX), np.empty((nX, nX) if jac else (0, 0))
     times, zs = np.empty((nseg, 2)), np.zeros((nseg, 2, 2 * max(m1, m2)))
     zero, scale, vimp = np.empty(zeros), np.empty(q), np.empty(dwell.size)
-    res = chain(md, damping, dwell, sig.m, float(T), X, F, J, times, zs, zero, scale, vimp)
+    res = compiled().chain(md, damping, dwell, sig.m, float(T), X, F, J, times, zs, zero, scale, vimp)
     return Chain(F, J if jac else None, zero, scale, res, vimp, times, zs, states, (2 * m1, 2 * m2))

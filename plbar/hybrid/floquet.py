@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import Problem
-from .chain import Chain, dwell_of, model
+from .chain import Chain, compiled, dwell_of, model
 from .signature import Signature
 
 __all__ = ["monodromy", "multipliers"]
@@ -36,12 +36,10 @@ def monodromy(prob: Problem, sig: Signature, T: float, phi: float, ch: Chain) ->
     multipliers appear) when it has a zero dwell.  With inherent damping the vector
     fields take the damper and the opening's event function its share of the reaction.
     """
-    from .kernel import monodromy as compiled
-
     md, damping = model(prob)
     n = 2 * (md[0] if sig.dwell[0] else md[1]).shape[1]
     M = np.empty((n, n))
-    compiled(md, damping, dwell_of(sig), float(T), float(phi), ch.times, ch.states, M)
+    compiled().monodromy(md, damping, dwell_of(sig), float(T), float(phi), ch.times, ch.states, M)
     return M
 
 

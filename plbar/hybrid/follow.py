@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import Problem
-from .chain import dwell_of, layout, model
+from .chain import compiled, dwell_of, layout, model
 from .signature import Signature
 from .solve import ACCEPT, ROUNDOFF, HybridOrbit, NotConverged, orbit_at, polish
 
@@ -59,8 +59,7 @@ def scale_of(prob: Problem, sig: Signature, X: np.ndarray, T: float) -> np.ndarr
 
 def _kernel(prob, sig):
     """The compiled step (:func:`plbar.hybrid.kernel.newton.step`) bound to a problem and a signature."""
-    from .kernel import step
-
+    step = compiled().step
     md, damping = model(prob)
     dwell = dwell_of(sig)
 
@@ -79,12 +78,11 @@ def correct(prob, sig, Yp, t, S, newton: int = 8, Ja: np.ndarray | None = None):
     With ``Ja`` (the augmented Jacobian at the last point) the corrector is a chord method: that
     matrix is factorised once and every iteration evaluates only the residuals.
     """
-    from .kernel import CHORD, FAILED, NEWTON
-
+    K = compiled()
     Y = np.empty(Yp.size)
     out, _ = _kernel(prob, sig)(Yp, S, t, np.zeros((1, 1)) if Ja is None else Ja, 0.0, 0.0, newton,
-                                NEWTON if Ja is None else CHORD, np.empty(Yp.size), Y)
-    return None if out == FAILED else _final(prob, sig, orbit_at(prob, sig, Y[-1], Y[:-1]))
+                                K.NEWTON if Ja is None else K.CHORD, np.empty(Yp.size), Y)
+    return None if out == K.FAILED else _final(prob, sig, orbit_at(prob, sig, Y[-1], Y[:-1]))
 
 
 def _final(prob, sig, orb: HybridOrbit):
@@ -111,8 +109,7 @@ def follow(prob: Problem, sig: Signature, start: HybridOrbit, window: tuple[floa
 
     Returns the orbits in order (``start`` first) and why the curve ended.
     """
-    from .kernel import ENDED, FAILED, FOLLOW
-
+    K = compiled()
     st = settings or FollowSettings()
     Y = np.concatenate([start.X, [start.T]])
     out = [start]
@@ -127,11 +124,11 @@ def follow(prob: Problem, sig: Signature, start: HybridOrbit, window: tuple[floa
         S = scale_of(prob, sig, Y[:-1], Y[-1])
         orb = None
         while h >= st.h_min:
-            res, h = run(Y, S, c, none, h, st.h_min, st.newton, FOLLOW, t, Yn)
-            if res == FAILED:
+            res, h = run(Y, S, c, none, h, st.h_min, st.newton, K.FOLLOW, t, Yn)
+            if res == K.FAILED:
                 break
             Yp = Y + h * t * S
-            if res != ENDED:
+            if res != K.ENDED:
                 orb = _final(prob, sig, orbit_at(prob, sig, Yn[-1], Yn[:-1].copy()))
                 if orb is not None and abs(orb.T - Y[-1]) <= 0.2 * Y[-1]:
                     break

@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import PlbarError
 from ..model import Problem
 from ..util.reprs import build
-from .chain import Chain, dwell_of, evaluate, layout, model
+from .chain import Chain, compiled, dwell_of, evaluate, layout, model
 from .signature import Signature
 
 __all__ = ["HybridOrbit", "NotConverged", "polish", "orbit_at", "ACCEPT", "ROUNDOFF"]
@@ -92,9 +92,7 @@ class HybridOrbit:
 
     @cached_property
     def _psi(self) -> tuple[float, float, float]:
-        from .kernel import PSI
-
-        return _energy(self.prob, self.sig, self.chain, self.T, float(self.X[-1]), PSI)
+        return _energy(self.prob, self.sig, self.chain, self.T, float(self.X[-1]), compiled().PSI)
 
     @property
     def xi(self) -> float:
@@ -120,9 +118,7 @@ class HybridOrbit:
     @cached_property
     def amplitude(self) -> float:
         """``max |x_c|`` over the orbit, sampled on every free phase (200 points each, as the paper's class)."""
-        from .kernel import AMPLITUDE
-
-        return _energy(self.prob, self.sig, self.chain, self.T, self.phi, AMPLITUDE)[0]
+        return _energy(self.prob, self.sig, self.chain, self.T, self.phi, compiled().AMPLITUDE)[0]
 
     def __repr__(self) -> str:
         return build("HybridOrbit", {"sig": str(self.sig), "T": self.T, "phi": self.phi,
@@ -147,10 +143,8 @@ def _energy(prob: Problem, sig: Signature, ch: Chain, T: float, phi: float, what
     """``sum_j w_j Psi_j``, ``sum_j Psi_j`` and the viscous loss ``sum_j 2 zeta_j w_j Psi_j`` over every segment of an
     evaluated chain (Eqs. (20)-(21); damped velocities with inherent damping), or ``(max |x_c|, 0, 0)`` over 200
     samples of every free phase (compiled: :mod:`plbar.hybrid.kernel.energy`)."""
-    from .kernel import energy
-
     md, damping = model(prob)
-    return energy(md, damping, dwell_of(sig), float(T), float(phi), ch.times, ch.states, what, 200)
+    return compiled().energy(md, damping, dwell_of(sig), float(T), float(phi), ch.times, ch.states, what, 200)
 
 
 def orbit_at(prob: Problem, sig: Signature, T: float, X, ch: Chain | None = None) -> HybridOrbit:
@@ -171,16 +165,14 @@ def polish(prob: Problem, sig: Signature, T: float, X0, maxit: int = 30) -> Hybr
     NotConverged
         If the relative residual does not reach :data:`ACCEPT`, or a duration turns negative.
     """
-    from .kernel import SINGULAR
-    from .kernel import polish as newton
-
+    K = compiled()
     X = np.array(X0, float)
     nz, q, nX = layout(prob, sig)
     T = float(T)
     md, damping = model(prob)
     if X.shape != (nX,):
         raise ValueError(f"X0 has shape {X.shape}, the chain of {sig} takes {nX} unknowns")
-    if newton(md, damping, dwell_of(sig), sig.m, T, X, int(maxit), ROUNDOFF) == SINGULAR:
+    if K.polish(md, damping, dwell_of(sig), sig.m, T, X, int(maxit), ROUNDOFF) == K.SINGULAR:
         raise NotConverged(f"singular Jacobian for {sig} at T = {T:.12g}")
     orb = orbit_at(prob, sig, T, X)
     if not orb.residual <= 10 * ROUNDOFF or np.any(X[nz:nz + q] <= 0):
