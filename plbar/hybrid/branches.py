@@ -115,39 +115,71 @@ def _curve(prob, orb: HybridOrbit, window, st) -> tuple[list[HybridOrbit], list[
 
 
 def _mults(prob, orbs) -> list[np.ndarray]:
-    return [multipliers(monodromy(prob, o.sig, o.T, o.phi, o.chain)) for o in orbs]
+    """The Floquet multipliers of each orbit (the eigenvalues of orbits of one signature in one call)."""
+    if not orbs:
+        return []
+    Ms = [monodromy(prob, o.sig, o.T, o.phi, o.chain) for o in orbs]
+    if len({M.shape for M in Ms}) == 1:
+        return list(multipliers(np.stack(Ms)))
+    return [multipliers(M) for M in Ms]
+
+
+def _flags(mus) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per orbit: a real multiplier below -1; a complex pair; the largest modulus of the complex ones."""
+    if len({mu.shape for mu in mus}) == 1:
+        M = np.stack(mus)
+        real = np.abs(M.imag) < 1e-9
+        cmod = np.where(real, -np.inf, np.abs(M))
+        return np.any(real & (M.real < -1), axis=1), np.any(~real, axis=1), cmod.max(axis=1)
+    out = [_flags([mu]) for mu in mus]
+    return tuple(np.concatenate([o[j] for o in out]) for j in range(3))
 
 
 def _events(orbs, mus) -> list[dict]:
     ev = []
-    for i in range(1, len(orbs)):
-        a, b = mus[i - 1], mus[i]
-        ra, rb = a[np.abs(a.imag) < 1e-9].real, b[np.abs(b.imag) < 1e-9].real
-        if (np.any(ra < -1) != np.any(rb < -1)):
+    if len(orbs) < 2:
+        return ev
+    pd, cplx, cmax = _flags(mus)
+    T = np.array([o.T for o in orbs])
+    flip_pd = pd[1:] != pd[:-1]
+    flip_ns = cplx[1:] & cplx[:-1] & ((cmax[1:] > 1) != (cmax[:-1] > 1))
+    fold = np.r_[False, (T[2:] - T[1:-1]) * (T[1:-1] - T[:-2]) < 0]
+    for i in np.flatnonzero(flip_pd | flip_ns | fold) + 1:
+        if flip_pd[i - 1]:
             ev.append({"kind": PD, "index": i, "T": orbs[i].T})
-        ca, cb = np.abs(a[np.abs(a.imag) >= 1e-9]), np.abs(b[np.abs(b.imag) >= 1e-9])
-        if ca.size and cb.size and (ca.max() > 1) != (cb.max() > 1):
+        if flip_ns[i - 1]:
             ev.append({"kind": NS, "index": i, "T": orbs[i].T})
-        if i >= 2 and (orbs[i].T - orbs[i - 1].T) * (orbs[i - 1].T - orbs[i - 2].T) < 0:
+        if fold[i - 1]:
             ev.append({"kind": FOLD, "index": i - 1, "T": orbs[i - 1].T})
     return ev
 
 
-def _known(curves, orb: HybridOrbit) -> bool:
-    """Is ``orb`` on a curve already followed (same canonical signature; its loss on the curve's piecewise
-    linear interpolation at its ``T``, between two neighbouring points)?  ``curves``: ``(label, T, loss)``."""
-    lab = str(orb.sig.canonical())
-    for label, T, L in curves:
-        if label != lab or len(T) < 2:
-            continue
-        a, b = T[:-1], T[1:]
-        inside = (np.minimum(a, b) <= orb.T) & (orb.T <= np.maximum(a, b))
-        for i in np.flatnonzero(inside):
-            w = 0.0 if b[i] == a[i] else (orb.T - a[i]) / (b[i] - a[i])
-            Li = L[i] + w * (L[i + 1] - L[i])
-            if abs(Li - orb.loss_per_T) <= 1e-2 * abs(L[i + 1] - L[i]) + 1e-6 * max(abs(orb.loss_per_T), 1e-12):
-                return True
-    return False
+class _Curves:
+    """The curves followed so far, as pieces (two neighbouring points) per canonical signature: is an orbit on one?"""
+
+    def __init__(self):
+        self.pieces: dict = {}
+
+    def add(self, label: str, T, L) -> None:
+        T, L = np.asarray(T, float), np.asarray(L, float)
+        new = (T[:-1], T[1:], L[:-1], L[1:])
+        old = self.pieces.get(label)
+        self.pieces[label] = new if old is None else tuple(np.concatenate([o, n]) for o, n in zip(old, new))
+
+    def known(self, orb: HybridOrbit) -> bool:
+        """Same canonical signature, and its loss on a piece's linear interpolation at its ``T`` (the piece's ``T``
+        range holding it)."""
+        p = self.pieces.get(str(orb.sig.canonical()))
+        if p is None:
+            return False
+        a, b, La, Lb = p
+        T, loss = orb.T, orb.loss_per_T
+        i = np.flatnonzero((np.minimum(a, b) <= T) & (T <= np.maximum(a, b)))
+        if not i.size:
+            return False
+        a, b, La, Lb = a[i], b[i], La[i], Lb[i]
+        w = np.divide(T - a, b - a, out=np.zeros(i.size), where=b != a)
+        return bool(np.any(np.abs(La + w * (Lb - La) - loss) <= 1e-2 * np.abs(Lb - La) + 1e-6 * max(abs(loss), 1e-12)))
 
 
 def _zero_dwell_seeds(prob, window, num: int) -> list[HybridOrbit]:
@@ -241,21 +273,23 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
         _paper_ends(prob, paper_branches, window, st) + list(extra_seeds)
     # the paper's branches count as followed: a seed of class 1P on them is known; one off them (outside the
     # paper's search domain, e.g. a stuck phase longer than T0_I / 2) is followed here
-    curves = [("1P", np.asarray(b.T, float), np.asarray(b.dPL, float)) for b in paper_branches]
+    curves, paper = _Curves(), _Curves()
+    for b in paper_branches:
+        curves.add("1P", b.T, b.dPL)
+        paper.add("1P", b.T, b.dPL)
     branches = []
     while queue:
         orb = queue.pop(0)
-        if orb.sig.m > m_max or _known(curves, orb):
+        if orb.sig.m > m_max or curves.known(orb):
             continue
         orbs, ends = _curve(prob, orb, window, st)
         if progress is not None:
             progress()
-        curves.append((str(orb.sig.canonical()), np.array([o.T for o in orbs]),
-                       np.array([o.loss_per_T for o in orbs])))
+        curves.add(str(orb.sig.canonical()), [o.T for o in orbs], [o.loss_per_T for o in orbs])
         mus = _mults(prob, orbs)
         ok = admissible(orbs)
         if orb.sig.canonical() == PAPER:              # the paper's own points stay with its branches
-            ok &= np.array([not _known(curves[:len(paper_branches)], o) for o in orbs])
+            ok &= np.array([not paper.known(o) for o in orbs])
         ev = _events(orbs, mus)
         for e in ev:
             if e["kind"] == PD and orb.sig.m * 2 <= m_max:

@@ -20,20 +20,22 @@ vector field at the end of the segment, a later start time shifts the load's
 phase (``d/dt_start = -W d/dphi`` of the forced part), and the switch maps and
 flows are linear.  For ``m = 1`` and one positive dwell this is the paper's
 periodic response (FORMULATION §4) written as a root of ``F``.
+
+:func:`evaluate` walks the chain in compiled code (:mod:`plbar.hybrid.kernel.walk`: the
+closed-form flows of :mod:`plbar.motion.kernel.closed`, one mode at a time).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property, lru_cache
 
 import numpy as np
 
 from ..model import Problem
-from ..response import forced_coeffs
-from ..response import flow_matrix as modal_flow
 from .signature import Signature
 
-__all__ = ["Chain", "Segment", "evaluate", "layout", "flow_matrix", "vector_field", "switch_maps", "state_data"]
+__all__ = ["Chain", "Segment", "evaluate", "layout", "switch_maps", "state_data", "model", "dwell_of", "compiled"]
 
 
 @dataclass(frozen=True)
@@ -58,14 +60,34 @@ class Chain:
     """An evaluated chain: residuals ``F``, Jacobian ``J`` (or None), the segments, and the zero-dwell margins.
 
     ``zero_margins`` holds ``-R`` just after each impact followed by a zero dwell (it must be < 0: the reaction
-    pulls at once); ``switch_scale`` the size of the terms of each switching residual (for relative tests).
+    pulls at once); ``switch_scale`` the size of the terms of each switching residual (for relative tests);
+    ``residual`` the largest relative residual (each switching residual by its ``switch_scale``, the sum of the
+    durations by ``T``, the periodicity by the largest component of ``z0``); ``v_impact`` the contact velocity
+    just before each impact.  The segments (:class:`Segment`, built on first access) are in ``times`` (start,
+    length), ``states`` (start and end state, padded to the larger state: the arrays the compiled code takes)
+    and ``kinds`` (the state of each: 1 or 2); ``sizes`` is ``(2 m1, 2 m2)``.
     """
 
     F: np.ndarray
     J: np.ndarray | None
-    segments: tuple
     zero_margins: np.ndarray
     switch_scale: np.ndarray
+    residual: float
+    v_impact: np.ndarray = field(repr=False)
+    times: np.ndarray = field(repr=False)
+    states: np.ndarray = field(repr=False)
+    kinds: tuple = field(repr=False)
+    sizes: tuple = field(repr=False)
+
+    @cached_property
+    def segments(self) -> tuple:
+        """The :class:`Segment` of every duration, in order."""
+        out = []
+        for i, s in enumerate(self.kinds):
+            n = self.sizes[s - 1]
+            out.append(Segment(s, float(self.times[i, 0]), float(self.times[i, 1]), self.states[i, 0, :n],
+                               self.states[i, 1, :n], i, "open" if s == 1 else "impact"))
+        return tuple(out)
 
 
 def layout(prob: Problem, sig: Signature) -> tuple[int, int, int]:
@@ -73,26 +95,6 @@ def layout(prob: Problem, sig: Signature) -> tuple[int, int, int]:
     nz = 2 * prob.system.w1.size
     q = sig.durations
     return nz, q, nz + q + 1
-
-
-def flow_matrix(w: np.ndarray, tau: float, zeta=None) -> np.ndarray:
-    """The modal free flow over ``tau`` on ``(eta, etadot)``: ``(2m, 2m)``, 2 x 2 blocks per mode (damped with
-    ``zeta``)."""
-    p11, p12, p21, p22 = modal_flow(w, tau, zeta)
-    m = w.size
-    A = np.zeros((2 * m, 2 * m))
-    i = np.arange(m)
-    A[i, i], A[i, m + i], A[m + i, i], A[m + i, m + i] = p11, p12, p21, p22
-    return A
-
-
-def vector_field(w, f, W, t, phi, z, zeta=None) -> np.ndarray:
-    """``dz/dt = (etadot, f cos(W t - phi) - w^2 eta - 2 zeta w etadot)`` (Eq. (1) in modal form)."""
-    m = w.size
-    acc = f * np.cos(W * t - phi) - w * w * z[:m]
-    if zeta is not None:
-        acc = acc - 2.0 * zeta * w * z[m:]
-    return np.concatenate([z[m:], acc])
 
 
 def state_data(prob: Problem, s: int):
@@ -121,96 +123,61 @@ def _build_switch_maps(prob: Problem):
     return E, G
 
 
-class _Walker:
-    """Forward propagation of the state and (optionally) of its derivative with respect to ``X``."""
+def model(prob: Problem):
+    """``(md, damping)``: the compiled chain's view of the problem (:mod:`plbar.hybrid.kernel.walk`; cached).
 
-    def __init__(self, prob, sig, T, X, jac):
-        self.prob, self.T, self.W = prob, float(T), 2 * np.pi / float(T)
-        self.nz, self.q, self.nX = layout(prob, sig)
-        self.X = np.asarray(X, float)
-        self.phi = float(self.X[-1])
-        self.z = self.X[:self.nz].copy()
-        self.D = np.eye(self.nz, self.nX) if jac else None
-        self.t = 0.0
-        self.tcol = np.zeros(self.nX)          # dt/dX: the durations passed so far
-        self.jac = jac
+    ``damping`` is None undamped (the undamped flows are compiled), else a marker array (the damped ones)."""
+    return prob.cached("hybrid_kernel_model", _build_model)
 
-    def flow(self, s: int, col: int) -> Segment:
-        w, f, _, _, zeta, _ = state_data(self.prob, s)
-        tau = float(self.X[self.nz + col])
-        z0 = self.z
-        Phi = flow_matrix(w, tau, zeta)
-        ec, es, vc, vs = forced_coeffs(w, f, self.W, self.t, tau, zeta=zeta)
-        Fc, Fs = np.concatenate([ec, vc]), np.concatenate([es, vs])
-        cp, sp = np.cos(self.phi), np.sin(self.phi)
-        z1 = Phi @ z0 + Fc * cp + Fs * sp
-        if self.jac:
-            dphi = -Fc * sp + Fs * cp
-            D = Phi @ self.D
-            D[:, -1] += dphi
-            D += np.outer(-self.W * dphi, self.tcol)             # a later start shifts the load's phase
-            D[:, self.nz + col] += vector_field(w, f, self.W, self.t + tau, self.phi, z1, zeta)
-            self.D = D
-        seg = Segment(s, self.t, tau, z0, z1, col, "open" if s == 1 else "impact")
-        self.z = z1
-        self.t += tau
-        self.tcol[self.nz + col] = 1.0
-        return seg
 
-    def margin(self, s: int):
-        """``(g, dg/dX, size)`` of the state's margin at the current point (``-R`` in I, ``-x_c`` in II)."""
-        w, _, c, rq, _, cv = state_data(self.prob, s)
-        m = w.size
-        arg = self.W * self.t - self.phi
-        g = c @ self.z[:m] + rq * np.cos(arg)
-        size = np.abs(c) @ np.abs(self.z[:m]) + abs(rq)
-        if cv is not None:
-            g += cv @ self.z[m:]
-            size += np.abs(cv) @ np.abs(self.z[m:])
-        if not self.jac:
-            return g, None, size
-        dg = c @ self.D[:m] - rq * np.sin(arg) * (self.W * self.tcol - np.eye(1, self.nX, self.nX - 1)[0])
-        if cv is not None:
-            dg = dg + cv @ self.D[m:]
-        return g, dg, size
+def _build_model(prob: Problem):
+    tabs = []
+    for s in (1, 2):
+        w, f, c, rq, zeta, cv = state_data(prob, s)
+        none = np.zeros_like(w)
+        tabs.append(np.ascontiguousarray(np.stack([w, f, c, none if zeta is None else zeta,
+                                                   none if cv is None else cv]), dtype=float))
+    E, G = switch_maps(prob)
+    damping = np.ones(1) if getattr(prob.system, "damped", False) else None
+    return (tabs[0], tabs[1], np.ascontiguousarray(E, float), np.ascontiguousarray(G, float),
+            float(state_data(prob, 1)[3])), damping
 
-    def switch(self, M: np.ndarray) -> None:
-        self.z = M @ self.z
-        if self.jac:
-            self.D = M @ self.D
+
+@lru_cache(maxsize=256)
+def dwell_of(sig: Signature) -> np.ndarray:
+    """The signature's dwell kinds as the compiled chain takes them (1 positive, 0 zero)."""
+    out = np.array(sig.dwell, np.int64)
+    out.setflags(write=False)
+    return out
+
+
+@lru_cache(maxsize=None)
+def compiled():
+    """The compiled kernel, :mod:`plbar.hybrid.kernel` (numba: imported on first use, not with plbar)."""
+    from . import kernel
+
+    return kernel
+
+
+@lru_cache(maxsize=256)
+def _plan(sig: Signature) -> tuple:
+    """``(dwell, segment states, zero dwells, unknown durations, segments)`` of a signature."""
+    states = tuple(s for positive in sig.dwell for s in ((1, 2) if positive else (2,)))
+    return dwell_of(sig), states, sig.zero, sig.durations, len(states)
 
 
 def evaluate(prob: Problem, sig: Signature, T: float, X, jac: bool = True) -> Chain:
-    """Residuals ``F(X)`` (and the exact Jacobian) of the orbit of signature ``sig`` at period ``T``."""
-    E, G = switch_maps(prob)
-    wk = _Walker(prob, sig, T, X, jac)
-    F, rows, segs, zero, scale = [], [], [], [], []
-    col = 0
-    for i, positive in enumerate(sig.dwell):
-        if positive:
-            segs.append(wk.flow(1, col))
-            col += 1
-            g, dg, size = wk.margin(1)
-            F.append(g)
-            rows.append(dg)
-            scale.append(size)
-        else:
-            g, _, _ = wk.margin(1)                               # just after the impact: must pull (< 0)
-            zero.append(g)
-        wk.switch(E)
-        segs.append(wk.flow(2, col))
-        col += 1
-        g, dg, size = wk.margin(2)
-        F.append(g)
-        rows.append(dg)
-        scale.append(size)
-        wk.switch(G)
-    nz, q, nX = wk.nz, wk.q, wk.nX
-    total = float(np.sum(wk.X[nz:nz + q])) - sig.m * float(T)
-    F = np.concatenate([np.array(F), [total], wk.z - wk.X[:nz]])
-    J = None
-    if jac:
-        tot = np.zeros(nX)
-        tot[nz:nz + q] = 1.0
-        J = np.vstack([np.array(rows), tot[None], wk.D - np.eye(nz, nX)])
-    return Chain(F, J, tuple(segs), np.array(zero), np.array(scale))
+    """Residuals ``F(X)`` (and the exact Jacobian) of the orbit of signature ``sig`` at period ``T`` (compiled:
+    :func:`plbar.hybrid.kernel.walk.chain`)."""
+    md, damping = model(prob)
+    dwell, states, zeros, q, nseg = _plan(sig)
+    m1, m2 = md[0].shape[1], md[1].shape[1]
+    nX = 2 * m1 + q + 1
+    X = np.ascontiguousarray(X, dtype=float)
+    if X.shape != (nX,):
+        raise ValueError(f"X has shape {X.shape}, the chain of {sig} takes {nX} unknowns")
+    F, J = np.empty(nX), np.empty((nX, nX) if jac else (0, 0))
+    times, zs = np.empty((nseg, 2)), np.zeros((nseg, 2, 2 * max(m1, m2)))
+    zero, scale, vimp = np.empty(zeros), np.empty(q), np.empty(dwell.size)
+    res = compiled().chain(md, damping, dwell, sig.m, float(T), X, F, J, times, zs, zero, scale, vimp)
+    return Chain(F, J if jac else None, zero, scale, res, vimp, times, zs, states, (2 * m1, 2 * m2))

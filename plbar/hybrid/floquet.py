@@ -20,16 +20,15 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import Problem
-from .chain import Chain, flow_matrix, state_data, switch_maps, vector_field
+from .chain import Chain, compiled, dwell_of, model
 from .signature import Signature
 
 __all__ = ["monodromy", "multipliers"]
 
 
-
-
 def monodromy(prob: Problem, sig: Signature, T: float, phi: float, ch: Chain) -> np.ndarray:
-    """Jacobian of the ``m``-period map of an evaluated chain's orbit.
+    """Jacobian of the ``m``-period map of an evaluated chain's orbit (compiled:
+    :mod:`plbar.hybrid.kernel.floquet`).
 
     The section is at ``t = 0+``, in the state the motion continues in: state I
     (``2 m1`` square) when the first pair has a positive dwell, state II after the
@@ -37,40 +36,14 @@ def monodromy(prob: Problem, sig: Signature, T: float, phi: float, ch: Chain) ->
     multipliers appear) when it has a zero dwell.  With inherent damping the vector
     fields take the damper and the opening's event function its share of the reaction.
     """
-    sy = prob.system
-    W = 2 * np.pi / T
-    E, G = switch_maps(prob)
-    w1, f1, c1, rq1, z1, cv1 = state_data(prob, 1)
-    w2, f2, _, _, z2, _ = state_data(prob, 2)
-    m1, m2 = w1.size, w2.size
-    Phi = np.eye(2 * (m1 if sig.dwell[0] else m2))
-    segs = iter(ch.segments)
-    dh = np.concatenate([c1, np.zeros(m1) if cv1 is None else cv1])
-    e = np.concatenate([np.asarray(sy.gap_row, float), np.zeros(m2)])
-    for i, positive in enumerate(sig.dwell):
-        if positive:
-            s = next(segs)
-            t = s.t0 + s.tau
-            fI = vector_field(w1, f1, W, t, phi, s.z1, z1)
-            hdot = dh @ fI - rq1 * W * np.sin(W * t - phi)
-            jump = vector_field(w2, f2, W, t, phi, E @ s.z1, z2) - E @ fI
-            Phi = (E + np.outer(jump, dh) / hdot) @ flow_matrix(w1, s.tau, z1) @ Phi
-        s = next(segs)
-        t = s.t0 + s.tau
-        Phi = flow_matrix(w2, s.tau, z2) @ Phi
-        fII = vector_field(w2, f2, W, t, phi, s.z1, z2)
-        vc = float(sy.gap_row @ s.z1[m2:])
-        if sig.dwell[(i + 1) % sig.k]:
-            R = G
-            fplus = vector_field(w1, f1, W, t, phi, G @ s.z1, z1)
-        else:                                     # zero dwell next: impact and opening at once
-            R = E @ G
-            fplus = vector_field(w2, f2, W, t, phi, R @ s.z1, z2)
-        Phi = (R + np.outer(fplus - R @ fII, e) / vc) @ Phi
-    return Phi
+    md, damping = model(prob)
+    n = 2 * (md[0] if sig.dwell[0] else md[1]).shape[1]
+    M = np.empty((n, n))
+    compiled().monodromy(md, damping, dwell_of(sig), float(T), float(phi), ch.times, ch.states, M)
+    return M
 
 
 def multipliers(M: np.ndarray) -> np.ndarray:
-    """Eigenvalues of a monodromy matrix, by decreasing modulus."""
+    """Eigenvalues of a monodromy matrix (or of each of a stack), by decreasing modulus."""
     mu = np.linalg.eigvals(M)
-    return mu[np.argsort(-np.abs(mu))]
+    return np.take_along_axis(mu, np.argsort(-np.abs(mu), axis=-1), axis=-1)

@@ -5,7 +5,7 @@ unknown than equations, so the responses form curves.  Each step predicts
 along the unit tangent (in scaled coordinates: the state by its size, the
 durations and ``T`` by ``T``, the phase as it is), then corrects by Newton on
 ``F = 0`` and the arclength condition; the Jacobian in ``X`` is exact, the
-column in ``T`` a central difference (the load's frequency enters every
+column in ``T`` a forward difference (the load's frequency enters every
 flow).  The curve passes folds in ``T``.  It stops at the ends of the period
 window, where a duration reaches zero (a stuck phase shrinking to zero is a
 change of signature: :func:`plbar.hybrid.branches` continues into the new
@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import Problem
-from .chain import evaluate, layout
+from .chain import compiled, dwell_of, layout, model
 from .signature import Signature
 from .solve import ACCEPT, ROUNDOFF, HybridOrbit, NotConverged, orbit_at, polish
 
@@ -47,71 +47,42 @@ class FollowSettings:
 
 
 def scale_of(prob: Problem, sig: Signature, X: np.ndarray, T: float) -> np.ndarray:
-    nz, q, _ = layout(prob, sig)
-    zs = max(float(np.abs(X[:nz]).max(initial=0.0)), 1e-12)
-    return np.concatenate([np.full(nz, zs), np.full(q, T), [1.0], [T]])
+    """The scales of ``Y = (X, T)``: the state by its largest component, the durations and ``T`` by ``T``, the phase
+    by 1."""
+    nz, q = 2 * prob.system.w1.size, sig.durations
+    S = np.empty(nz + q + 2)
+    S[:nz] = max(float(np.abs(X[:nz]).max(initial=0.0)), 1e-12)
+    S[nz:] = T
+    S[-2] = 1.0
+    return S
 
 
-def _jac(prob, sig, Y):
-    X, T = Y[:-1], Y[-1]
-    ch = evaluate(prob, sig, T, X)
-    h = 1e-7 * T
-    dT = (evaluate(prob, sig, T + h, X, jac=False).F - ch.F) / h
-    return ch, np.hstack([ch.J, dT[:, None]])
+def _kernel(prob, sig):
+    """The compiled step (:func:`plbar.hybrid.kernel.newton.step`) bound to a problem and a signature."""
+    step = compiled().step
+    md, damping = model(prob)
+    dwell = dwell_of(sig)
 
+    def run(Y, S, c, Ja, h, h_min, newton, mode, t, Ynew):
+        f64 = lambda a: np.ascontiguousarray(a, dtype=float)  # noqa: E731
+        return step(md, damping, dwell, sig.m, f64(Y), f64(S), f64(c), f64(Ja), float(h), float(h_min), int(newton),
+                    mode, t, Ynew)
 
-def _tangent(Ja: np.ndarray, S: np.ndarray, prev: np.ndarray | None, direction: float) -> np.ndarray:
-    """Unit tangent of the curve in scaled coordinates (orientation kept from ``prev``, else ``direction`` in T)."""
-    A = Ja * S[None, :]
-    _, _, vt = np.linalg.svd(A)
-    t = vt[-1]
-    ref = (prev @ t) if prev is not None else direction * t[-1]
-    return t if ref >= 0 else -t
+    return run
 
 
 def correct(prob, sig, Yp, t, S, newton: int = 8, Ja: np.ndarray | None = None):
-    """Newton on ``F = 0`` and ``t . (Y - Yp) = 0`` (scaled); the orbit or None.
+    """Newton on ``F = 0`` and ``t . (Y - Yp) = 0`` (scaled); the orbit or None (compiled:
+    :func:`plbar.hybrid.kernel.newton.correct`).
 
     With ``Ja`` (the augmented Jacobian at the last point) the corrector is a chord method: that
     matrix is factorised once and every iteration evaluates only the residuals.
     """
-    from scipy.linalg import lu_factor, lu_solve
-
-    Y = Yp.copy()
-    nz, q, _ = layout(prob, sig)
-    lu = None
-    ch = None
-    last = np.inf
-    for it in range(2 * newton if Ja is not None else newton):
-        if np.any(Y[nz:nz + q] <= 0) or Y[-1] <= 0:
-            return None
-        if Ja is None or lu is None and it > 0:
-            ch, J = _jac(prob, sig, Y)
-            A = np.vstack([J, (t / S)[None, :]])
-            lu = lu_factor(A, check_finite=False)
-        elif lu is None:
-            lu = lu_factor(np.vstack([Ja, (t / S)[None, :]]), check_finite=False)
-            ch = evaluate(prob, sig, Y[-1], Y[:-1], jac=False)
-        else:
-            ch = evaluate(prob, sig, Y[-1], Y[:-1], jac=False)
-        G = np.concatenate([ch.F, [t @ ((Y - Yp) / S)]])
-        dY = lu_solve(lu, -G, check_finite=False)
-        if not np.all(np.isfinite(dY)):
-            return None
-        size = np.max(np.abs(dY) / S)
-        if Ja is not None and size > 0.5 * last:                  # the chord stalls: a fresh Jacobian
-            lu = None
-            if it > newton:
-                return None
-        last = size
-        if size < 1e-13 and ch.J is None:              # converged at Y, whose residuals are in hand
-            return _final(prob, sig, orbit_at(prob, sig, Y[-1], Y[:-1], ch))
-        Y = Y + dY
-        if size < 1e-13:
-            break
-    if np.any(Y[nz:nz + q] <= 0) or Y[-1] <= 0:
-        return None
-    return _final(prob, sig, orbit_at(prob, sig, Y[-1], Y[:-1]))
+    K = compiled()
+    Y = np.empty(Yp.size)
+    out, _ = _kernel(prob, sig)(Yp, S, t, np.zeros((1, 1)) if Ja is None else Ja, 0.0, 0.0, newton,
+                                K.NEWTON if Ja is None else K.CHORD, np.empty(Yp.size), Y)
+    return None if out == K.FAILED else _final(prob, sig, orbit_at(prob, sig, Y[-1], Y[:-1]))
 
 
 def _final(prob, sig, orb: HybridOrbit):
@@ -129,7 +100,7 @@ def _final(prob, sig, orb: HybridOrbit):
 def plausible(orb: HybridOrbit) -> bool:
     """The necessary conditions of admissibility that cost nothing: every impact comes in (``v_c > 0``) and the
     reaction pulls after every impact followed by a zero dwell."""
-    return bool(np.all(orb.v_impact > 0) and np.all(orb.zero_margins < 0))
+    return bool((orb.v_impact > 0).all() and (orb.zero_margins < 0).all())
 
 
 def follow(prob: Problem, sig: Signature, start: HybridOrbit, window: tuple[float, float], direction: float = 1.0,
@@ -138,27 +109,32 @@ def follow(prob: Problem, sig: Signature, start: HybridOrbit, window: tuple[floa
 
     Returns the orbits in order (``start`` first) and why the curve ended.
     """
+    K = compiled()
     st = settings or FollowSettings()
     Y = np.concatenate([start.X, [start.T]])
     out = [start]
     nz, q, _ = layout(prob, sig)
     h = st.h0
-    prev = None
+    run = _kernel(prob, sig)
+    c = np.zeros(Y.size)                 # the last tangent; at the first point the direction in T
+    c[-1] = direction
+    t, Yn, none = np.empty(Y.size), np.empty(Y.size), np.zeros((1, 1))
     bad = 0
     while len(out) < st.max_points:
         S = scale_of(prob, sig, Y[:-1], Y[-1])
-        _, Ja = _jac(prob, sig, Y)
-        t = _tangent(Ja, S, prev, direction)
         orb = None
         while h >= st.h_min:
-            Yp = Y + h * t * S
-            orb = correct(prob, sig, Yp, t, S, st.newton, Ja)
-            if orb is not None and abs(orb.T - Y[-1]) <= 0.2 * Y[-1]:
+            res, h = run(Y, S, c, none, h, st.h_min, st.newton, K.FOLLOW, t, Yn)
+            if res == K.FAILED:
                 break
-            orb = None
+            Yp = Y + h * t * S
+            if res != K.ENDED:
+                orb = _final(prob, sig, orbit_at(prob, sig, Yn[-1], Yn[:-1].copy()))
+                if orb is not None and abs(orb.T - Y[-1]) <= 0.2 * Y[-1]:
+                    break
+                orb = None
             if np.any(Yp[nz:nz + q] <= 0):
-                d = Yp[nz:nz + q]
-                return out, _duration_end(sig, int(np.argmin(d)))
+                return out, _duration_end(sig, int(np.argmin(Yp[nz:nz + q])))
             h *= 0.5
         if orb is None:
             return out, END_FAILED
@@ -169,7 +145,7 @@ def follow(prob: Problem, sig: Signature, start: HybridOrbit, window: tuple[floa
         bad = 0 if plausible(orb) else bad + 1
         if bad >= st.patience:
             return out, END_INADMISSIBLE
-        prev = t
+        c = t.copy()
         h = min(1.5 * h, st.h_max)
     return out, END_POINTS
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from functools import cached_property
 
 from ..errors import InputError
 
@@ -42,12 +43,12 @@ class Signature:
         """Stuck/free pairs (impacts per orbit)."""
         return len(self.dwell)
 
-    @property
+    @cached_property
     def zero(self) -> int:
         """Pairs of zero dwell."""
         return sum(not d for d in self.dwell)
 
-    @property
+    @cached_property
     def durations(self) -> int:
         """Unknown durations: the positive dwells and every free phase."""
         return 2 * self.k - self.zero

@@ -12,15 +12,14 @@ period (``loss_per_T``); ``xi_eq`` of Eq. (22) over all its segments
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, lru_cache
 
 import numpy as np
 
 from ..errors import PlbarError
 from ..model import Problem
-from ..response import psi, segment
 from ..util.reprs import build
-from .chain import Chain, evaluate, layout, state_data
+from .chain import Chain, compiled, dwell_of, evaluate, layout, model
 from .signature import Signature
 
 __all__ = ["HybridOrbit", "NotConverged", "polish", "orbit_at", "ACCEPT", "ROUNDOFF"]
@@ -93,7 +92,7 @@ class HybridOrbit:
 
     @cached_property
     def _psi(self) -> tuple[float, float, float]:
-        return _psi_sums(self.prob, self.chain, self.T, float(self.X[-1]))
+        return _energy(self.prob, self.sig, self.chain, self.T, float(self.X[-1]), compiled().PSI)
 
     @property
     def xi(self) -> float:
@@ -119,18 +118,7 @@ class HybridOrbit:
     @cached_property
     def amplitude(self) -> float:
         """``max |x_c|`` over the orbit, sampled on every free phase (200 points each, as the paper's class)."""
-        prob = self.prob
-        sy = prob.system
-        m = sy.w2.size
-        W = 2 * np.pi / self.T
-        best = 0.0
-        for seg in self.chain.segments:
-            if seg.state == 2:
-                u = np.linspace(0.0, seg.tau, 200)
-                e, _ = segment(sy.w2, prob.f2, W, seg.t0, u[:, None], seg.z0[:m], seg.z0[m:], np.cos(self.phi),
-                               np.sin(self.phi), zeta=state_data(prob, 2)[4])
-                best = max(best, float(np.abs(e @ sy.gap_row).max()))
-        return best
+        return _energy(self.prob, self.sig, self.chain, self.T, self.phi, compiled().AMPLITUDE)[0]
 
     def __repr__(self) -> str:
         return build("HybridOrbit", {"sig": str(self.sig), "T": self.T, "phi": self.phi,
@@ -138,39 +126,25 @@ class HybridOrbit:
                                      "loss_per_T": self.loss_per_T, "xi": self.xi, "residual": self.residual})
 
 
-def _scales(prob: Problem, ch: Chain, X, nz: int, q: int, T: float) -> np.ndarray:
-    zs = max(float(np.abs(X[:nz]).max(initial=0.0)), 1e-300)
-    return np.concatenate([np.maximum(ch.switch_scale, 1e-300), [T], np.full(nz, zs)])
-
-
 def durations_of(sig: Signature, X: np.ndarray, nz: int) -> np.ndarray:
     """The ``2k`` durations (zero dwells filled in) from the unknowns."""
-    out, col = [], 0
-    for positive in sig.dwell:
-        if positive:
-            out.append(X[nz + col])
-            col += 1
-        else:
-            out.append(0.0)
-        out.append(X[nz + col])
-        col += 1
-    return np.array(out, float)
+    out = np.zeros(2 * sig.k)
+    out[_duration_slots(sig)] = X[nz:nz + sig.durations]
+    return out
 
 
-def _psi_sums(prob: Problem, ch: Chain, T: float, phi: float) -> tuple[float, float, float]:
-    """``sum_j w_j Psi_j``, ``sum_j Psi_j`` and the viscous loss ``sum_j 2 zeta_j w_j Psi_j`` over every segment of
-    an evaluated chain (Eqs. (20)-(21); damped velocities with inherent damping)."""
-    W = 2 * np.pi / T
-    den, kin, visc = 0.0, 0.0, 0.0
-    for seg in ch.segments:
-        w, f, _, _, zeta, _ = state_data(prob, seg.state)
-        m = w.size
-        p, _ = psi(w, f, W, seg.t0, seg.tau, seg.z0[:m], seg.z0[m:], np.cos(phi), np.sin(phi), zeta=zeta)
-        den += float(p @ w)
-        kin += float(np.sum(p))
-        if zeta is not None:
-            visc += float(p @ (2.0 * zeta * w))
-    return den, kin, visc
+@lru_cache(maxsize=256)
+def _duration_slots(sig: Signature) -> np.ndarray:
+    """Where each unknown duration goes among the ``2k`` durations."""
+    return np.array([2 * i + s for i, positive in enumerate(sig.dwell) for s in ((0, 1) if positive else (1,))])
+
+
+def _energy(prob: Problem, sig: Signature, ch: Chain, T: float, phi: float, what: int) -> tuple[float, float, float]:
+    """``sum_j w_j Psi_j``, ``sum_j Psi_j`` and the viscous loss ``sum_j 2 zeta_j w_j Psi_j`` over every segment of an
+    evaluated chain (Eqs. (20)-(21); damped velocities with inherent damping), or ``(max |x_c|, 0, 0)`` over 200
+    samples of every free phase (compiled: :mod:`plbar.hybrid.kernel.energy`)."""
+    md, damping = model(prob)
+    return compiled().energy(md, damping, dwell_of(sig), float(T), float(phi), ch.times, ch.states, what, 200)
 
 
 def orbit_at(prob: Problem, sig: Signature, T: float, X, ch: Chain | None = None) -> HybridOrbit:
@@ -178,44 +152,28 @@ def orbit_at(prob: Problem, sig: Signature, T: float, X, ch: Chain | None = None
     an evaluation of the same ``X`` without Jacobian)."""
     X = np.asarray(X, float)
     ch = ch if ch is not None and ch.J is None else evaluate(prob, sig, T, X, jac=False)
-    nz, q, _ = layout(prob, sig)
-    res = float(np.max(np.abs(ch.F) / _scales(prob, ch, X, nz, q, T)))
-    m2 = prob.system.w2.size
-    vimp = np.array([float(prob.system.gap_row @ seg.z1[m2:]) for seg in ch.segments if seg.state == 2])
-    return HybridOrbit(prob, sig, float(T), float(np.mod(X[-1], 2 * np.pi)), X, durations_of(sig, X, nz), res,
-                       vimp, ch.zero_margins, ch)
+    return HybridOrbit(prob, sig, float(T), float(np.mod(X[-1], 2 * np.pi)), X,
+                       durations_of(sig, X, 2 * prob.system.w1.size), ch.residual, ch.v_impact, ch.zero_margins, ch)
 
 
 def polish(prob: Problem, sig: Signature, T: float, X0, maxit: int = 30) -> HybridOrbit:
-    """Newton on the chain's residuals from the guess ``X0`` (exact Jacobian, damped by halving).
+    """Newton on the chain's residuals from the guess ``X0`` (exact Jacobian, damped by halving; compiled:
+    :func:`plbar.hybrid.kernel.newton.polish`).
 
     Raises
     ------
     NotConverged
         If the relative residual does not reach :data:`ACCEPT`, or a duration turns negative.
     """
+    K = compiled()
     X = np.array(X0, float)
-    nz, q, _ = layout(prob, sig)
+    nz, q, nX = layout(prob, sig)
     T = float(T)
-    for _ in range(maxit):
-        ch = evaluate(prob, sig, T, X)
-        sc = _scales(prob, ch, X, nz, q, T)
-        r = np.max(np.abs(ch.F) / sc)
-        if r <= ROUNDOFF:
-            break
-        try:
-            dX = np.linalg.solve(ch.J, -ch.F)
-        except np.linalg.LinAlgError:
-            raise NotConverged(f"singular Jacobian for {sig} at T = {T:.12g}") from None
-        lam = 1.0
-        for _ in range(20):
-            Xn = X + lam * dX
-            if np.all(Xn[nz:nz + q] > 0):
-                rn = np.max(np.abs(evaluate(prob, sig, T, Xn, jac=False).F) / sc)
-                if rn < r or lam < 1e-3:
-                    break
-            lam *= 0.5
-        X = Xn
+    md, damping = model(prob)
+    if X.shape != (nX,):
+        raise ValueError(f"X0 has shape {X.shape}, the chain of {sig} takes {nX} unknowns")
+    if K.polish(md, damping, dwell_of(sig), sig.m, T, X, int(maxit), ROUNDOFF) == K.SINGULAR:
+        raise NotConverged(f"singular Jacobian for {sig} at T = {T:.12g}")
     orb = orbit_at(prob, sig, T, X)
     if not orb.residual <= 10 * ROUNDOFF or np.any(X[nz:nz + q] <= 0):
         raise NotConverged(f"{sig} at T = {T:.12g}: residual {orb.residual:.2e} after Newton")

@@ -50,9 +50,11 @@ def admissible(orbits, tol: float = 1e-9) -> np.ndarray:
     phi = np.array([o.phi for o in orbits])
     r = run(pad, T, phi, mmax + 1, mmax + 1, Start(np.full(B, STUCK), eta, vel), accounts=False)
     ok = np.zeros(B, bool)
+    order = np.argsort(r.events["traj"], kind="stable")          # each trajectory's events, in their order
+    start = np.searchsorted(r.events["traj"][order], np.arange(B + 1))
+    times, kinds = r.events["time"][order], r.events["kind"][order]
     for b, o in enumerate(orbits):
-        sel = r.events["traj"] == b
-        te, ke = r.events["time"][sel], r.events["kind"][sel]
+        te, ke = times[start[b]:start[b + 1]], kinds[start[b]:start[b + 1]]
         et, ek = expected_events(o)
         span = o.sig.m * o.T
         n = et.size

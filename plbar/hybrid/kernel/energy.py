@@ -1,0 +1,57 @@
+"""The energy of an evaluated chain's orbit in compiled code: ``Psi`` sums (Eqs. (20)-(22)) and the contact amplitude.
+
+Over the segments :func:`.walk.chain` recorded (``times``, ``zs``), mode by mode: ``Psi = int eta'^2`` by
+:func:`plbar.motion.kernel.integrals.psi` (the closed form, or Gauss-Legendre quadrature exact to round-off
+where it cancels), summed as ``sum_j w_j Psi_j`` (the denominator of ``xi_eq``), ``sum_j Psi_j`` (that of
+``xi_w``) and ``sum_j 2 zeta_j w_j Psi_j`` (the viscous loss); and ``max |x_c|`` over equally spaced samples
+of every free phase (:func:`plbar.motion.kernel.closed.mode_flow`).
+"""
+
+from __future__ import annotations
+
+from math import cos, pi, sin
+
+from ...motion.kernel.closed import half, mode_flow
+from ...motion.kernel.integrals import psi
+from .stamp import cached
+from .walk import C, LOAD, W, ZETA
+
+__all__ = ["energy", "PSI", "AMPLITUDE"]
+
+PSI, AMPLITUDE = 0, 1   #: what :func:`energy` computes
+
+
+def _energy(stamp):
+    def energy(md, damping, dwell, T, phi, times, zs, what, samples):
+        """With ``what`` :data:`PSI`: ``(sum w Psi, sum Psi, sum 2 zeta w Psi)`` over every segment; with
+        :data:`AMPLITUDE`: ``(max |x_c|, 0, 0)`` over ``samples`` equally spaced points of every free phase."""
+        Om, cphi, sphi = 2.0 * pi / T, cos(phi), sin(phi)
+        a, b, c, col = 0.0, 0.0, 0.0, 0
+        for i in range(dwell.size if stamp >= 0 else 0):       # (the stamp keys the on-disk cache)
+            for s in range(2 if dwell[i] else 1):
+                tab = md[0] if s == 0 and dwell[i] else md[1]
+                m, t0, tau = tab.shape[1], times[col, 0], times[col, 1]
+                c0, s0 = cos(Om * t0), sin(Om * t0)
+                z = zs[col, 0]
+                col += 1
+                if what == PSI:
+                    cb, sb = cos(0.5 * Om * tau), sin(0.5 * Om * tau)
+                    for j in range(m):
+                        w, zeta = tab[W, j], tab[ZETA, j]
+                        p = psi(w, zeta, tab[LOAD, j], Om, c0, s0, tau, z[j], z[m + j], cphi, sphi, damping, cb, sb)
+                        a, b, c = a + w * p, b + p, c + 2.0 * zeta * w * p
+                elif s == 1 or not dwell[i]:
+                    for k in range(samples):
+                        u = tau if k == samples - 1 else k * (tau / (samples - 1))
+                        cW, sW, sWu = half(Om, u)
+                        g = 0.0
+                        for j in range(m):
+                            g += tab[C, j] * mode_flow(tab[W, j], tab[ZETA, j], tab[LOAD, j], Om, c0, s0, u, z[j],
+                                                       z[m + j], cphi, sphi, cW, sW, sWu, damping)[0]
+                        a = max(a, abs(g))
+        return a, b, c
+
+    return energy
+
+
+energy = cached(_energy)   #: the entry point (:func:`_energy`)

@@ -1,0 +1,144 @@
+"""The monodromy of an evaluated chain in compiled code: flows and saltation matrices (FORMULATION §7).
+
+The product of :mod:`plbar.hybrid.floquet` (its docstring says what each factor is) over the segments
+:func:`.walk.chain` recorded (``times``, ``zs``): the free flow of every segment (its 2 x 2 block per mode
+is :func:`plbar.motion.kernel.closed.mode_flow` with unit initial states and no load), the saltation of
+every opening after a positive dwell (``E + (f_II(E z) - E f_I(z)) dh^T / hdot``) and of every impact
+(``R + (f^+ - R f_II) e^T / v_c``, ``R = G``, or ``E G`` where a zero dwell follows).
+"""
+
+from __future__ import annotations
+
+from math import cos, sin
+
+import numpy as np
+
+from ...motion.kernel.closed import half, mode_flow
+from ...motion.kernel.jit import jit
+from .stamp import cached
+from .walk import C, CV, LOAD, W, ZETA
+
+__all__ = ["monodromy"]
+
+
+@jit
+def _field(tab, Om, t, phi, z, out):
+    """``out = dz/dt = (eta', f cos(Om t - phi) - w^2 eta - 2 zeta w eta')`` (Eq. (1) in modal form)."""
+    m = tab.shape[1]
+    load = cos(Om * t - phi)
+    for j in range(m):
+        w = tab[W, j]
+        out[j] = z[m + j]
+        out[m + j] = tab[LOAD, j] * load - w * w * z[j] - 2.0 * tab[ZETA, j] * w * z[m + j]
+
+
+@jit
+def _free(tab, damping, Om, tau, P, Pn):
+    """``Pn = Phi(tau) P``: the free flow of every mode (its 2 x 2 block) on the rows of ``P``."""
+    m = tab.shape[1]
+    cW, sW, sWu = half(Om, tau)
+    for j in range(m):
+        w, f, zeta = tab[W, j], tab[LOAD, j], tab[ZETA, j]
+        p11, p21 = mode_flow(w, zeta, f, Om, 1.0, 0.0, tau, 1.0, 0.0, 0.0, 0.0, cW, sW, sWu, damping)
+        p12, p22 = mode_flow(w, zeta, f, Om, 1.0, 0.0, tau, 0.0, 1.0, 0.0, 0.0, cW, sW, sWu, damping)
+        for k in range(P.shape[1]):
+            a, b = P[j, k], P[m + j, k]
+            Pn[j, k], Pn[m + j, k] = p11 * a + p12 * b, p21 * a + p22 * b
+
+
+@jit
+def _salt(M, u, v, s, P, Pn):
+    """``Pn = (M + u v^T / s) P`` (a saltation matrix; ``M`` the switch's map)."""
+    vP = np.zeros(P.shape[1])
+    for j in range(M.shape[1]):
+        for k in range(P.shape[1]):
+            vP[k] += v[j] * P[j, k]
+    for i in range(M.shape[0]):
+        for k in range(P.shape[1]):
+            acc = u[i] * vP[k] / s
+            for j in range(M.shape[1]):
+                acc += M[i, j] * P[j, k]
+            Pn[i, k] = acc
+
+
+@jit
+def _mul(M, z, out):
+    """``out = M z``."""
+    for i in range(M.shape[0]):
+        acc = 0.0
+        for j in range(M.shape[1]):
+            acc += M[i, j] * z[j]
+        out[i] = acc
+
+
+@jit
+def _opening(tab1, tab2, E, rq1, Om, t, phi, z, P, Pn):
+    """The saltation of the opening at ``t`` from the state I ``z`` (``h = -R``, its gradient ``(c, cv)``)."""
+    m1, n2 = tab1.shape[1], E.shape[0]
+    fI, ez, f2, jump, dh = np.empty(2 * m1), np.empty(n2), np.empty(n2), np.empty(n2), np.empty(2 * m1)
+    _field(tab1, Om, t, phi, z, fI)
+    _mul(E, z, ez)
+    _field(tab2, Om, t, phi, ez, f2)
+    _mul(E, fI, jump)
+    hdot = -rq1 * Om * sin(Om * t - phi)
+    for j in range(m1):
+        dh[j], dh[m1 + j] = tab1[C, j], tab1[CV, j]
+        hdot += dh[j] * fI[j] + dh[m1 + j] * fI[m1 + j]
+    for i in range(n2):
+        jump[i] = f2[i] - jump[i]
+    _salt(E, jump, dh, hdot, P, Pn)
+
+
+@jit
+def _impact(tabp, R, tab2, Om, t, phi, z, P, Pn):
+    """The saltation of the impact at ``t`` from the state II ``z`` (``h = x_c``, reset ``R``, then the field of
+    ``tabp``)."""
+    m2, n = tab2.shape[1], R.shape[0]
+    fII, rz, fp, rf, e = np.empty(2 * m2), np.empty(n), np.empty(n), np.empty(n), np.zeros(2 * m2)
+    _field(tab2, Om, t, phi, z, fII)
+    _mul(R, z, rz)
+    _field(tabp, Om, t, phi, rz, fp)
+    _mul(R, fII, rf)
+    vc = 0.0
+    for j in range(m2):
+        e[j] = -tab2[C, j]                 # the gap row (the state II margin is -x_c)
+        vc += e[j] * z[m2 + j]
+    for i in range(n):
+        fp[i] -= rf[i]
+    _salt(R, fp, e, vc, P, Pn)
+
+
+def _monodromy(stamp):
+    def monodromy(md, damping, dwell, T, phi, times, zs, M):
+        """``M``: the Jacobian of the ``m``-period map of the chain whose segments are ``times``, ``zs``."""
+        tab1, tab2, E, G, rq1 = md
+        n0, mm = M.shape[0], 2 * max(tab1.shape[1], tab2.shape[1])
+        EG = np.zeros((E.shape[0], G.shape[1]))
+        for i in range(E.shape[0]):
+            for j in range(G.shape[1]):
+                for r in range(G.shape[0]):
+                    EG[i, j] += E[i, r] * G[r, j]
+        P, Pn = np.zeros((mm, n0)), np.zeros((mm, n0))
+        for i in range(n0 if stamp >= 0 else 0):      # (the stamp keys the on-disk cache)
+            P[i, i] = 1.0
+        Om, col, k = 2.0 * np.pi / T, 0, dwell.size
+        for i in range(k):
+            for s in range(2 if dwell[i] else 1):
+                stuck = s == 0 and dwell[i]
+                t = times[col, 0] + times[col, 1]
+                _free(tab1 if stuck else tab2, damping, Om, times[col, 1], P, Pn)
+                if stuck:
+                    _opening(tab1, tab2, E, rq1, Om, t, phi, zs[col, 1], Pn, P)
+                elif dwell[(i + 1) % k]:
+                    _impact(tab1, G, tab2, Om, t, phi, zs[col, 1], Pn, P)
+                else:                             # zero dwell next: impact and opening at once
+                    _impact(tab2, EG, tab2, Om, t, phi, zs[col, 1], Pn, P)
+                col += 1
+        for i in range(n0):
+            for j in range(n0):
+                M[i, j] = P[i, j]
+
+    return monodromy
+
+
+monodromy = cached(_monodromy)   #: the entry point (:func:`_monodromy`)

@@ -1,0 +1,220 @@
+"""The segment chain walked in compiled code: residuals, their exact Jacobian, the segments' end states.
+
+The formulas of :mod:`plbar.hybrid.chain` (its module docstring) one mode at a time.  Every
+modal flow is :func:`plbar.motion.kernel.closed.mode_flow` (undamped, or damped where
+``damping`` is given): the end state from the segment's start state; for the Jacobian also
+the free flow's 2 x 2 block of each mode (unit initial states, no load) and the forced
+part's derivative in the phase (zero initial state, ``(cos, sin)`` of the phase replaced by
+``(-sin phi, cos phi)``), all linear in those arguments.
+
+A state's table ``tab[W | LOAD | C | ZETA | CV, j]`` holds its frequencies, modal loads, the
+weights of its margin (``-r_eta`` in state I, ``-gap_row`` in state II), its damping ratios and
+the damper's share of the reaction (zero where there is none).  The model is
+``md = (tab1, tab2, E, G, rq1)`` (switch maps: opening ``E``, impact ``G``; ``rq1 = -r_q``).
+"""
+
+from __future__ import annotations
+
+from math import cos, pi, sin
+
+import numpy as np
+
+from ...motion.kernel.closed import half, mode_flow
+from ...motion.kernel.jit import jit
+from .stamp import cached
+
+__all__ = ["W", "LOAD", "C", "ZETA", "CV", "chain", "segments", "copy", "relative"]
+
+W, LOAD, C, ZETA, CV = 0, 1, 2, 3, 4   #: rows of a state's table
+
+
+@jit
+def _flow(tab, damping, Om, t, tau, cphi, sphi, z, z1):
+    """``z1``: the state at the end of a segment of ``tau`` from ``z`` at ``t``."""
+    m = tab.shape[1]
+    c0, s0 = cos(Om * t), sin(Om * t)
+    cW, sW, sWu = half(Om, tau)
+    for j in range(m):
+        z1[j], z1[m + j] = mode_flow(tab[W, j], tab[ZETA, j], tab[LOAD, j], Om, c0, s0, tau, z[j], z[m + j], cphi, sphi,
+                                     cW, sW, sWu, damping)
+
+
+@jit
+def _flow_jac(tab, damping, Om, t, tau, phi, z, z1, D, Dn, tcol, dcol):
+    """:func:`_flow` and ``Dn = dz1/dX`` from ``D = dz/dX``: the free flow (unit initial states, no load), the phase
+    (the forced part at ``(-sin phi, cos phi)``), a later start (``-Om d/dphi`` of the forced part) and the segment's
+    own duration (column ``dcol``: the vector field at the end)."""
+    m, nX = tab.shape[1], D.shape[1]
+    cphi, sphi = cos(phi), sin(phi)
+    c0, s0 = cos(Om * t), sin(Om * t)
+    cW, sW, sWu = half(Om, tau)
+    load = cos(Om * (t + tau) - phi)
+    for j in range(m):
+        w, f, zeta = tab[W, j], tab[LOAD, j], tab[ZETA, j]
+        e, v = mode_flow(w, zeta, f, Om, c0, s0, tau, z[j], z[m + j], cphi, sphi, cW, sW, sWu, damping)
+        p11, p21 = mode_flow(w, zeta, f, Om, c0, s0, tau, 1.0, 0.0, 0.0, 0.0, cW, sW, sWu, damping)
+        p12, p22 = mode_flow(w, zeta, f, Om, c0, s0, tau, 0.0, 1.0, 0.0, 0.0, cW, sW, sWu, damping)
+        de, dv = mode_flow(w, zeta, f, Om, c0, s0, tau, 0.0, 0.0, -sphi, cphi, cW, sW, sWu, damping)
+        z1[j], z1[m + j] = e, v
+        for k in range(nX):
+            a, b = D[j, k], D[m + j, k]
+            Dn[j, k] = p11 * a + p12 * b - Om * de * tcol[k]
+            Dn[m + j, k] = p21 * a + p22 * b - Om * dv * tcol[k]
+        Dn[j, nX - 1] += de
+        Dn[m + j, nX - 1] += dv
+        Dn[j, dcol] += v
+        Dn[m + j, dcol] += f * load - w * w * e - 2.0 * zeta * w * v
+
+
+@jit
+def _margin(tab, rq, Om, t, phi, z):
+    """``(g, size)``: the state's margin ``c . eta + cv . eta' + rq cos(Om t - phi)`` (``-R`` in I, ``-x_c`` in II)
+    and the size of its terms."""
+    m = tab.shape[1]
+    g, size = 0.0, 0.0
+    for j in range(m):
+        g += tab[C, j] * z[j] + tab[CV, j] * z[m + j]
+        size += abs(tab[C, j]) * abs(z[j]) + abs(tab[CV, j]) * abs(z[m + j])
+    return g + rq * cos(Om * t - phi), size + abs(rq)
+
+
+@jit
+def _gradient(tab, rq, Om, t, phi, D, tcol, row):
+    """The gradient of :func:`_margin` in ``X`` into ``row`` (``D = dz/dX``, ``tcol = dt/dX``)."""
+    m, nX = tab.shape[1], D.shape[1]
+    rs = rq * sin(Om * t - phi)
+    for k in range(nX):
+        s = -rs * Om * tcol[k]
+        for j in range(m):
+            s += tab[C, j] * D[j, k] + tab[CV, j] * D[m + j, k]
+        row[k] = s
+    row[nX - 1] += rs
+
+
+@jit
+def _switch(M, z, zn):
+    """``zn = M z`` (a switch map; its columns are those of ``z``, its rows those of ``zn``)."""
+    for i in range(M.shape[0]):
+        s = 0.0
+        for j in range(M.shape[1]):
+            s += M[i, j] * z[j]
+        zn[i] = s
+
+
+@jit
+def _switch_rows(M, D, Dn):
+    """``Dn = M D`` (the switch map on every column of the derivative)."""
+    for i in range(M.shape[0]):
+        for k in range(D.shape[1]):
+            s = 0.0
+            for j in range(M.shape[1]):
+                s += M[i, j] * D[j, k]
+            Dn[i, k] = s
+
+
+@jit
+def copy(src, dst):
+    """``dst[:] = src`` (1-d, as a loop: less code than numpy's assignment)."""
+    for i in range(src.size):
+        dst[i] = src[i]
+
+
+@jit
+def segments(dwell):
+    """Segments of a chain: one per free phase and one per positive dwell."""
+    n = 0
+    for d in dwell:
+        n += 2 if d else 1
+    return n
+
+
+@jit
+def relative(F, scale, X, nz, T):
+    """Largest relative residual: each switching residual by the size of its terms, the sum by ``T``, the
+    periodicity by the largest state component."""
+    q = scale.size
+    zs = 1e-300
+    for i in range(nz):
+        zs = max(zs, abs(X[i]))
+    r = abs(F[q]) / T
+    for i in range(q):
+        r = max(r, abs(F[i]) / max(scale[i], 1e-300))
+    for i in range(nz):
+        r = max(r, abs(F[q + 1 + i]) / zs)
+    return r
+
+
+@jit
+def _close(X, nz, q, m, T, z, D, F, J, jac):
+    """The last rows: ``sum tau = m T`` and the periodicity ``z(m T) = z0`` (with ``jac`` their Jacobian rows)."""
+    total = 0.0
+    for i in range(q):
+        total += X[nz + i]
+    F[q] = total - m * T
+    for i in range(nz):
+        F[q + 1 + i] = z[i] - X[i]
+    if jac:
+        for k in range(X.size):
+            J[q, k] = 1.0 if nz <= k < nz + q else 0.0
+            for i in range(nz):
+                J[q + 1 + i, k] = D[i, k] - (1.0 if i == k else 0.0)
+
+
+def _chain(stamp):
+    def chain(md, damping, dwell, m, T, X, F, J, times, zs, zero, scale, vimp):
+        """Residuals ``F`` (and, unless ``J`` is empty, the Jacobian ``J``) of the chain of ``dwell`` over ``m``
+        periods at ``T``; returns the largest relative residual (:func:`relative`).
+
+        Also fills the segments' start times and lengths ``times[i]``, their states ``zs[i, 0 | 1]`` (start, end;
+        padded; segment ``i`` is the one of duration ``X[nz + i]``), the margins after impacts followed by a zero
+        dwell ``zero``, the size of the terms of every switching residual ``scale`` and the contact velocity
+        before every impact ``vimp``.  The state and its derivative live in two buffers each (``a``: the current
+        one).
+        """
+        tab1, tab2, E, G, rq1 = md
+        nz, nX = 2 * tab1.shape[1], X.size
+        n, jac = 2 * max(tab1.shape[1], tab2.shape[1]), J.size > 0 and stamp >= 0   # (the stamp keys the cache)
+        Om, phi = 2.0 * pi / T, X[nX - 1]
+        cphi, sphi = cos(phi), sin(phi)
+        Z, tcol = np.zeros((2, n)), np.zeros(nX)
+        DD = np.zeros((2, n, nX) if jac else (2, 1, 1))
+        for i in range(nz):
+            Z[0, i] = X[i]
+            if jac:
+                DD[0, i, i] = 1.0
+        t, col, nzero, a = 0.0, 0, 0, 0
+        for i in range(dwell.size):
+            for s in range(2):
+                tab, rq = tab1 if s == 0 else tab2, rq1 if s == 0 else 0.0
+                if s == 0 and not dwell[i]:           # just after the impact: the reaction must pull (< 0)
+                    zero[nzero] = _margin(tab1, rq1, Om, t, phi, Z[a])[0]
+                    nzero += 1
+                else:
+                    tau = X[nz + col]
+                    if jac:
+                        _flow_jac(tab, damping, Om, t, tau, phi, Z[a], Z[1 - a], DD[a], DD[1 - a], tcol, nz + col)
+                        tcol[nz + col] = 1.0
+                        _gradient(tab, rq, Om, t + tau, phi, DD[1 - a], tcol, J[col])
+                    else:
+                        _flow(tab, damping, Om, t, tau, cphi, sphi, Z[a], Z[1 - a])
+                    F[col], scale[col] = _margin(tab, rq, Om, t + tau, phi, Z[1 - a])
+                    times[col, 0], times[col, 1] = t, tau
+                    copy(Z[a], zs[col, 0])
+                    copy(Z[1 - a], zs[col, 1])
+                    if s == 1:                        # the contact velocity: the margin -x_c's rate, negated
+                        vimp[i] = 0.0
+                        for j in range(tab2.shape[1]):
+                            vimp[i] -= tab2[C, j] * Z[1 - a, tab2.shape[1] + j]
+                    a, t, col = 1 - a, t + tau, col + 1
+                M = E if s == 0 else G
+                _switch(M, Z[a], Z[1 - a])               # opening, impact
+                if jac:
+                    _switch_rows(M, DD[a], DD[1 - a])
+                a = 1 - a
+        _close(X, nz, nX - nz - 1, m, T, Z[a], DD[a], F, J, jac)
+        return relative(F, scale, X, nz, T)
+
+    return chain
+
+
+chain = cached(_chain)   #: the entry point (:func:`_chain`)
