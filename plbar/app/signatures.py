@@ -17,9 +17,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..hybrid import NotConverged, canonical, find_hybrid, from_motion
-from ..motion import padded, run, steady
+from ..motion import COMPILE_NOTE, compiled, padded, run, steady
 from ..paths import Paths
-from ..util.progress import progress_bar
+from ..util.progress import message, progress_bar
 
 __all__ = ["hybrid_branches", "hybrid_window", "hybrid_rows", "hybrid_summary", "simulated_seeds", "SEED_PERIODS"]
 
@@ -38,8 +38,11 @@ def simulated_seeds(paths: Paths, window, kinds: str = "default", progress: bool
     prob = paths.prob
     num, periods, record = SEED_PERIODS[kinds]
     T = np.linspace(window[0], window[1], num)
+    pad = padded(prob)
+    if progress and not compiled(pad, accounts=False):
+        message(f"plbar: {COMPILE_NOTE}")
     with progress_bar(periods, progress, f"signatures: simulating {num} forcing periods from rest", "period") as bar:
-        r = run(padded(prob), T, 0.0, periods, record, progress=bar.update)
+        r = run(pad, T, 0.0, periods, record, progress=bar.update, accounts=False)     # the switches only
     s = steady(r, tol=1e-4)
     out = []
     first = periods - record

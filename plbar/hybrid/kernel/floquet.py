@@ -14,8 +14,7 @@ from math import cos, sin
 import numpy as np
 
 from ...motion.kernel.closed import half, mode_flow
-from ...motion.kernel.jit import jit
-from .stamp import cached
+from .stamp import cached, jit
 from .walk import C, CV, LOAD, W, ZETA
 
 __all__ = ["monodromy"]

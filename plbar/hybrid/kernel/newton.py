@@ -14,8 +14,7 @@ from math import inf, isfinite, sqrt
 
 import numpy as np
 
-from ...motion.kernel.jit import jit
-from .stamp import cached
+from .stamp import cached, jit
 from .walk import chain, copy, relative, segments
 
 __all__ = ["lu_factor", "lu_solve", "scratch", "augmented", "tangent", "correct", "step", "polish", "FAILED",

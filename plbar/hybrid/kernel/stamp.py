@@ -16,8 +16,9 @@ import numba
 
 from ...motion.kernel.jit import STAMP as KERNEL_STAMP
 
-__all__ = ["SOURCES", "STAMP", "cached"]
+__all__ = ["SOURCES", "STAMP", "cached", "jit"]
 
+jit = numba.njit(nogil=True, error_model="numpy")   #: the helpers (compiled into the entry points)
 SOURCES = tuple(sorted(Path(__file__).resolve().parent.glob("*.py")))   #: this subpackage's modules
 
 

@@ -20,8 +20,7 @@ from math import cos, pi, sin
 import numpy as np
 
 from ...motion.kernel.closed import half, mode_flow
-from ...motion.kernel.jit import jit
-from .stamp import cached
+from .stamp import cached, jit
 
 __all__ = ["W", "LOAD", "C", "ZETA", "CV", "chain", "segments", "copy", "relative"]
 
