@@ -280,7 +280,13 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
     branches = []
     while queue:
         orb = queue.pop(0)
-        if orb.sig.m > m_max or curves.known(orb):
+        if orb.sig.m > m_max:
+            continue
+        try:
+            orb = orb.minimal()                       # a seed that repeats a shorter orbit: that orbit's signature
+        except NotConverged:
+            continue
+        if curves.known(orb):
             continue
         orbs, ends = _curve(prob, orb, window, st)
         if progress is not None:

@@ -24,7 +24,7 @@ from .signature import Signature
 from .solve import ACCEPT, ROUNDOFF, HybridOrbit, NotConverged, orbit_at, polish
 
 __all__ = ["FollowSettings", "follow", "END_WINDOW", "END_DWELL", "END_FREE", "END_FAILED", "END_POINTS", "END_INADMISSIBLE",
-           "plausible", "correct", "scale_of"]
+           "END_REPEATED", "plausible", "correct", "scale_of"]
 
 END_WINDOW = "window"          #: left the period window
 END_DWELL = "dwell->0"         #: a stuck phase shrank to zero (the signature changes)
@@ -32,6 +32,7 @@ END_FREE = "free->0"           #: a free phase shrank to zero
 END_FAILED = "no convergence"  #: Newton failed at the smallest step
 END_POINTS = "max points"
 END_INADMISSIBLE = "inadmissible"   #: :attr:`FollowSettings.patience` points in a row fail the necessary conditions
+END_REPEATED = "repeats a shorter orbit"   #: the curve reaches an orbit that is a shorter one repeated
 
 
 @dataclass(frozen=True)
@@ -140,6 +141,8 @@ def follow(prob: Problem, sig: Signature, start: HybridOrbit, window: tuple[floa
             return out, END_FAILED
         if not window[0] <= orb.T <= window[1]:
             return out, END_WINDOW
+        if sig.m > 1 and orb.period < sig.m:         # on the shorter orbit seen m / period times: its own curve
+            return out, END_REPEATED
         Y = np.concatenate([orb.X, [orb.T]])
         out.append(orb)
         bad = 0 if plausible(orb) else bad + 1

@@ -61,6 +61,19 @@ class Signature:
         rots = [self.dwell[i:] + self.dwell[:i] for i in range(self.k)]
         return Signature(self.m, min(rots, key=lambda d: "".join("P" if x else "Z" for x in d)))
 
+    def parts(self) -> list[tuple[int, int]]:
+        """``(m', pairs)`` of every shorter orbit this signature could be a repetition of: ``m'`` a proper divisor of
+        ``m`` whose first ``pairs = k m' / m`` pairs, repeated, are the dwell pattern (shortest first)."""
+        out = []
+        for p in range(1, self.m):
+            d = self.m // p
+            if self.m % p or self.k % d:
+                continue
+            n = self.k // d
+            if all(self.dwell[i] == self.dwell[i % n] for i in range(self.k)):
+                out.append((p, n))
+        return out
+
     def repeated(self, times: int) -> "Signature":
         """The same orbit seen over ``times`` times as many periods (a period-doubling seed: ``times = 2``)."""
         return Signature(self.m * times, self.dwell * times)

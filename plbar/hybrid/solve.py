@@ -26,6 +26,7 @@ __all__ = ["HybridOrbit", "NotConverged", "polish", "orbit_at", "ACCEPT", "ROUND
 
 ACCEPT = 1e-11     #: largest relative residual Newton accepts as converged
 ROUNDOFF = 1e-13   #: the residual every reported orbit reaches (polish tightens to it)
+REPEAT_TOL = 1e-9  #: an orbit repeats a shorter one when its state comes back to this (relative) after it
 
 
 class NotConverged(PlbarError):
@@ -114,6 +115,34 @@ class HybridOrbit:
         """The Rayleigh ratio at the forcing frequency plus ``xi_eq`` (the total equivalent ratio)."""
         sy = self.prob.system
         return (float(sy.rayleigh_ratio(2 * np.pi / self.T)) if getattr(sy, "damped", False) else 0.0) + self.xi
+
+    @cached_property
+    def period(self) -> int:
+        """Its own period in forcing periods: the smallest ``m'`` (a divisor of ``m``) such that the orbit is its first
+        ``m'`` periods repeated -- the start of the segment that follows them is at ``m' T`` with the start state
+        (to :data:`REPEAT_TOL` of its size) --, ``m`` for a minimal orbit.  A curve of ``m = 2`` followed from a
+        period doubling, for one, ends on the ``m = 1`` orbit seen twice."""
+        ch = self.chain
+        n0 = ch.sizes[ch.kinds[0] - 1]                 # the first segment's state (the rest is padding)
+        z = ch.states[0, 0, :n0]
+        size = max(float(np.abs(z).max()), 1e-300)
+        for p, n in self.sig.parts():
+            seg = sum(2 if d else 1 for d in self.sig.dwell[:n])
+            if (abs(ch.times[seg, 0] - p * self.T) <= REPEAT_TOL * self.sig.m * self.T
+                    and np.abs(ch.states[seg, 0, :n0] - z).max() <= REPEAT_TOL * size):
+                return p
+        return self.sig.m
+
+    def minimal(self) -> "HybridOrbit":
+        """The orbit of its own period (:attr:`period`): its first ``period`` forcing periods, polished, with their
+        signature; itself when it is minimal."""
+        p = self.period
+        if p == self.sig.m:
+            return self
+        n = next(n for q, n in self.sig.parts() if q == p)
+        sig = Signature(p, self.sig.dwell[:n])
+        nz = 2 * self.prob.system.w1.size
+        return polish(self.prob, sig, self.T, np.concatenate([self.X[:nz + sig.durations], self.X[-1:]]))
 
     @cached_property
     def amplitude(self) -> float:

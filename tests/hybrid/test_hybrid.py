@@ -201,6 +201,31 @@ def test_signature_strings():
         signature("2PX")
 
 
+def test_signature_parts_are_the_shorter_orbits_it_could_repeat():
+    assert signature("2PZPZ").parts() == [(1, 2)]
+    assert signature("3PPPPPP").parts() == [(1, 2)]
+    assert signature("4PZPZ").parts() == [(2, 2)]
+    assert signature("6PPP").parts() == [(2, 1)]                # m' = 2: one pair, three times
+    assert signature("2PZZ").parts() == [] and signature("1P").parts() == []
+
+
+def test_an_orbit_seen_twice_is_known_by_its_own_period(hybrid):
+    """The 1PZ orbits written as 2PZPZ (two periods: a solution of the doubled signature) have period 1 and give
+    back the 1PZ orbit; a genuine two-period orbit has period 2; the default run's labels are all minimal."""
+    prob = hybrid[0].orbits[0].prob
+    one = next(b for b in hybrid if b.label == "1PZ" and len(b) > 3).orbits[2]
+    nz, q, _ = layout(prob, one.sig)
+    X = np.concatenate([one.X[:nz], one.X[nz:nz + q], one.X[nz:nz + q], one.X[-1:]])
+    twice = polish(prob, one.sig.repeated(2), one.T, X)
+    assert twice.residual <= 1e-12 and twice.period == 1 and one.period == 1
+    back = twice.minimal()
+    assert back.sig == one.sig and back.loss_per_T == pytest.approx(one.loss_per_T, rel=1e-12)
+    assert np.allclose(back.z0, one.z0, rtol=0, atol=1e-10 * np.abs(one.z0).max())
+    two = next(b for b in hybrid if b.sig.m == 2)
+    assert all(o.period == 2 for o in two.orbits)
+    assert all(o.period == o.sig.m for b in hybrid for o in b.orbits[::5])
+
+
 def test_damped_responses_of_every_signature(monkeypatch):
     """Rayleigh damping 2 %: the chain's Jacobian stays exact, the paper's class is reproduced, and every new
     response (a sample) meets the independent damped simulator's events, returns to its start and balances

@@ -25,6 +25,7 @@ SINGULAR = 3                          #: polish: a singular Jacobian
 ENDED = 4                             #: step: a duration of the predicted point is not positive
 FOLLOW, CHORD, NEWTON = 0, 1, 2       #: step modes: a continuation step; one correction (chord, Newton)
 STEP_TOL = 1e-13                      #: the corrector's last step (scaled)
+FLOOR_TOL = 1e-10                     #: a step that stalls below this is round-off: the residual decides
 
 
 @jit
@@ -152,7 +153,8 @@ def _newton_step(A, piv, F, Y, Yp, t, S, dY):
 def correct(md, damping, dwell, m, Yp, t, S, newton, Ja, chord, Y):
     """Newton on ``F = 0`` and ``t . (Y - Yp) / S = 0`` from ``Yp`` into ``Y``: :data:`FAILED`, :data:`CONVERGED` (at
     ``Y``: the step from it, with residuals only, is below :data:`STEP_TOL`) or :data:`DONE` (the last step, below
-    :data:`STEP_TOL`, taken).
+    :data:`STEP_TOL`, taken; or the steps stalled below :data:`FLOOR_TOL`, at the round-off of the residuals:
+    whether ``Y`` is a response is then its residual's to say, :func:`plbar.hybrid.follow.correct`).
 
     With ``chord`` the augmented Jacobian ``Ja`` at the last point is factorised once and every iteration
     evaluates only the residuals (a chord method); a fresh Jacobian where the chord stalls.
@@ -183,8 +185,11 @@ def correct(md, damping, dwell, m, Yp, t, S, newton, Ja, chord, Y):
         size = _newton_step(A, piv, F, Y, Yp, t, S, dY)
         if size == inf:
             return FAILED
-        if chord and size > 0.5 * last:               # the chord stalls: a fresh Jacobian
-            have = False
+        if chord and size > 0.5 * last:               # the chord stalls
+            if size < FLOOR_TOL:                      # at the round-off floor: the residual decides (the caller)
+                Y += dY
+                break
+            have = False                              # else a fresh Jacobian
             if it > newton:
                 return FAILED
         last = size
