@@ -23,6 +23,7 @@ from plbar.app import CSV_HEADER, TEXT_COLUMNS
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL")
 
+PAPER = ["--signatures", "paper"]      # the paper's class only: these runs are not about the other signatures
 ARGS = ["run", *PAPER, "--no-plot", "-q", "--method", "grid", "--grid", "150", "150"]
 
 #: runs plbar's CLI; with SLOW=<name>, writing <name> crawls (and the command hangs after it is renamed)
@@ -43,7 +44,6 @@ if slow:
     io.write_text = write_text
 import plbar.cli
 
-PAPER = ["--signatures", "paper"]      # the paper's class only: these runs are not about the other signatures
 sys.exit(plbar.cli.main(sys.argv[1:]))
 """
 

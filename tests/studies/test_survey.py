@@ -16,6 +16,8 @@ from plbar.response import find_response
 from plbar.studies import get_executor
 from plbar.studies.survey import run_survey, survey
 
+PAPER = ["--signatures", "paper"]      # the paper's class only: these runs are not about the other signatures
+
 #: forcing periods of the default case where the bar settles from rest on responses of the paper's class
 CLASS_T = np.linspace(11.5, 12.1, 7)
 
@@ -93,8 +95,6 @@ def test_same_command_twice_and_dask_give_identical_files(tmp_path):
 SCRIPT = """
 import sys, numpy as np, plbar
 from plbar.studies.survey import run_survey
-
-PAPER = ["--signatures", "paper"]      # the paper's class only: these runs are not about the other signatures
 run_survey(plbar.Case(), np.linspace(8.0, 9.0, 8), 150, 20, sys.argv[1], ("rest", "down"), plot=False)
 """
 
