@@ -251,7 +251,7 @@ CLI = [
 
 @pytest.mark.parametrize("args, expect", [c[1:] for c in CLI], ids=[c[0] for c in CLI])
 def test_cli_bad_input(capsys, tmp_path, args, expect):
-    code, err = _cli(capsys, ["run", *PAPER, "--out", str(tmp_path / "o"), "--no-plot", "-q"] + args)
+    code, err = _cli(capsys, ["run", "--out", str(tmp_path / "o"), "--no-plot", "-q"] + args)
     assert code == 2
     lines = err.strip("\n").split("\n")
     assert len(lines) == 1 and lines[0].startswith("plbar"), err

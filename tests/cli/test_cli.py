@@ -25,22 +25,24 @@ def test_run_default_writes_exact_header_and_summary(tmp_path, capsys):
                       "viscous_loss,zeta_rayleigh,xi_total,m,k,signature,loss_per_T,durations")
     assert header.split(",")[:8] == "branch,T1,T2,phi,T,dPL,xi,grazing".split(",")
     assert header.split(",") == CSV_HEADER
-    assert {r[18] for r in rows} == {"1P"} and {r[16] for r in rows} == {"1"}   # the paper's class by default
+    s = json.loads((tmp_path / "summary.json").read_text())
+    paper = [r for r in rows if int(r[0]) < s["n_branches"]]             # the paper's class first, then the others
+    assert {r[18] for r in paper} == {"1P"} and {r[16] for r in paper} == {"1"}
+    assert len({r[18] for r in rows} - {"1P"}) >= 8 and {r[16] for r in rows} <= {"1", "2", "3", "4"}
     vals = np.array([[float(v) for v in r[:18] + r[19:20]] for r in rows])
     assert np.all(np.isfinite(vals))
     assert np.all((vals[:, 3] >= 0) & (vals[:, 3] < 2 * np.pi))
-    np.testing.assert_allclose(vals[:, 4], vals[:, 1] + vals[:, 2], rtol=1e-15)
+    np.testing.assert_allclose(vals[:, 1] + vals[:, 2], vals[:, 16] * vals[:, 4], rtol=1e-13)   # stuck + free = m T
     # floats with at least 10 significant digits
-    digits = [len(r[1].replace(".", "").replace("-", "").split("e")[0].lstrip("0")) for r in rows]
+    digits = [len(r[1].replace(".", "").replace("-", "").split("e")[0].lstrip("0")) for r in paper]
     assert min(digits) >= 10
-    s = json.loads((tmp_path / "summary.json").read_text())
-    for key in ("case", "T0_I", "T0_II", "n_branches", "branches", "run_time"):
+    for key in ("case", "T0_I", "T0_II", "n_branches", "branches", "run_time", "other_signatures"):
         assert key in s
     assert s["T0_I"] == pytest.approx(10.1664, abs=1e-4) and s["n_branches"] == len(s["branches"])
     for b in s["branches"]:
         assert b["T_range"][0] <= b["T_range"][1] and b["xi_range"][0] <= b["xi_range"][1]
         assert "events" in b and "ends" in b
-    assert sorted({int(r[0]) for r in rows}) == list(range(s["n_branches"]))
+    assert sorted({int(r[0]) for r in rows}) == list(range(s["n_branches"] + len(s["other_signatures"])))
 
 
 def test_run_json_and_quiet(tmp_path, capsys):

@@ -114,7 +114,7 @@ def test_the_marker_names_command_case_and_owned_files(tmp_path, capsys):
     assert _run(capsys, ["run", *PAPER, "-N", "4", "--out", tmp_path, *FAST])[0] == 0
     m = json.loads((tmp_path / ".plbar-owner.json").read_text())
     assert set(m) == {"command", "fingerprint", "owned", "plbar"} and m["command"] == "run"
-    assert m["fingerprint"] == plbar.app.case_fingerprint(plbar.Case(n=4, grid=(30, 30)))
+    assert m["fingerprint"] == plbar.app.case_fingerprint(plbar.Case(n=4, grid=(30, 30), signatures="paper"))
     assert {"paths.csv", "summary.json", "vtk", "render"} <= set(m["owned"])
 
 
