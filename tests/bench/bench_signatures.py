@@ -7,9 +7,9 @@ times more, and reports the first and the best of the others, with the time of t
 turn, ``--rounds`` times, so a busy machine slows them alike; the best of all is reported, with the ratio
 to the first checkout (the reference).
 
-    python -P tests/bench/bench_signatures.py /path/to/base/checkout [--rounds 3] [--repeat 2] [--damping-ratio Z]
+    python tests/bench/bench_signatures.py /path/to/base/checkout [--rounds 3] [--repeat 2] [--damping-ratio Z]
 
-(``-P``: this folder holds a ``coverage.py`` that would shadow the package numba imports.)
+
 """
 
 from __future__ import annotations

@@ -23,10 +23,10 @@ branch of one side:
 A branch is *found* when every point matches; whether one branch of the other side
 covers its whole ``T`` range is reported too (a curve can be cut into admissible runs differently).
 
-    PYTHONPATH=<base checkout> python -P tests/bench/compare_signatures.py save /tmp/hybrid_baseline.json
-    python -P tests/bench/compare_signatures.py compare /tmp/hybrid_baseline.json [/tmp/new.json]
+    PYTHONPATH=<base checkout> python tests/bench/compare_signatures.py save /tmp/hybrid_baseline.json
+    python tests/bench/compare_signatures.py compare /tmp/hybrid_baseline.json [/tmp/new.json]
 
-(``-P``: this folder holds a ``coverage.py`` that would shadow the package numba imports.)  Without a
+  Without a
 second file ``compare`` solves with this checkout.  Exits 1 if a branch of either side is not found.
 """
 

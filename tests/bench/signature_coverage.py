@@ -5,9 +5,9 @@ For every forcing period of a survey where the motion from rest is periodic with
 result of a solve with the default signatures, and polish that branch's nearest point to the survey's
 ``T``: covered if its loss per period equals the survey's exact loss (1e-6) and it is stable.
 
-    plbar survey --out SURVEY && python tests/bench/coverage.py SURVEY/survey.csv [--all]
+    plbar survey --out SURVEY && python tests/bench/signature_coverage.py SURVEY/survey.csv [--all]
     plbar survey --model fe -N 16 --end-mass 0.5 --damping-ratio 0.01 --at 1.5 4.5 --T 1.5 3.9 --num 81 --out S16
-    python tests/bench/coverage.py S16/survey.csv --fe
+    python tests/bench/signature_coverage.py S16/survey.csv --fe
 """
 
 from __future__ import annotations
