@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+
 import time
 import warnings
 from dataclasses import dataclass
@@ -18,7 +20,7 @@ from ..util.outputs import Claim, check_folder, clear_owned, fingerprint
 from ..util.version import __version__
 from ..visuals.plots import contact_amplitude
 from .case import Case
-from .signatures import hybrid_branches, hybrid_rows, hybrid_summary
+from .signatures import Search, hybrid_rows, hybrid_summary
 
 __all__ = ["Result", "solve", "write_results", "read_paths", "check_output", "case_fingerprint", "PATHS_COLUMNS",
            "CSV_HEADER", "CSV_FORMATS", "TEXT_COLUMNS", "RUN_FILES"]
@@ -116,7 +118,12 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
     check_grid(case.grid, stacklevel=3)
     t0 = time.perf_counter()
     prob = case.problem()
-    paths = find_paths(prob, case.domain(prob), case.grid, method=case.method, progress=progress)
+    domain = case.domain(prob)
+    with contextlib.ExitStack() as stack:        # the other signatures begin beside the paper's class
+        search = None if case.signatures == "paper" else stack.enter_context(
+            Search(prob, domain, case.signatures, progress))
+        paths = find_paths(prob, domain, case.grid, method=case.method, progress=progress)
+        hybrid = () if search is None else tuple(search.finish(paths))
     short = [b.id for b in paths.branches if len(b) < MIN_BRANCH_POINTS]
     if short:
         ids = ", ".join(str(i) for i in short[:8]) + (f" and {len(short) - 8} more" if len(short) > 8 else "")
@@ -125,7 +132,6 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
                       f"{MIN_BRANCH_POINTS} points on grid = "
                       f"{case.grid}; refine the grid (or narrow T1/T2) to resolve them", CoarseGridWarning,
                       stacklevel=2)
-    hybrid = tuple(hybrid_branches(paths, case.signatures, progress))
     return Result(case, paths, time.perf_counter() - t0, hybrid)
 
 

@@ -14,35 +14,41 @@ time over the orbit (``m`` periods) and ``dPL`` the loss over the orbit.
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor, wait
+
 import numpy as np
 
-from ..hybrid import NotConverged, canonical, find_hybrid, from_motion
-from ..motion import COMPILE_NOTE, compiled, padded, run, steady
-from ..paths import Paths
+from ..hybrid import NotConverged, canonical, find_hybrid, from_motion, prepare
+from ..hybrid import compiled as chain_compiled
+from ..motion import COMPILE_NOTE, compile_elsewhere, compiled, padded, run, steady
+from ..model import Problem
+from ..paths import Domain, Paths
 from ..util.progress import message, progress_bar
 
-__all__ = ["hybrid_branches", "hybrid_window", "hybrid_rows", "hybrid_summary", "simulated_seeds", "SEED_PERIODS"]
+__all__ = ["Search", "hybrid_branches", "hybrid_window", "hybrid_rows", "hybrid_summary", "simulated_seeds", "SEED_PERIODS"]
 
 #: forcing periods, periods simulated, periods recorded of the seeding simulation, per kind
 SEED_PERIODS = {"default": (81, 600, 60), "all": (161, 1000, 100)}
 
 
-def hybrid_window(paths: Paths) -> tuple[float, float]:
+def hybrid_window(prob: Problem, domain: Domain) -> tuple[float, float]:
     """Forcing periods searched: from ``T0^I / 2`` to the top of the paper's search domain ``max T1 + max T2``."""
-    T0I, _ = paths.prob.system.T0
-    return 0.5 * T0I, float(paths.domain.T1[1] + paths.domain.T2[1])
+    T0I, _ = prob.system.T0
+    return 0.5 * T0I, float(domain.T1[1] + domain.T2[1])
 
 
-def simulated_seeds(paths: Paths, window, kinds: str = "default", progress: bool = False) -> list:
-    """Orbits polished from the periodic motions of a simulation from rest across the window."""
-    prob = paths.prob
+def _seeding(prob: Problem, window, kinds: str, progress=None, pad=None):
+    """The seeding simulation: ``SEED_PERIODS[kinds]`` forcing periods across ``window`` from rest, the switches
+    only (``progress(n)`` after each block of periods)."""
     num, periods, record = SEED_PERIODS[kinds]
     T = np.linspace(window[0], window[1], num)
-    pad = padded(prob)
-    if progress and not compiled(pad, accounts=False):
-        message(f"plbar: {COMPILE_NOTE}")
-    with progress_bar(periods, progress, f"signatures: simulating {num} forcing periods from rest", "period") as bar:
-        r = run(pad, T, 0.0, periods, record, progress=bar.update, accounts=False)     # the switches only
+    return run(padded(prob) if pad is None else pad, T, 0.0, periods, record, progress=progress, accounts=False)
+
+
+def _seeds(prob: Problem, r, kinds: str) -> list:
+    """Orbits polished (:func:`plbar.hybrid.from_motion`) from the periodic motions of the seeding simulation ``r``."""
+    _, periods, record = SEED_PERIODS[kinds]
+    T = r.T
     s = steady(r, tol=1e-4)
     out = []
     first = periods - record
@@ -58,19 +64,102 @@ def simulated_seeds(paths: Paths, window, kinds: str = "default", progress: bool
     return out
 
 
+def simulated_seeds(paths: Paths, window, kinds: str = "default", progress: bool = False) -> list:
+    """Orbits polished from the periodic motions of a simulation from rest across the window."""
+    num, periods, _ = SEED_PERIODS[kinds]
+    with progress_bar(periods, progress, f"signatures: simulating {num} forcing periods from rest", "period") as bar:
+        r = _seeding(paths.prob, window, kinds, bar.update)
+    return _seeds(paths.prob, r, kinds)
+
+
+class _Stopped(Exception):
+    """The seeding simulation was stopped (:meth:`Search.cancel`)."""
+
+
+class Search:
+    """The other signatures of a run, begun before the paper's class is solved (:func:`plbar.solve`).
+
+    What needs the case only starts at once, beside the paper's solve: after an install the compile of the
+    simulator in another process (:func:`plbar.motion.compile_elsewhere`), else the seeding simulation in a
+    thread (the compiled kernel releases the GIL).  :meth:`finish` does the rest once the paper's branches are
+    known: the chain compiled or loaded (:func:`plbar.hybrid.prepare`), the seeds polished, the curves followed.
+    :meth:`cancel` (or leaving the ``with`` block) stops what still runs.
+    """
+
+    def __init__(self, prob: Problem, domain: Domain, kinds: str, progress: bool = False):
+        self.prob, self.kinds, self.progress = prob, kinds, progress
+        self.window = hybrid_window(prob, domain)
+        self.pad = padded(prob)
+        self.done, self._stop = 0, False
+        self._other = self._pool = self._future = None
+        if compiled(self.pad, accounts=False):
+            self._pool = ThreadPoolExecutor(1, thread_name_prefix="plbar-seeding")
+            self._future = self._pool.submit(_seeding, prob, self.window, kinds, self._count, self.pad)
+        else:
+            self._other = compile_elsewhere(self.pad, accounts=False)
+        if progress and not (self._other is None and chain_compiled(prob)):
+            message(f"plbar: {COMPILE_NOTE}")
+
+    def _count(self, n: int) -> None:
+        if self._stop:
+            raise _Stopped
+        self.done += n
+
+    def _simulation(self):
+        num, periods, _ = SEED_PERIODS[self.kinds]
+        desc = f"signatures: simulating {num} forcing periods from rest"
+        if self._future is None:                       # compiled elsewhere meanwhile: simulate here
+            self._other.wait()
+            with progress_bar(periods, self.progress, desc, "period") as bar:
+                return _seeding(self.prob, self.window, self.kinds, bar.update, self.pad)
+        with progress_bar(periods, self.progress, desc, "period", initial=self.done) as bar:
+            shown = self.done
+            while not self._future.done():
+                wait([self._future], timeout=0.2)
+                bar.update(self.done - shown)
+                shown = self.done
+            return self._future.result()
+
+    def finish(self, paths: Paths) -> list:
+        """The branches of every signature but the paper's class (:func:`plbar.hybrid.find_hybrid`), seeded by the
+        paper's branches ``paths`` and the simulation."""
+        try:
+            prepare(self.prob, paths.branches)
+            seeds = _seeds(self.prob, self._simulation(), self.kinds)
+            with progress_bar(None, self.progress, "signatures: following curves", "curve") as bar:
+                return find_hybrid(self.prob, self.window, paths.branches, seeds, kinds=self.kinds,
+                                   m_max=4 if self.kinds == "default" else 8, progress=lambda: bar.update(1))
+        finally:
+            self.cancel()
+
+    def cancel(self) -> None:
+        """Stop the simulation (at its next block of periods) or the compile elsewhere; wait for them."""
+        self._stop = True
+        if self._other is not None:
+            self._other.cancel()
+        if self._pool is not None:
+            self._pool.shutdown(wait=True)
+            self._pool = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.cancel()
+        return False
+
+
 def hybrid_branches(paths: Paths, kinds: str, progress: bool = False) -> list:
-    """The branches of every signature but the paper's class (:func:`plbar.hybrid.find_hybrid`).
+    """The branches of every signature but the paper's class (:func:`plbar.hybrid.find_hybrid`), begun once the
+    paper's are known (:func:`plbar.solve` begins a :class:`Search` before them).
 
     With ``progress``, two phases on stderr: the seeding simulation (periods done) and the curves followed
     (their number grows as bifurcations seed new ones, so the bar counts them without a total).
     """
     if kinds == "paper":
         return []
-    window = hybrid_window(paths)
-    seeds = simulated_seeds(paths, window, kinds, progress)
-    with progress_bar(None, progress, "signatures: following curves", "curve") as bar:
-        return find_hybrid(paths.prob, window, paths.branches, seeds, kinds=kinds,
-                           m_max=4 if kinds == "default" else 8, progress=lambda: bar.update(1))
+    with Search(paths.prob, paths.domain, kinds, progress) as search:
+        return search.finish(paths)
 
 
 def hybrid_rows(branches, first_id: int) -> dict:

@@ -8,6 +8,7 @@
 * :mod:`.follow` -- pseudo-arclength continuation in ``T``;
 * :mod:`.seeds` -- the zero-dwell class in closed form, period doublings, simulated motions;
 * :mod:`.branches` -- :func:`find_hybrid`: every branch reachable from the seeds;
+* :mod:`.prepare` -- the compiled chain's first compile, due or not, done ahead;
 * :mod:`.series` -- one orbit as a time series (export, render), its canonical rotation, rebuilt from a row.
 """
 
@@ -15,6 +16,7 @@ from .branches import KINDS, HybridBranch, find_hybrid
 from .chain import Chain, evaluate
 from .floquet import monodromy, multipliers
 from .follow import FollowSettings, follow
+from .prepare import compiled, prepare
 from .seeds import doubled, from_motion, zero_dwell
 from .series import OrbitSeries, canonical, from_row
 from .signature import PAPER, ZERO_DWELL, Signature, signature
@@ -23,4 +25,5 @@ from .verify import admissible, expected_events
 
 __all__ = ["KINDS", "HybridBranch", "find_hybrid", "Chain", "evaluate", "monodromy", "multipliers", "FollowSettings",
            "follow", "doubled", "from_motion", "zero_dwell", "PAPER", "ZERO_DWELL", "Signature", "signature",
-           "OrbitSeries", "canonical", "from_row", "HybridOrbit", "NotConverged", "orbit_at", "polish", "admissible", "expected_events"]
+           "OrbitSeries", "canonical", "from_row", "HybridOrbit", "NotConverged", "orbit_at", "polish", "admissible",
+           "expected_events", "compiled", "prepare"]

@@ -4,15 +4,18 @@
 * :mod:`.kernel` -- the compiled kernel (numba, imported when a simulation runs): closed-form flows,
   the certified event search, switches, accounts of every piece, one trajectory at a time;
 * :mod:`.run` -- :func:`run`, many forcing periods on every core, and its record :class:`Run`;
+* :mod:`.compile` -- the kernel's first compile: due or not, ahead, in another process;
 * :mod:`.steady` -- :func:`steady`: periodic (stroboscopic period ``m``) or not, loss, ``xi_eq``, ``xi_w``.
 """
 
 from .model import CHATTER, FREE, OK, STALLED, STUCK, Padded, padded
-from .run import COMPILE_NOTE, Run, Start, compiled, energy, prepare, rest, run
+from .compile import COMPILE_NOTE, Elsewhere, compile_elsewhere, compiled
+from .run import Run, Start, energy, prepare, rest, run
 from .steady import KINDS, M_MAX, PERIODIC_TOL, Steady, periodicity, steady
 
 __all__ = [
            "CHATTER",
+           "Elsewhere",
            "COMPILE_NOTE",
            "FREE",
            "KINDS",
@@ -25,6 +28,7 @@ __all__ = [
            "Run",
            "Start",
            "Steady",
+           "compile_elsewhere",
            "compiled",
            "energy",
            "padded",

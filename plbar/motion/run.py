@@ -12,9 +12,10 @@ from ..errors import InputError
 from ..model import Problem
 from ..util.reprs import build, rng
 from ..util.threads import map_chunks, n_threads
+from .compile import kind
 from .model import OK, STUCK, Padded, padded
 
-__all__ = ["COMPILE_NOTE", "Run", "Start", "compiled", "energy", "prepare", "rest", "run"]
+__all__ = ["Run", "Start", "energy", "prepare", "rest", "run"]
 
 
 @dataclass(frozen=True)
@@ -27,27 +28,6 @@ class Start:
     state: np.ndarray
     eta: np.ndarray
     vel: np.ndarray
-
-
-#: what a caller with a terminal says before the first simulation after an install (:func:`compiled`)
-COMPILE_NOTE = ("compiling the simulator (once after an install or an upgrade, about 10-30 s; cached on disk, later "
-                "runs load it in under a second)")
-
-
-def _kind(pad: Padded, accounts: bool) -> str:
-    """The kernel's specialisation for ``pad``: accounts or a replay, damped or not, split model or not."""
-    from .kernel import data as D
-
-    return "-".join(("accounts" if accounts else "replay", "damped" if pad.zeta is not None else "undamped",
-                     "small" if D.large(pad) is None else "large"))
-
-
-def compiled(prob: Problem | Padded, accounts: bool = True) -> bool:
-    """Whether simulations of ``prob`` find their compiled kernel in the on-disk cache (else the first one
-    compiles it: :data:`COMPILE_NOTE`)."""
-    from .kernel import advance, jit
-
-    return jit.is_compiled(advance, _kind(prob if isinstance(prob, Padded) else padded(prob), accounts))
 
 
 def rest(pad: Padded, B: int) -> Start:
@@ -188,7 +168,7 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
     step = partial(advance, D.model(pad), tr, first=periods - record, damping=D.damping(pad), acc=acc,
                    large=D.large(pad))
     rc = _drive(step, ti, rc, periods, progress)
-    jit.mark_compiled(advance, _kind(pad, accounts))
+    jit.mark_compiled(advance, kind(pad, accounts))
     return _collect(pad, T, phi, periods, record, tr, rc, acc, e0)
 
 

@@ -35,17 +35,38 @@ def _plt():
 
 
 def _save(fig, out, name: str) -> list[Path]:
+    import matplotlib as mpl
+
     out = Path(out)
     files = []
+    fig.canvas.draw()                                   # the tight box once for both files (a draw saved)
+    box = fig.get_tightbbox(fig.canvas.get_renderer()).padded(mpl.rcParams["savefig.pad_inches"])
     for ext in ("png", "pdf"):
         path = out / f"{name}.{ext}"
         with atomic_path(path) as tmp:
-            fig.savefig(tmp, format=ext, bbox_inches="tight")
+            fig.savefig(tmp, format=ext, bbox_inches=box)
         files.append(path)
     import matplotlib.pyplot as plt
 
     plt.close(fig)
     return files
+
+
+def _joined(xs, ys):
+    """The curves ``(xs[i], ys[i])`` as one line broken by NaN between them (one artist for many branches)."""
+    if not xs:
+        return np.empty(0), np.empty(0)
+    gap = [np.array([np.nan])]
+    return (np.concatenate([v for x in xs for v in (np.asarray(x, float), *gap)]),
+            np.concatenate([v for y in ys for v in (np.asarray(y, float), *gap)]))
+
+
+def _picked(xs, ys, masks):
+    """The points of every curve where its mask holds, in one array pair (one artist)."""
+    if not xs:
+        return np.empty(0), np.empty(0)
+    return (np.concatenate([np.asarray(x)[m] for x, m in zip(xs, masks)]),
+            np.concatenate([np.asarray(y)[m] for y, m in zip(ys, masks)]))
 
 
 def contact_amplitude(orb, samples: int = 400) -> np.ndarray:
@@ -126,15 +147,13 @@ def frequency_response(res, out, name: str = "frequency_response", xi: str = "eq
     """
     plt = _plt()
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9.0, 6.2), sharex=True)
-    amps = []
-    for b in res.branches:
-        amps.append(contact_amplitude(b.orbits))
-        amp = amps[-1]
-        st = b.stable
-        for ax, y in ((ax1, amp), (ax2, b.xi if xi == "eq" else b.xi_w)):
-            ax.plot(b.T, y, "-", color="0.75", lw=0.8, zorder=1)
-            ax.plot(b.T[st], y[st], "o", ms=2.6, color="tab:blue", zorder=3)
-            ax.plot(b.T[~st], y[~st], "x", ms=2.6, color="tab:red", alpha=0.6, zorder=2)
+    amps = [contact_amplitude(b.orbits) for b in res.branches]
+    st = [np.asarray(b.stable, bool) for b in res.branches]
+    for ax, ys in ((ax1, amps), (ax2, [b.xi if xi == "eq" else b.xi_w for b in res.branches])):
+        Ts = [b.T for b in res.branches]
+        ax.plot(*_joined(Ts, ys), "-", color="0.75", lw=0.8, zorder=1)
+        ax.plot(*_picked(Ts, ys, st), "o", ms=2.6, color="tab:blue", ls="none", zorder=3)
+        ax.plot(*_picked(Ts, ys, [~s for s in st]), "x", ms=2.6, color="tab:red", alpha=0.6, ls="none", zorder=2)
     _draw_events(ax1, _event_points(res.branches, amps), (2, 3), label=False)
     ev = _event_points(res.branches, None if xi == "eq" else [b.xi_w for b in res.branches])
     _draw_events(ax2, ev, (2, 3))
@@ -171,14 +190,15 @@ SIG_COLORS = ("tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:cyan", 
 def _draw_signatures(ax1, ax2, branches, xi: str = "eq") -> None:
     """The branches of other signatures: one marker and colour per signature (filled stable, hollow unstable)."""
     labels = list(dict.fromkeys(b.label for b in branches))
-    for b in branches:
-        j = labels.index(b.label)
+    for j, lab in enumerate(labels):                 # one artist per signature and stability: a fast savefig
         mk, col = SIG_MARKS[j % len(SIG_MARKS)], SIG_COLORS[j % len(SIG_COLORS)]
-        amp = np.array([o.amplitude for o in b.orbits])
-        st = np.asarray(b.stable, bool)
-        for ax, y in ((ax1, amp), (ax2, b.xi if xi == "eq" else b.xi_w)):
-            ax.plot(b.T[st], y[st], mk, ms=3.2, color=col, ls="none", zorder=3)
-            ax.plot(b.T[~st], y[~st], mk, ms=3.2, color=col, mfc="none", alpha=0.5, ls="none", zorder=2)
+        bs = [b for b in branches if b.label == lab]
+        Ts, st = [b.T for b in bs], [np.asarray(b.stable, bool) for b in bs]
+        amps = [np.array([o.amplitude for o in b.orbits]) for b in bs]
+        for ax, ys in ((ax1, amps), (ax2, [b.xi if xi == "eq" else b.xi_w for b in bs])):
+            ax.plot(*_picked(Ts, ys, st), mk, ms=3.2, color=col, ls="none", zorder=3)
+            ax.plot(*_picked(Ts, ys, [~s for s in st]), mk, ms=3.2, color=col, mfc="none", alpha=0.5, ls="none",
+                    zorder=2)
     for j, lab in enumerate(labels):
         ax1.plot([], [], SIG_MARKS[j % len(SIG_MARKS)], color=SIG_COLORS[j % len(SIG_COLORS)], ls="none",
                  label=f"signature {lab}")
