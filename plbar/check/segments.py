@@ -12,7 +12,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..errors import InputError
 from .viscous import damped_flow, flow_rate, modal_ratios
@@ -234,6 +233,8 @@ def _refine(g, a, b):
     ga = g(a)
     if ga <= 0.0:
         return a
+    from scipy.optimize import brentq       # lazily: plbar's import stays light
+
     return brentq(g, a, b, xtol=1e-15 * max(abs(b), 1e-300), rtol=4 * np.finfo(float).eps, maxiter=200)
 
 

@@ -21,7 +21,7 @@ from ...motion import padded
 from ...util.files import write_json
 from .points import survey_chunk, start_json, start_of
 
-__all__ = ["survey_task", "make_tasks", "MODES", "default_chunks", "case_fields", "case_of"]
+__all__ = ["survey_task", "make_tasks", "balanced_parts", "MODES", "default_chunks", "case_fields", "case_of"]
 
 #: Case fields that apply to one model only
 _CHAIN_ONLY = ("m", "k")
@@ -53,6 +53,21 @@ def default_chunks(k: int) -> int:
     return max(2, -(-k // 96)) if k > 1 else 1
 
 
+def balanced_parts(T, n: int) -> list[np.ndarray]:
+    """``n`` contiguous runs of the indices of ``T`` with about equal total ``T`` (a trajectory's work grows with
+    its duration, periods x T: equal counts of forcing periods leave the core with the long ones last)."""
+    T = np.asarray(T, float)
+    k = T.size
+    n = max(1, min(int(n), k))
+    w = np.cumsum(np.abs(T))
+    cuts, prev = [], 0
+    for i in range(1, n):
+        c = int(np.searchsorted(w, w[-1] * i / n, side="right"))
+        prev = min(max(c, prev + 1), k - (n - i))              # every run keeps at least one forcing period
+        cuts.append(prev)
+    return np.split(np.arange(k), cuts)
+
+
 def make_tasks(case: Case, T, periods: int, record: int, modes=("rest",), chunks: int | None = None,
                checkpoints=None) -> list[dict]:
     """The task list of a survey (JSON-able dicts)."""
@@ -63,7 +78,7 @@ def make_tasks(case: Case, T, periods: int, record: int, modes=("rest",), chunks
     for mode in modes:
         if mode == "rest":
             n = chunks or default_chunks(len(T))
-            for part in np.array_split(np.arange(len(T)), n):
+            for part in balanced_parts(T, n):
                 if part.size:
                     tasks.append({**base, "mode": "rest", "T": [T[i] for i in part]})
         else:
