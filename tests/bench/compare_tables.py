@@ -99,6 +99,11 @@ def compare(out: Path, name: str) -> dict:
         rep[f"chaotic_{col}_median_rel_perturbed_vs_old"] = float(np.median(_rel(oldp[col], old[col])[chaotic])) \
             if chaotic.any() else 0.0
         rep[f"insensitive_{col}_max_rel"] = float(d[quiet].max()) if quiet.any() else 0.0
+        if chaotic.sum() >= 5:         # new vs old drawn like a 1e-13 perturbation's spread? (two-sided U test)
+            from scipy.stats import mannwhitneyu
+
+            spread = np.concatenate([_rel(oldp[col], old[col])[chaotic], _rel(newp[col], new[col])[chaotic]])
+            rep[f"chaotic_{col}_same_spread_p"] = float(mannwhitneyu(d[chaotic], spread).pvalue)
     rep["energy_residual_max_old"] = float(np.abs(old["energy_residual"]).max())
     rep["energy_residual_max_new"] = float(np.abs(new["energy_residual"]).max())
     return rep
