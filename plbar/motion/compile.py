@@ -105,8 +105,11 @@ def compile_elsewhere(prob: Problem | Padded, accounts: bool = True) -> Elsewher
     with os.fdopen(fd, "wb") as fh:
         pickle.dump((pad, accounts), fh)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
+    # started where this plbar lives: ``-c`` puts its working directory first on sys.path, and a checkout's plbar
+    # there would shadow an installed one (another file: another cache entry, compiled for nothing)
+    home = Path(__file__).resolve().parents[2]
     try:
-        proc = subprocess.Popen([sys.executable, "-c", _CHILD, name], env=env, stdin=subprocess.DEVNULL,
+        proc = subprocess.Popen([sys.executable, "-c", _CHILD, name], env=env, cwd=home, stdin=subprocess.DEVNULL,
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     except OSError:
         Path(name).unlink(missing_ok=True)

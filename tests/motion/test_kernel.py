@@ -4,6 +4,7 @@ import ast
 import subprocess
 import sys
 from math import cos, sin
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -276,10 +277,19 @@ def test_nothing_compiles_elsewhere_when_the_kernel_is_in_the_cache():
 @pytest.mark.slow
 def test_a_compile_in_another_process_fills_the_cache_this_process_loads(tmp_path):
     """With an empty numba cache: not compiled; another process compiles the replay kernel while this one waits;
-    then this process finds it compiled and its first simulation takes well under the compile's time."""
-    code = """
+    then this process finds it compiled and its first simulation takes well under the compile's time.  This
+    process's plbar is a copy (as an installed one is) and its working directory holds another (a checkout): the
+    other process compiles this process's plbar, not the one its working directory would put first."""
+    import shutil
+
+    here = Path(plbar.__file__).resolve().parent
+    site = tmp_path / "site"
+    shutil.copytree(here, site / "plbar", ignore=shutil.ignore_patterns("__pycache__"))
+    (site / "driver.py").write_text("""
 import time, plbar
+from pathlib import Path
 from plbar.motion import compile_elsewhere, compiled, padded, run
+assert Path(plbar.__file__).parent.parent == Path(__file__).parent, plbar.__file__
 pad = padded(plbar.Case().problem())
 assert not compiled(pad, accounts=False)
 t = time.perf_counter()
@@ -291,7 +301,9 @@ assert compiled(pad, accounts=False)
 t = time.perf_counter()
 run(pad, [8.0], periods=2, record=1, accounts=False)
 assert time.perf_counter() - t < 0.25 * took, (time.perf_counter() - t, took)
-"""
-    env = dict(__import__("os").environ, NUMBA_CACHE_DIR=str(tmp_path))
-    r = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600)
+""")
+    env = dict(__import__("os").environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    env.pop("PYTHONPATH", None)
+    r = subprocess.run([sys.executable, str(site / "driver.py")], env=env, cwd=here.parent, capture_output=True,
+                       text=True, timeout=600)
     assert r.returncode == 0, r.stderr[-3000:]
