@@ -181,8 +181,9 @@ def frequency_response(res, out, name: str = "frequency_response", xi: str = "eq
     return _save(fig, out, name)[0]
 
 
-#: markers of the other signatures (in order of first appearance), one legend entry each
-SIG_MARKS = ("s", "D", "^", "v", "P", "*", "h", "<", ">", "p", "X", "d")
+#: markers of the other signatures (in order of first appearance), one legend entry each; 13 markers against 12
+#: colours: the first 156 signatures differ in marker or colour
+SIG_MARKS = ("s", "D", "^", "v", "P", "*", "h", "<", ">", "p", "X", "d", "H")
 SIG_COLORS = ("tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:cyan", "tab:olive", "tab:pink", "gold",
               "teal", "darkslateblue", "peru", "olive")
 
