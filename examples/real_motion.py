@@ -2,9 +2,8 @@
 
 Simulates the paper's chain (N = 5, unit force on DOF 1) from rest at 161 forcing periods in [6, 14], 1,000
 periods each (the last 100 characterise the motion), on all local cores (about 8 s on 2 cores, every signature
-included), and prints
-what a user who wants one damping ratio needs: the kinds of motion, xi_eq of the real motion by band of T,
-and how often the paper's class is what happens.  Draws the survey over the exact branches of the paper's
+included), and prints what a user who wants one damping ratio needs: the kinds of motion, xi_eq of the real
+motion by band of T, and how often the paper's class is what happens.  Draws the survey over the exact branches of the paper's
 class (``survey.png``) and the frequency response with every signature (``frequency_response.png``).
 
 Run::
