@@ -82,7 +82,7 @@ class HybridOrbit:
         z = self.z0
         return s.embed(z[:m] @ s.V1.T), s.embed(z[m:] @ s.V1.T)
 
-    @property
+    @cached_property
     def dPL(self) -> float:
         S = self.prob.cached("impact_mass", lambda p: p.system.impact_mass)
         return float(0.5 * S * np.sum(self.v_impact ** 2))

@@ -11,6 +11,7 @@ reaction has its damper part (FORMULATION §8).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -187,6 +188,17 @@ class Orbits(Batch):
     def gap(self, tau):
         """Contact displacement ``x_c`` in state II at ``t = T^I + tau`` (``<= 0``, Eq. (5)); (P, K)."""
         return self.gap_signals(tau)[0]
+
+    def max_gap(self, samples: int = 400) -> np.ndarray:
+        """``max_t |x_c(t)|`` of each orbit over ``samples`` equally spaced points of state II (the contact node
+        moves in state II only); (P,)."""
+        u = np.linspace(0.0, 1.0, samples)
+        return np.abs(self.gap(self.T2[:, None] * u)).max(axis=1)
+
+    @cached_property
+    def amplitude(self) -> np.ndarray:
+        """:meth:`max_gap` on 400 points, computed once (``paths.csv``'s ``max_abs_xc`` and the plots)."""
+        return self.max_gap(400)
 
     def contact_velocity(self, tau):
         """Contact velocity ``v_c`` in state II at ``t = T^I + tau``; (P, K)."""
