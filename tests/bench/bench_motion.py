@@ -108,6 +108,7 @@ def best(f, rounds: int) -> float:
 
 def main(argv) -> None:
     old = Path(argv[0]).resolve()
+    before = os.getloadavg()[0]                  # the machine's own load (at the end the benchmark's is in it)
     quick, no_cold = "--quick" in argv, "--no-cold" in argv
     rounds = int(argv[argv.index("--rounds") + 1]) if "--rounds" in argv else 3
     items = ["one_T", "survey"] + ([] if quick else ["fe64", "fe256"])
@@ -145,13 +146,15 @@ def main(argv) -> None:
                                   "then_s": work(NEW, "one_T", warm=False, cache=c2)["seconds"]}
         print("cold", json.dumps({k: rows[k] for k in ("cold_run", "cold_one_T")}), flush=True)
     load = os.getloadavg()[0]
-    print(f"\n2 cores, load average {load:.2f} at the end ({'idle' if load < 0.5 else 'busy'})\n")
+    print(f"\n2 cores, load average {before:.2f} before ({'idle' if before < 0.5 else 'busy'}), {load:.2f} at the end "
+          "(with the benchmark's own)\n")
     print("| work | old (6efc4a3) | new | old / new |\n|---|---|---|---|")
     for k, r in rows.items():
         o, n = r.get("old_s"), r["new_s"]
         ratio = f"{o / n:.0f}x" if o else "-"
         print(f"| {k} | {'%.3g s' % o if o else 'not run'} | {n:.3g} s | {ratio} |")
     rows["load_average"] = load
+    rows["load_average_before"] = before
     (HERE / "results_motion.json").write_text(json.dumps(rows, indent=1) + "\n")
 
 
