@@ -17,7 +17,7 @@ from plbar.studies.loads.forms import load_forms
 from plbar.response import orbits
 from plbar.paths import find_paths
 from plbar.response import scan_G as Gfield
-from plbar.response import coefficients, phase
+from plbar.response import check, coefficients, phase
 from plbar.model import two_state
 from plbar.model import with_load_vector as _with_q
 
@@ -117,6 +117,26 @@ def test_reference_load_reproduces_the_solver(solved):
     dpl = np.concatenate([b.dPL for b in paths.branches])
     assert np.abs(lf.xi(lf.q_ref) - xi).max() < 1e-12
     assert np.abs(lf.dPL(lf.q_ref) - dpl).max() < 1e-12 * dpl.max()
+    assert np.abs(lf.phase(lf.q_ref) - np.mod(lf.phi, 2 * np.pi)).max() < 1e-12
+
+
+def test_phase_is_the_admissible_one_not_its_mirror(solved):
+    """LoadForms.phase: the response of load q at the path's (T1, T2) and that phase is admissible and hits the wall
+    moving towards it; at the phase half a period off (the mirror image: what phi mod pi gave) it moves away."""
+    name, _, paths, lf = solved
+    prob = paths.prob
+    Q = np.random.default_rng(4).standard_normal((6, lf.n))
+    ph = lf.phase(Q)
+    for k, q in enumerate(Q):
+        keep = ~lf.no_path(q)
+        pq = _with_q(prob.system, q, prob.bar, None, prob.asm)
+        co = coefficients(pq, lf.T1, lf.T2)
+        assert np.abs(np.angle(np.exp(2j * (phase(co) - ph[:, k])))).max() / 2 < 1e-9, name     # mod pi
+        o = orbits(pq, lf.T1, lf.T2, ph[:, k], co=co)
+        assert check(o).ok[keep].all(), name
+        assert np.all(o.contact_velocity(o.T2[:, None])[keep, 0] > 0), name
+        m = orbits(pq, lf.T1, lf.T2, ph[:, k] + np.pi)
+        assert np.all(m.contact_velocity(m.T2[:, None])[keep, 0] < 0), name
 
 
 def test_G_is_the_gram_matrix_of_unit_load_velocities(solved):

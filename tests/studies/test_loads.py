@@ -47,6 +47,8 @@ def test_old_sweep_tables_reproduced(study):
             assert abs(old.maxima[k][i] - new[k][j]) < 1e-9 * max(1.0, abs(old.maxima[k][i])), k
         for k in ("T_at_max", "T1_at_max", "T2_at_max", "T_min", "T_max"):
             assert abs(old.maxima[k][i] - new[k][j]) < 1e-9, k
+        d = old.maxima["phi_at_max"][i] - new["phi_at_max"][j]       # the load's own admissible phase (not mod pi)
+        assert abs(np.angle(np.exp(1j * d))) < 1e-9 and 0 <= new["phi_at_max"][j] < 2 * np.pi, "phi_at_max"
         checked += 1
     assert checked == len(loads) * 2
     # the tidy rows too: every point of every load case

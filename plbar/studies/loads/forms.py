@@ -223,6 +223,15 @@ class LoadForms(PointLoads):
         d = alpha * self.h_ref[:, None]
         return d[:, 0] if one else d
 
+    def phase(self, q):
+        """The forcing phase of load ``q`` at every path point: ``phi_ref`` where ``h(q)`` has the sign of ``h_ref``,
+        ``phi_ref + pi`` where it has the other (the response is ``alpha`` times the reference's, ``alpha < 0`` a half
+        period late), in ``[0, 2 pi)``; q (n,) -> (P,), (L, n) -> (P, L)."""
+        hq = self.h(q)
+        ref = self.h_ref if np.ndim(hq) == 1 else self.h_ref[:, None]
+        p = self.phi if np.ndim(hq) == 1 else self.phi[:, None]
+        return np.mod(p + np.where(hq * ref < 0, np.pi, 0.0), 2 * np.pi)
+
     def h_relative(self, q):
         """``|h(q)| / (|H e_c| |q|)`` in ``[0, 1]``: 0 means no periodic path at that point."""
         Q, one = _as_loads(q, self.n)

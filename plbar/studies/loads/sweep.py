@@ -164,7 +164,7 @@ def _load_vector(lf: LoadForms, load) -> np.ndarray:
 def pair_table(lf: LoadForms, fam: np.ndarray, loads) -> dict:
     """Per load case (sequence of ``(s, a)``) and family: the ``xi_eq`` range and its maximum (Fig. 9)."""
     Q = np.array([_load_vector(lf, ld) for ld in loads])
-    xi, dpl = lf.xi(Q), lf.dPL(Q)
+    xi, dpl, phase = lf.xi(Q), lf.dPL(Q), lf.phase(Q)
     nop = lf.no_path(Q)
     rows = {k: [] for k in PAIRS_HEADER}
     for li, ld in enumerate(loads):
@@ -177,7 +177,7 @@ def pair_table(lf: LoadForms, fam: np.ndarray, loads) -> dict:
             vals = dict(load="+".join(f"{a:g}@{s:g}" for s, a in ld), s1=s1, a1=a1, s2=s2, a2=a2, family=f,
                         points=int(m.sum()), T_min=lf.T[m].min(), T_max=lf.T[m].max(), xi_min=xi[m, li].min(),
                         xi_max=xi[i, li], T_at_max=lf.T[i], T1_at_max=lf.T1[i], T2_at_max=lf.T2[i],
-                        phi_at_max=float(np.mod(lf.phi[i], np.pi)), dPL_at_max=dpl[i, li],
+                        phi_at_max=float(phase[i, li]), dPL_at_max=dpl[i, li],
                         no_path_points=int(nop[m, li].sum()))
             for k in PAIRS_HEADER:
                 rows[k].append(vals[k])
