@@ -13,7 +13,7 @@ from math import cos, sin
 
 import numpy as np
 
-from ...motion.kernel.closed import half, mode_flow
+from ...motion.kernel.closed import half, matvec, mode_flow
 from .stamp import cached, jit
 from .walk import C, CV, LOAD, W, ZETA
 
@@ -61,24 +61,14 @@ def _salt(M, u, v, s, P, Pn):
 
 
 @jit
-def _mul(M, z, out):
-    """``out = M z``."""
-    for i in range(M.shape[0]):
-        acc = 0.0
-        for j in range(M.shape[1]):
-            acc += M[i, j] * z[j]
-        out[i] = acc
-
-
-@jit
 def _opening(tab1, tab2, E, rq1, Om, t, phi, z, P, Pn):
     """The saltation of the opening at ``t`` from the state I ``z`` (``h = -R``, its gradient ``(c, cv)``)."""
     m1, n2 = tab1.shape[1], E.shape[0]
     fI, ez, f2, jump, dh = np.empty(2 * m1), np.empty(n2), np.empty(n2), np.empty(n2), np.empty(2 * m1)
     _field(tab1, Om, t, phi, z, fI)
-    _mul(E, z, ez)
+    matvec(E, z, ez)
     _field(tab2, Om, t, phi, ez, f2)
-    _mul(E, fI, jump)
+    matvec(E, fI, jump)
     hdot = -rq1 * Om * sin(Om * t - phi)
     for j in range(m1):
         dh[j], dh[m1 + j] = tab1[C, j], tab1[CV, j]
@@ -95,9 +85,9 @@ def _impact(tabp, R, tab2, Om, t, phi, z, P, Pn):
     m2, n = tab2.shape[1], R.shape[0]
     fII, rz, fp, rf, e = np.empty(2 * m2), np.empty(n), np.empty(n), np.empty(n), np.zeros(2 * m2)
     _field(tab2, Om, t, phi, z, fII)
-    _mul(R, z, rz)
+    matvec(R, z, rz)
     _field(tabp, Om, t, phi, rz, fp)
-    _mul(R, fII, rf)
+    matvec(R, fII, rf)
     vc = 0.0
     for j in range(m2):
         e[j] = -tab2[C, j]                 # the gap row (the state II margin is -x_c)

@@ -19,7 +19,7 @@ from math import cos, pi, sin
 
 import numpy as np
 
-from ...motion.kernel.closed import half, mode_flow
+from ...motion.kernel.closed import half, matvec, mode_flow
 from .stamp import cached, jit
 
 __all__ = ["W", "LOAD", "C", "ZETA", "CV", "chain", "segments", "copy", "relative"]
@@ -88,16 +88,6 @@ def _gradient(tab, rq, Om, t, phi, D, tcol, row):
             s += tab[C, j] * D[j, k] + tab[CV, j] * D[m + j, k]
         row[k] = s
     row[nX - 1] += rs
-
-
-@jit
-def _switch(M, z, zn):
-    """``zn = M z`` (a switch map; its columns are those of ``z``, its rows those of ``zn``)."""
-    for i in range(M.shape[0]):
-        s = 0.0
-        for j in range(M.shape[1]):
-            s += M[i, j] * z[j]
-        zn[i] = s
 
 
 @jit
@@ -206,7 +196,7 @@ def _chain(stamp):
                             vimp[i] -= tab2[C, j] * Z[1 - a, tab2.shape[1] + j]
                     a, t, col = 1 - a, t + tau, col + 1
                 M = E if s == 0 else G
-                _switch(M, Z[a], Z[1 - a])               # opening, impact
+                matvec(M, Z[a], Z[1 - a])               # opening, impact
                 if jac:
                     _switch_rows(M, DD[a], DD[1 - a])
                 a = 1 - a

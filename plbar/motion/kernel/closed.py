@@ -183,3 +183,14 @@ def mode_flow(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, cW, sW, sWu, dampi
     if damping is None:
         return flow(w, f, W, c0, s0, u, eta0, v0, cphi, sphi, cW, sW, sWu)
     return damped_flow(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi)
+
+
+@jit
+def matvec(A, x, out):
+    """``out = A x`` (a plain loop: no BLAS threads under the kernel's own; the switch maps of the simulator and of
+    the chain)."""
+    for i in range(A.shape[0]):
+        acc = 0.0
+        for j in range(A.shape[1]):
+            acc += A[i, j] * x[j]
+        out[i] = acc

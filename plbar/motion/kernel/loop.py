@@ -24,7 +24,7 @@ import numpy as np
 from ..model import CHATTER, OK, STALLED, STUCK
 from . import data as D
 from .certify import ZERO, bracket, decide_step, lands, taylor
-from .closed import half, mode_flow
+from .closed import half, matvec, mode_flow
 from .jit import cached, inline, jit
 from .locate import locate
 from .pieces import amplitude, piece_accounts
@@ -114,16 +114,6 @@ def _certify(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, amp, P, fa
 
 
 @jit
-def _matvec(A, x, out):
-    """``out = A x`` (a plain loop: no BLAS threads under the kernel's own)."""
-    for i in range(A.shape[0]):
-        acc = 0.0
-        for j in range(A.shape[1]):
-            acc += A[i, j] * x[j]
-        out[i] = acc
-
-
-@jit
 def switch(md, st, eta, vel, out_e, out_v):
     """The event at the current point: ``(kind, loss)``; the new modal state into ``out_e, out_v``.
 
@@ -132,11 +122,11 @@ def switch(md, st, eta, vel, out_e, out_v):
     """
     maps, vc_row, S, truncated = md[2], md[3], md[4], md[5]
     if st == STUCK:
-        _matvec(maps[D.OPEN], eta, out_e)
-        _matvec(maps[D.OPEN], vel, out_v)
+        matvec(maps[D.OPEN], eta, out_e)
+        matvec(maps[D.OPEN], vel, out_v)
         return 1, 0.0
-    _matvec(maps[D.IMPACT_POS], eta, out_e)
-    _matvec(maps[D.IMPACT_VEL], vel, out_v)
+    matvec(maps[D.IMPACT_POS], eta, out_e)
+    matvec(maps[D.IMPACT_VEL], vel, out_v)
     ke, vc = 0.0, 0.0
     for j in range(vel.size):
         ke += vel[j] * vel[j] - out_v[j] * out_v[j]
