@@ -1,6 +1,6 @@
 """The periodic responses of every signature in a run: the search window, the extra seeds, the table rows, the summary.
 
-:func:`hybrid_branches` is what :func:`plbar.solve` calls after the paper's class
+:class:`Search` is what :func:`plbar.solve` begins beside the paper's class
 (:func:`plbar.find_paths`), for ``Case.signatures`` ``"default"`` or ``"all"``
 (:func:`plbar.hybrid.find_hybrid`): besides the seeds of the structure (the zero-dwell
 class, period doublings, admissibility ends), the periodic motions of a simulation from
@@ -25,7 +25,7 @@ from ..model import Problem
 from ..paths import Domain, Paths
 from ..util.progress import message, progress_bar
 
-__all__ = ["Search", "hybrid_branches", "hybrid_window", "hybrid_rows", "hybrid_summary", "simulated_seeds", "SEED_PERIODS"]
+__all__ = ["Search", "hybrid_window", "hybrid_rows", "hybrid_summary", "simulated_seeds", "SEED_PERIODS"]
 
 #: forcing periods, periods simulated, periods recorded of the seeding simulation, per kind
 SEED_PERIODS = {"default": (81, 600, 60), "all": (161, 1000, 100)}
@@ -147,19 +147,6 @@ class Search:
     def __exit__(self, *exc):
         self.cancel()
         return False
-
-
-def hybrid_branches(paths: Paths, kinds: str, progress: bool = False) -> list:
-    """The branches of every signature but the paper's class (:func:`plbar.hybrid.find_hybrid`), begun once the
-    paper's are known (:func:`plbar.solve` begins a :class:`Search` before them).
-
-    With ``progress``, two phases on stderr: the seeding simulation (periods done) and the curves followed
-    (their number grows as bifurcations seed new ones, so the bar counts them without a total).
-    """
-    if kinds == "paper":
-        return []
-    with Search(paths.prob, paths.domain, kinds, progress) as search:
-        return search.finish(paths)
 
 
 def hybrid_rows(branches, first_id: int) -> dict:
