@@ -118,9 +118,15 @@ def from_motion(prob: Problem, T: float, m: int, t_b: float, x_b, v_b, state_b: 
     after = times[imp[0] + 1:]
     kinds_after = kinds[imp[0] + 1:]
     end = t_imp + m * T
-    n = int(np.sum(after <= end + 1e-4 * T))         # a simulated motion repeats to its tolerance only
-    while n and kinds_after[n - 1] == 1:           # an opening at the end belongs to the next orbit
-        n -= 1
+    closing = np.flatnonzero(kinds_after == 2)
+    if not closing.size:
+        raise ValueError("no impact after the first one")
+    # the orbit closes on the impact nearest to m T later: a motion still settling on its orbit repeats only
+    # nearly, its closing impact a little before or after (a fixed window would cut or add a pair)
+    j = int(closing[np.argmin(np.abs(after[closing] - end))])
+    if abs(after[j] - end) > 0.05 * T:
+        raise ValueError(f"no impact within 0.05 T of m T = {m} T after the first one: not an orbit of m periods")
+    n = j + 1
     seq_t, seq_k = np.concatenate([[t_imp], after[:n]]), kinds_after[:n]
     if not n or seq_k[-1] != 2 or np.any(seq_k[0::2] != 1) or np.any(seq_k[1::2] != 2):
         raise ValueError("the switches after the impact are not opening/impact pairs over m periods")

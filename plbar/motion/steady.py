@@ -4,9 +4,11 @@ From the recorded periods of a :class:`plbar.motion.Run`:
 
 * **kind**: ``periodic`` with stroboscopic period ``m`` when the states at the
   period boundaries repeat after ``m`` periods over the whole recorded window
-  (relative distance below ``tol``), the smallest such ``m``; otherwise
-  ``irregular``; ``failed`` when the simulation stopped (a chattering contact).
-  A motion that does not repeat is never forced into a periodic label.
+  (relative distance below ``tol``), the smallest such ``m``, or when the caller
+  has shown that the motion settles on a stable orbit of period ``m`` (``settled``,
+  :mod:`plbar.studies.survey.settle`); otherwise ``irregular``; ``failed`` when the
+  simulation stopped (a chattering contact).  A motion is never forced into a
+  periodic label without that evidence.
 * **impacts and loss per forcing period**: mean, min, max, standard deviation (of a periodic
   motion over whole orbits: the last ``m floor(R / m)`` recorded periods).
 * **xi_eq of the motion** (FORMULATION §8): the mean impact loss per period over
@@ -104,11 +106,19 @@ def _spread(a, use):
     return tuple(np.array([f(x) for x in rows]) for f in (np.mean, np.min, np.max, np.std))
 
 
-def steady(r: Run, m_max: int = M_MAX, tol: float = PERIODIC_TOL) -> Steady:
-    """Characterise the recorded window of ``r`` (needs ``r.record >= 1``)."""
+def steady(r: Run, m_max: int = M_MAX, tol: float = PERIODIC_TOL, settled=None) -> Steady:
+    """Characterise the recorded window of ``r`` (needs ``r.record >= 1``).
+
+    ``settled`` (int array (B,), optional): periods of trajectories that the caller has shown to settle on a
+    stable orbit though the window does not repeat to ``tol`` yet (:mod:`plbar.studies.survey.settle`); they
+    are reported periodic with that period, averaged over whole orbits (0: no such evidence).
+    """
     if r.record < 1:
         raise ValueError("the run recorded no period; give record >= 1")
     m, dist = periodicity(r.strobe_x, r.strobe_v, m_max, tol)
+    if settled is not None:
+        settled = np.asarray(settled, int)
+        m = np.where((m == 0) & (settled > 0), settled, m)
     kind = np.where(r.status != 0, 2, np.where(m > 0, 0, 1))
     m = np.where(kind == 0, m, 0)
     # a periodic motion is averaged over whole orbits: the last m floor(R / m) periods

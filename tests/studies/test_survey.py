@@ -45,10 +45,13 @@ def test_periodic_one_impact_equals_the_paths_of_plbar_run(class_survey, default
         _, b, j = best
         assert abs(b.T[j] - T) < 0.02 * T
         r = find_response(prob, T, b.T1[j] * T / b.T[j])
-        assert r.dPL == pytest.approx(loss, rel=1e-6)
-        assert r.xi == pytest.approx(t["xi_eq"][i], rel=1e-6)
         assert t["exact_loss"][i] == pytest.approx(r.dPL, rel=1e-12)          # the survey's own polish
-        assert t["xi_w"][i] == pytest.approx(r.xi * 0 + _xi_w(r), rel=1e-6)
+        assert t["exact_xi"][i] == pytest.approx(r.xi, rel=1e-10)
+        # the window's means: on the orbit (1e-6), or still settling on it (about its distance from it)
+        tol = max(1e-6, 3 * t["orbit_distance"][i])
+        assert r.dPL == pytest.approx(loss, rel=tol)
+        assert r.xi == pytest.approx(t["xi_eq"][i], rel=tol)
+        assert t["xi_w"][i] == pytest.approx(_xi_w(r), rel=tol)
         checked += 1
     assert checked >= 5
 

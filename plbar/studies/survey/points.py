@@ -6,7 +6,10 @@ Where the motion is periodic, its exact periodic response is polished from the
 simulation (:func:`plbar.hybrid.from_motion`: the state at the start of the last
 ``m`` periods carried to an impact, the switches of ``m`` periods as the guess,
 Newton): its signature (``1P`` is the paper's class, ``1Z`` one impact without a
-stuck phase, ``2PZ`` ...), loss and ``xi_eq`` are reported beside the simulated ones.
+stuck phase, ``2PZ`` ...), loss and ``xi_eq`` are reported beside the simulated ones,
+with the orbit's largest multiplier and the window's distance from it.  A motion
+that does not repeat over the window yet but approaches a stable orbit is shown
+to settle (:mod:`.settle`) and reported periodic, with its distance and rate.
 """
 
 from __future__ import annotations
@@ -16,15 +19,16 @@ import numpy as np
 from ...app import Case
 from ...motion import KINDS, Padded, Start, padded, run, steady
 from ...errors import PlbarError
-from ...hybrid import from_motion
 from ...response import NoResponseError, find_response
+from .settle import Approach, approach, orbit_of, settle
 
 __all__ = ["COLUMNS", "survey_chunk", "start_of", "start_json"]
 
 #: the columns of survey.csv, in order (the first thirteen are the issue's minimum)
 COLUMNS = ("T", "kind", "m", "impacts_per_T", "loss_per_T", "loss_min", "loss_max", "xi_eq", "xi_min", "xi_max",
            "xi_w", "amp_c", "stuck_fraction", "loss_std", "xi_std", "amp_c_max", "work_per_T", "distance",
-           "energy_residual", "exact_loss", "exact_xi", "signature", "status", "viscous_per_T", "xi_total")
+           "energy_residual", "exact_loss", "exact_xi", "signature", "status", "viscous_per_T", "xi_total",
+           "max_abs_multiplier", "orbit_distance", "rate")
 
 
 def start_json(s: Start, i: int) -> dict:
@@ -38,26 +42,29 @@ def start_of(rows: list[dict]) -> Start:
                  np.array([r["vel"] for r in rows], float))
 
 
+def _orbit_fields(a: Approach) -> dict:
+    """The row's fields of an orbit (JSON: a missing field is a blank of the table, never a nan)."""
+    o = a.orbit
+    return {"exact_loss": float(o.loss_per_T), "exact_xi": float(o.xi), "signature": str(o.sig.canonical()),
+            "m": int(o.sig.m), "max_abs_multiplier": a.max_abs_multiplier, "orbit_distance": float(a.distance[-1]),
+            "rate": a.rate}
+
+
 def _polish(prob, r, b: int, m: int, loss: float) -> dict:
     """The exact orbit of trajectory ``b``'s periodic motion (or no fields if Newton does not get there).
 
-    Any signature (:func:`plbar.hybrid.from_motion`, damped or not); where Newton does not get there, a motion of
+    Any signature (:func:`.settle.orbit_of`, damped or not); where Newton does not get there, a motion of
     the paper's class by :func:`plbar.find_response` from the simulated stuck time.
     """
-    first = r.periods - r.record
-    sel = r.events["traj"] == b
-    te, ke = r.events["time"][sel], r.events["kind"][sel]
-    T = float(r.T[b])
-    t_b = first * T
-    after = te >= t_b
     try:
-        o = from_motion(prob, T, m, t_b, r.strobe_x[b, 0], r.strobe_v[b, 0], int(r.strobe_state[b, 0]), te[after],
-                        ke[after], float(r.phi[b]))
+        a = approach(r, b, orbit_of(prob, r, b, m))
     except (PlbarError, ValueError, np.linalg.LinAlgError):
         return _polish_paper(prob, r, b, m, loss)
-    if not abs(o.loss_per_T - loss) <= 1e-5 * max(loss, 1e-300):
+    if not abs(a.orbit.loss_per_T - loss) <= 1e-5 * max(loss, 1e-300):
         return _polish_paper(prob, r, b, m, loss)  # Newton went to another orbit: not the motion simulated
-    return {"exact_loss": float(o.loss_per_T), "exact_xi": float(o.xi), "signature": str(o.sig.canonical())}
+    fields = _orbit_fields(a)
+    del fields["rate"]                              # on its orbit throughout: no approach to measure (a blank)
+    return fields
 
 
 def _polish_paper(prob, r, b: int, m: int, loss: float) -> dict:
@@ -92,6 +99,10 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
     T = np.asarray(T, float)
     r = run(pad, T, 0.0, periods, record, start, progress)
     s = steady(r)
+    settled = {b: settle(prob, r, b) for b in np.flatnonzero(s.kind == KINDS.index("irregular"))}
+    settled = {b: a for b, a in settled.items() if a is not None}
+    if settled:
+        s = steady(r, settled=[settled[b].orbit.sig.m if b in settled else 0 for b in range(T.size)])
     rows = []
     for i in range(T.size):
         row = {c: float(getattr(s, c)[i]) for c in COLUMNS if hasattr(s, c) and c not in ("kind", "m")}
@@ -99,7 +110,9 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
                    viscous_per_T=float(s.viscous_per_T[i]),
                    xi_total=float(prob.system.rayleigh_ratio(2 * np.pi / T[i]) + s.xi_eq[i])
                    if getattr(prob.system, "damped", False) else float(s.xi_eq[i]))
-        if row["kind"] == "periodic":
+        if i in settled:
+            row.update(_orbit_fields(settled[i]))
+        elif row["kind"] == "periodic":
             row.update(_polish(prob, r, i, row["m"], row["loss_per_T"]))
         rows.append(row)
     return rows, r.final
