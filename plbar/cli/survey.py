@@ -71,6 +71,8 @@ def _cmd_survey(a) -> int:
         case = _with_n(case, a.sizes[0])
     T = _periods(a, case)
     out = check_writable(a.out)
+    if a.positions is not None or a.per_element is not None:
+        return _loads(a, case, T, out)
     if a.sizes and len(a.sizes) > 1:
         return _refine(a, case, T, out)
     plot = not a.no_plot and importlib.util.find_spec("matplotlib") is not None
@@ -85,6 +87,34 @@ def _cmd_survey(a) -> int:
     payload = {"summary": s.summary, "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v)
                                                for k, v in s.files.items()}}
     report(a, payload, "\n".join(_lines(s, T)))
+    return 0
+
+
+def _loads(a, case, T, out) -> int:
+    from ..studies import get_executor
+    from ..studies.survey import run_survey_loads
+
+    if a.cont:
+        raise InputError("--continue sweeps T from one state: give it without --positions/--per-element")
+    kind = "dask" if a.scheduler else a.executor
+    sizes = sorted(set(a.sizes)) if a.sizes and len(a.sizes) > 1 else None
+    with get_executor(kind, a.scheduler, a.workers) as ex:
+        r = run_survey_loads(case, T, a.positions, a.per_element, sizes, a.periods, a.record, out, ex, progress(a),
+                             a.overwrite, plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
+    lines = [f"plbar survey over load positions: {r.positions.size} positions x {r.T.size} forcing periods"
+             + (f" x N = {', '.join(str(n) for n in r.sizes)}" if r.sizes.size > 1 else "")
+             + f", {r.summary['periods']} periods each, {r.summary['seconds']:.1f} s"]
+    for n, d in r.summary["by_N"].items():
+        k = d["kinds"]
+        mean = np.asarray(d["mean_xi_eq_per_position"])
+        lines.append(f"  N = {n}: {k['periodic']} periodic, {k['irregular']} irregular"
+                     + (f", {k['failed']} failed" if k["failed"] else "")
+                     + f"; mean xi_eq over T by position {mean.min():.4f} .. {mean.max():.4f}, largest at s = "
+                       f"{d['position_of_largest_mean_xi_eq']:g}")
+    lines.append(f"  energy budget closes to {r.summary['energy_residual_max']:.1e} of the work")
+    lines.append("  wrote " + ", ".join(str(f) for v in r.files.values() for f in (v if isinstance(v, list) else [v])))
+    report(a, {"summary": r.summary, "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v)
+                                               for k, v in r.files.items()}}, "\n".join(lines))
     return 0
 
 
@@ -146,6 +176,11 @@ def register(sub) -> None:
                         "(hysteresis, coexisting motions)")
     g.add_argument("--chunks", type=int, default=None, metavar="C",
                    help="tasks the from-rest runs are split into [max(2, K/96)]")
+    g = s.add_argument_group("load positions (the survey at every one: survey_loads.csv and the (T, s) map)")
+    g.add_argument("--positions", type=float, nargs="+", default=None, metavar="S",
+                   help="unit-force positions 0 < S <= L, as in sweep-loads (the case's load is replaced)")
+    g.add_argument("--per-element", type=int, default=None, metavar="K",
+                   help="K positions per element (every node and points between) [enough for 20 in all]")
     s.add_argument("--no-plot", action="store_true", help="skip survey.png/.pdf")
     s.add_argument("--no-paths", action="store_true", help="do not solve the exact branches under the figure")
     s.add_argument("--paths", action="store_true",

@@ -16,9 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .plots import _plt, _save, contact_amplitude
+from .plots import _edges, _plt, _save, contact_amplitude
 
-__all__ = ["survey_plot", "survey_damping_plot"]
+__all__ = ["survey_plot", "survey_damping_plot", "survey_loads_plot"]
 
 #: colours of the periodic signatures, in order of appearance (blue and red are the exact branches')
 _PALETTE = ("tab:green", "tab:olive", "tab:orange", "tab:purple", "tab:cyan", "tab:brown", "tab:pink", "gold",
@@ -113,5 +113,51 @@ def survey_damping_plot(levels: dict, out, name: str = "survey_damping") -> list
         ax.set_ylabel(r"$\xi_{eq}$ of the impact (the motion from rest)")
         ax.set_ylim(bottom=0)
         ax.legend(fontsize=7, loc="upper left")
+    fig.tight_layout()
+    return _save(fig, out, name)
+
+
+def _cells(table: dict, N, column: str):
+    sel = table["N"] == N
+    s, T = np.unique(table["s"][sel]), np.unique(table["T"][sel])
+    g = np.full((s.size, T.size), np.nan, dtype=object if column == "kind" else float)
+    g[np.searchsorted(s, table["s"][sel]), np.searchsorted(T, table["T"][sel])] = table[column][sel]
+    return s, T, g
+
+
+def survey_loads_plot(table: dict, out, name: str = "survey_loads", title: str = "") -> list[Path]:
+    """``xi_eq`` and ``xi_w`` of the real motion over (forcing period, load position), one row per size ``N``.
+
+    ``table``: the columns of ``survey_loads.csv``.  Colour: the value of the cell (the motion from rest under a
+    unit force at ``s``); white dots: the periodic cells; red crosses: failed ones (a chattering contact); the
+    black line: the worst position of each forcing period (the largest value over ``s``).
+    """
+    plt = _plt()
+    sizes = np.unique(table["N"])
+    fig, ax = plt.subplots(len(sizes), 2, figsize=(12.0, 3.6 * len(sizes) + 0.6), squeeze=False, sharex=True)
+    for r, n in enumerate(sizes):
+        for c, (col, label) in enumerate((("xi_eq", r"$\xi_{eq}$ of the motion (Eq. 22)"),
+                                          ("xi_w", r"$\xi_\omega$ (one frequency, the forcing's)"))):
+            s, T, g = _cells(table, n, col)
+            _, _, kind = _cells(table, n, "kind")
+            a = ax[r, c]
+            vmax = float(np.nanquantile(g, 0.99)) if np.isfinite(g).any() else 1.0
+            mesh = a.pcolormesh(_edges(T), _edges(s), g, cmap="viridis", vmin=0.0, vmax=max(vmax, 1e-12),
+                                shading="flat", rasterized=True)
+            fig.colorbar(mesh, ax=a, label=label, extend="max")
+            ii, jj = np.nonzero(kind == "periodic")
+            a.plot(T[jj], s[ii], ".", ms=1.6, color="w", alpha=0.8, label="periodic (settled) motion")
+            ii, jj = np.nonzero(kind == "failed")
+            if ii.size:
+                a.plot(T[jj], s[ii], "x", ms=3, color="tab:red", label="failed (chattering contact)")
+            worst = np.nanargmax(np.where(np.isfinite(g), g, -np.inf), axis=0)
+            a.plot(T, s[worst], "-", color="k", lw=0.9, drawstyle="steps-mid", label="worst position per T")
+            a.set_ylabel(f"load position s (N = {int(n)})")
+            if r == 0:
+                a.set_title(("what the bar does from rest, load at s" + (f": {title}" if title else ""))
+                            if c == 0 else "")
+    ax[-1, 0].legend(loc="upper left", bbox_to_anchor=(0.0, -0.18), fontsize=7, ncol=3, frameon=False)
+    for a in ax[-1]:
+        a.set_xlabel("forcing period T")
     fig.tight_layout()
     return _save(fig, out, name)

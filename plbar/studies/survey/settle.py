@@ -50,7 +50,7 @@ from ...motion import M_MAX, Run
 
 __all__ = ["CANDIDATE", "SETTLED", "RATE_MATCH", "Approach", "candidate_periods", "orbit_of", "approach", "settle"]
 
-CANDIDATE = 1e-2   #: repeat distance at the window's end below which a motion is tried as settling
+CANDIDATE = 3e-2   #: repeat distance at the window's end below which a motion is tried as settling
 SETTLED = 1e-1     #: distance from its stable orbit at the window's end below which a motion may have settled
 RATE_MATCH = 0.25  #: relative difference of log(rate) and log(|mu_k|^(1/m)) allowed for a linear approach
 

@@ -207,11 +207,12 @@ def run_survey(case: Case, T, periods: int = 1000, record: int | None = None, ou
     if plot:
         from ...visuals import survey_plot
 
-        files["figure"] = survey_plot(table, folder, "survey", paths=paths, title=_title(case))
+        files["figure"] = survey_plot(table, folder, "survey", paths=paths, title=case_title(case))
     return Survey(case, table, summary, files)
 
 
-def _title(case: Case) -> str:
+def case_title(case: Case) -> str:
+    """A figure title naming the model: ``chain N = 5``, ``FE P1 lumped, N = 16, end mass 0.5``."""
     if case.model == "chain":
         return f"chain N = {case.n_eff}"
     s = f"FE {case.element} {case.mass}, N = {case.n_eff}"

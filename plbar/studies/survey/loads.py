@@ -1,0 +1,282 @@
+"""The load study of the real motion: the survey at every load position, a (T, s) table and map (issue 28).
+
+The periodic responses are the same for every load (paper Sec. 4.2, Lemma 1: ``plbar sweep-loads`` sweeps the
+position from one solve), but the motion from rest is not: where the bar settles, and on what, depends on
+where the load acts.  Nothing about a nonsmooth trajectory is linear in the load's position, so every cell
+``(T, s)`` is its own simulation from rest; the compiled simulator makes that a matter of seconds (the
+default case: 161 forcing periods x 20 positions, 1,000 periods each).
+
+A unit point force at ``s`` in ``(0, L]`` (:class:`plbar.Case` ``load_points``; on the chain a position
+between two DOFs shares the force between them linearly, the paper's Sec. 4.2).  Default positions: every
+node and evenly spaced points between (:func:`load_positions`, about 20 in all).  With several sizes ``N``
+(an FE bar under refinement) the same physical positions on every mesh.
+
+``survey_loads.csv``: the columns of ``survey.csv`` (:data:`plbar.studies.survey.COLUMNS`) with ``N`` and
+``s`` first; ``summary.json``: counts, the energy budget, and per ``N`` the worst position per forcing period
+and the mean ``xi_eq`` per position; the map (``survey_loads.png``/``.pdf``): ``xi_eq`` and ``xi_w`` of the
+real motion over ``(T, s)``, periodic cells dotted, the worst position per forcing period drawn over it.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from ...app import Case
+from ...errors import InputError
+from ...motion import COMPILE_NOTE, KINDS, compiled, prepare
+from ...util.files import write_csv, write_json
+from ...util.outputs import claim_folder, fingerprint
+from ...util.progress import message
+from ...util.reprs import build, rng
+from ..execution import SerialExecutor, Study, run_study
+from ..loads import check_positions
+from .points import COLUMNS
+from .study import case_title, check_forcing_periods, default_periods, default_record
+from .tasks import case_fields, survey_task
+
+__all__ = ["SurveyLoads", "LOADS_COLUMNS", "SURVEY_LOADS_OWNED", "load_positions", "survey_loads",
+           "run_survey_loads", "survey_loads_study", "survey_loads_task"]
+
+#: the columns of survey_loads.csv
+LOADS_COLUMNS = ("N", "s") + COLUMNS
+#: what a load study owns in its folder
+SURVEY_LOADS_OWNED = ("survey_loads.csv", "summary.json", "survey_loads.png", "survey_loads.pdf", "study.json",
+                      "tasks", ".*.part.*")
+_INT = ("N", "m", "status")
+_TEXT = ("kind", "signature")
+#: default number of positions (at least this many: every node and evenly spaced points between)
+DEFAULT_POSITIONS = 20
+
+
+def load_positions(case: Case, per_element: int | None = None) -> np.ndarray:
+    """Unit-force positions over the bar: ``per_element`` per element, ``left + k h / per_element`` for
+    ``k = 1 .. per_element`` (every node but the clamp, and points between; the chain's elements are its
+    springs).  Default: the fewest per element that give at least :data:`DEFAULT_POSITIONS`."""
+    bar = case.bar()
+    x = np.asarray(bar.nodes, float)
+    x = np.unique(x[np.isfinite(x)])
+    if per_element is None:
+        per_element = max(1, -(-DEFAULT_POSITIONS // (x.size - 1)))
+    if isinstance(per_element, bool) or int(per_element) != per_element or per_element < 1:
+        raise InputError(f"per_element = {per_element!r} must be a positive integer (positions per element, "
+                         "--per-element K)")
+    k = np.arange(1, int(per_element) + 1) / int(per_element)
+    return (x[:-1, None] + k[None, :] * np.diff(x)[:, None]).ravel()
+
+
+def _check_positions(case: Case, positions) -> np.ndarray:
+    check_positions(case, positions)                     # the one rule of sweep-loads: 0 < s <= L
+    return np.minimum(np.unique(np.asarray(positions, float).ravel()), case.bar().length)
+
+
+def _at(case: Case, s: float, n: int | None) -> Case:
+    c = replace(case, load_nodes=(), load_points=((float(s), 1.0),))
+    return replace(c, n=int(n)) if n is not None else c
+
+
+@dataclass(frozen=True)
+class SurveyLoads:
+    """The real motion over forcing periods, load positions (and sizes ``N``).
+
+    Attributes
+    ----------
+    case : Case
+        The study's case (its load is replaced by a unit force at each position).
+    table : dict of ndarray
+        The columns of ``survey_loads.csv`` (:data:`LOADS_COLUMNS`), sorted by ``N``, ``s``, ``T``.
+    summary : dict
+    files : dict
+    """
+
+    case: Case
+    table: dict = field(repr=False)
+    summary: dict = field(repr=False)
+    files: dict = field(default_factory=dict, repr=False)
+
+    def __len__(self) -> int:
+        return int(self.table["T"].size)
+
+    @property
+    def sizes(self) -> np.ndarray:
+        return np.unique(self.table["N"])
+
+    @property
+    def positions(self) -> np.ndarray:
+        return np.unique(self.table["s"])
+
+    @property
+    def T(self) -> np.ndarray:
+        return np.unique(self.table["T"])
+
+    def grid(self, column: str, N: int | None = None) -> np.ndarray:
+        """``column`` over (position, forcing period) of size ``N`` (default: the first), shape (S, K)."""
+        return _grid(self.table, column, self.sizes[0] if N is None else N)
+
+    def worst(self, column: str = "xi_eq", N: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Per forcing period, the position with the largest ``column`` and that value: ``(s, value)`` (K,)."""
+        g = self.grid(column, N)
+        i = np.nanargmax(np.where(np.isfinite(g), g, -np.inf), axis=0)
+        return self.positions[i], g[i, np.arange(g.shape[1])]
+
+    def __repr__(self) -> str:
+        t = self.table
+        return build("SurveyLoads", {"cells": len(self), "N": self.sizes.tolist(), "positions": self.positions.size,
+                                     "T": rng(t["T"]), "kinds": self.summary.get("kinds", {}),
+                                     "xi_eq": rng(t["xi_eq"]), "files": len(self.files)})
+
+
+def _grid(table: dict, column: str, N: int) -> np.ndarray:
+    sel = table["N"] == N
+    s, T = np.unique(table["s"][sel]), np.unique(table["T"][sel])
+    g = np.full((s.size, T.size), np.nan, dtype=table[column].dtype if column in _TEXT else float)
+    if column in _TEXT:
+        g = np.full((s.size, T.size), "", dtype=object)
+    g[np.searchsorted(s, table["s"][sel]), np.searchsorted(T, table["T"][sel])] = table[column][sel]
+    return g
+
+
+def survey_loads_task(task: dict) -> dict:
+    """One position (and size) over its forcing periods: the survey's rows with ``N`` and ``s``."""
+    res = survey_task(task)
+    for r in res["rows"]:
+        r.update(N=int(task["N"]), s=float(task["s"]))
+    return res
+
+
+def survey_loads_study(case: Case, T, positions, sizes=None, periods: int = 1000, record: int | None = None) -> Study:
+    """The tasks of a load study: one per (size, position), every forcing period from rest."""
+    T = check_forcing_periods(T)
+    if int(periods) != periods or periods < 2:
+        raise InputError(f"periods = {periods!r} must be an integer >= 2 (forcing periods simulated)")
+    record = default_record(periods) if record is None else record
+    if int(record) != record or not 1 <= record < periods:
+        raise InputError(f"record = {record!r} must be an integer in [1, periods - 1]")
+    s = _check_positions(case, positions)
+    sizes = [None] if not sizes else sorted({int(n) for n in sizes})
+    tasks = []
+    for n in sizes:
+        cn = replace(case, n=n) if n is not None else case
+        for si in s:
+            c = _at(cn, si, None)
+            tasks.append({"case": case_fields(c), "periods": int(periods), "record": int(record), "mode": "rest",
+                          "T": [float(t) for t in T], "s": float(si), "N": int(c.n_eff)})
+    params = {"periods": int(periods), "record": int(record), "T": [float(t) for t in T],
+              "positions": [float(v) for v in s], "sizes": [t["N"] for t in tasks[::len(s)]]}
+    return Study("survey-loads", survey_loads_task, tuple(tasks), params)
+
+
+def _table(results: list[dict]) -> dict:
+    rows = [r for res in results for r in res["rows"]]
+    rows.sort(key=lambda r: (r["N"], r["s"], r["T"]))
+    out = {}
+    for c in LOADS_COLUMNS:
+        vals = [r.get(c, np.nan) for r in rows]
+        out[c] = np.array(vals, dtype=object if c in _TEXT else (int if c in _INT else float))
+    return out
+
+
+def _summary(case: Case, table: dict, study: Study, seconds: float) -> dict:
+    from ...util.version import __version__
+
+    by_n = {}
+    for n in np.unique(table["N"]):
+        sel = table["N"] == n
+        s, T = np.unique(table["s"][sel]), np.unique(table["T"][sel])
+        xi = _grid(table, "xi_eq", n)
+        xw = _grid(table, "xi_w", n)
+        kind = _grid(table, "kind", n)
+        i = np.nanargmax(np.where(np.isfinite(xi), xi, -np.inf), axis=0)
+        mean = np.nanmean(xi, axis=1)
+        per = np.mean(kind == "periodic", axis=1)
+        by_n[str(int(n))] = {
+            "kinds": {k: int(np.sum(table["kind"][sel] == k)) for k in KINDS},
+            "worst_position_per_T": [float(v) for v in s[i]],
+            "worst_xi_eq_per_T": [float(v) for v in xi[i, np.arange(T.size)]],
+            "mean_xi_eq_per_position": [float(v) for v in mean],
+            "mean_xi_w_per_position": [float(v) for v in np.nanmean(xw, axis=1)],
+            "periodic_fraction_per_position": [float(v) for v in per],
+            "position_of_largest_mean_xi_eq": float(s[int(np.nanargmax(mean))]),
+            "positions": [float(v) for v in s]}
+    return {"plbar_version": __version__, "case": case_fields(case), **study.params, "cells": int(table["T"].size),
+            "kinds": {k: int(np.sum(table["kind"] == k)) for k in KINDS},
+            "energy_residual_max": float(np.nanmax(np.abs(table["energy_residual"]))),
+            "by_N": by_n, "seconds": round(seconds, 3)}
+
+
+def _write(folder: Path, table: dict, summary: dict) -> dict:
+    cols = list(LOADS_COLUMNS)
+    fmts = ["%s" if c in _TEXT else ("%d" if c in _INT else "%.17g") for c in cols]
+    return {"table": write_csv(folder / "survey_loads.csv", cols, [table[c] for c in cols], fmts),
+            "summary": write_json(folder / "summary.json", summary)}
+
+
+def _defaults(case: Case, T, positions, per_element):
+    T = default_periods(case) if T is None else T
+    positions = load_positions(case, per_element) if positions is None else positions
+    return T, positions
+
+
+def survey_loads(case: Case | None = None, T=None, positions=None, per_element: int | None = None, sizes=None,
+                 periods: int = 1000, record: int | None = None, executor=None) -> SurveyLoads:
+    """The real motion from rest at every forcing period ``T`` and load position, in memory (no files).
+
+    Parameters
+    ----------
+    case : Case, optional
+        Default: the paper's chain.  Its load is replaced by a unit force at each position.
+    T : array_like, optional
+        Forcing periods (default :func:`plbar.studies.survey.default_periods`).
+    positions : array_like, optional
+        Unit-force positions in ``(0, L]`` (default :func:`load_positions` with ``per_element``).
+    sizes : sequence of int, optional
+        Sizes ``N`` (the same physical positions on each mesh); default the case's.
+    periods, record : int
+        As :func:`plbar.studies.survey.survey`.
+    executor : concurrent.futures.Executor, optional
+        Default serial.
+    """
+    case = case or Case()
+    t0 = time.perf_counter()
+    T, positions = _defaults(case, T, positions, per_element)
+    study = survey_loads_study(case, T, positions, sizes, periods, record)
+    ex = executor or SerialExecutor()
+    results = [f.result() for f in [ex.submit(survey_loads_task, t) for t in study.tasks]]
+    table = _table(results)
+    return SurveyLoads(case, table, _summary(case, table, study, time.perf_counter() - t0))
+
+
+def run_survey_loads(case: Case, T=None, positions=None, per_element: int | None = None, sizes=None,
+                     periods: int = 1000, record: int | None = None, out="plbar-survey-loads", executor=None,
+                     progress: bool = False, overwrite: bool = False, plot: bool = True) -> SurveyLoads:
+    """Run (or resume) a load study into ``out``: ``survey_loads.csv``, ``summary.json`` and the map (PNG + PDF).
+
+    A task per (size, position) is written as it finishes (``tasks/``), so a killed study resumes; the same
+    study resumes in its folder, another is refused unless ``overwrite`` (:func:`plbar.util.outputs.claim_folder`).
+    """
+    t0 = time.perf_counter()
+    folder = Path(out)
+    T, positions = _defaults(case, T, positions, per_element)
+    study = survey_loads_study(case, T, positions, sizes, periods, record)
+    claim = claim_folder(folder, "survey-loads", fingerprint(study.manifest()["tasks"]), SURVEY_LOADS_OWNED,
+                         overwrite)
+    if progress and not compiled(case.problem()):
+        message(f"plbar: {COMPILE_NOTE}")
+    if executor is not None and not isinstance(executor, SerialExecutor):
+        prepare(case.problem())
+    try:
+        results = run_study(folder, study, executor, progress=progress, overwrite=True)
+    except BaseException:
+        claim.abandon(("tasks/*.json",))
+        raise
+    table = _table(results)
+    summary = _summary(case, table, study, time.perf_counter() - t0)
+    files = _write(folder, table, summary)
+    if plot:
+        from ...visuals import survey_loads_plot
+
+        files["figure"] = survey_loads_plot(table, folder, "survey_loads", title=case_title(case))
+    return SurveyLoads(case, table, summary, files)
