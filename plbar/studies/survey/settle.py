@@ -25,13 +25,13 @@ the motion periodic.  The evidence is found instead in the orbit:
    ``max |mu|^(1/m)``, unless that direction is not excited).  A trajectory
    still far from the orbit (its distance governed by the nonlinear flow, or
    about to leave on another transient) does not decay at such a rate.  On
-   the default case (600 periods from rest) every motion that the compiled
-   and the independent simulators later see repeat (T = 6.6, 6.9, 7.3, 7.9,
-   8.3, 9.3, 10.5, 12.0-12.2, 12.9, 13.3) matches (to 0-37 % of the slowest rate;
-   T = 7.3 a faster direction), while T = 9.5, which approaches a 3ZZPZP orbit
-   over the window at 0.998 per period while its multipliers give 0.99983 and
-   0.944, is not settling there: carried on, it repeats only after 40,000
-   periods, on an orbit of period 9.
+   the default case (600 periods from rest) the motions that the independent
+   simulator later sees repeat match their slowest direction to 0.1-15 % (T =
+   6.6, 6.9, 7.9, 8.3, 9.3, 10.5, 11.6, 12.0-12.3, 12.9, 13.3); T = 7.3 (37 %) is
+   left irregular; T = 9.5, which approaches a 3ZZPZP orbit over the window
+   at 0.998 per period while its multipliers give 0.99983 and 0.944, is not
+   settling there: carried on, it repeats only after 40,000 periods, on an
+   orbit of period 9.
 
 Only then is the motion reported ``periodic`` (with the orbit's period); the
 measured ``orbit_distance`` and ``rate`` go into the table beside the orbit's
