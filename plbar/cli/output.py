@@ -3,7 +3,10 @@
 Where the response comes from: ``--from DIR`` (a previous ``plbar run``: the
 case is read from ``DIR/summary.json`` and the orbit rebuilt from its row of
 ``DIR/paths.csv``, no re-scan), or ``--case FILE.toml`` (solved first, results
-written to the file's ``[output] dir`` or ``--from``).  Where it goes: ``--out``
+written to the file's ``[output] dir`` or ``--from``).  ``--from SURVEY --T T``
+(a ``plbar survey`` folder): the motion the survey simulated at that forcing
+period (from rest, or ``--start up|down`` of its sweeps), its last
+``--periods`` periods, irregular or not (:mod:`plbar.studies.survey.motion`).  Where it goes: ``--out``
 (default ``DIR/vtk`` or ``DIR/render``); what an earlier export or render left
 there is cleared first.  ``--dest`` is the old spelling of ``--out``.
 """
@@ -25,7 +28,11 @@ __all__ = ["register"]
 
 def _source_args(p, kind: str) -> None:
     p.add_argument("--from", dest="src", default=None, metavar="DIR",
-                   help="folder of a previous 'plbar run' [plbar-out]")
+                   help="folder of a previous 'plbar run' [plbar-out], or of a 'plbar survey' (with --T)")
+    p.add_argument("--T", type=float, default=None, metavar="T",
+                   help="with --from SURVEY: the forcing period whose simulated motion to show")
+    p.add_argument("--start", choices=("rest", "up", "down"), default=None,
+                   help="with --from SURVEY: the motion from rest, or of the survey's sweep up or down [rest]")
     p.add_argument("--case", default=None, metavar="FILE.toml", help="a TOML case file: solve it first")
     p.add_argument("--out", default=None, metavar="DIR", help=f"where to write [DIR/{kind}]")
     p.add_argument("--dest", dest="out", default=None, help=hidden)
@@ -59,6 +66,27 @@ def _check_options(a) -> None:
         raise InputError(f"--field {field} is not a field of a response; choose one of {', '.join(names)}")
 
 
+def _survey_source(a):
+    """The motion data of ``--from SURVEY --T T`` (None when ``--from`` is not a survey folder)."""
+    if a.src is None or a.case is not None:
+        return None
+    from ..io import motion_data
+    from ..studies.survey import is_survey, survey_motion
+
+    if not is_survey(a.src):
+        if a.T is not None or a.start is not None:
+            raise InputError(f"--T and --start pick a motion of a survey; {a.src!r} is not a 'plbar survey' folder")
+        return None
+    if a.T is None:
+        raise InputError(f"{a.src!r} is a survey: give --T, the forcing period of the motion to show")
+    if a.branch is not None or a.index is not None:
+        raise InputError("--branch and --index pick a periodic response of a run; a survey's motion is picked by "
+                         "--T (and --start)")
+    _check_options(a)
+    sm = survey_motion(a.src, a.T, 10 if a.periods is None else a.periods, a.start or "rest")
+    return sm.case, motion_data(sm.series, 40 if a.steps is None else a.steps, sm.info)
+
+
 def _source(a, kind: str):
     """``(settings, run folder, case file's Case or None)``; the old ``--out DIR`` (a run folder as input) works."""
     _check_options(a)
@@ -86,6 +114,15 @@ def _solved(a, st, run: Path, case):
 
 
 def _cmd_export(a) -> int:
+    motion = _survey_source(a)
+    if motion is not None:
+        case, data = motion
+        fmt = a.format or "pvd"
+        dest = Path(a.out) if a.out else Path(a.src) / "vtk"
+        _report(a, write_response_data(data, dest, format=fmt, case=case, overwrite=a.overwrite), "export")
+        return 0
+    if a.periods is not None and a.periods not in (1, 2):
+        raise InputError(f"--periods {a.periods} is not allowed for a periodic response; choose 1 or 2")
     st, run, case = _source(a, "vtk")
     fmt = _pick(a.format, st.format)
     if fmt in ("pvd", "both"):
@@ -109,6 +146,17 @@ def _cmd_export(a) -> int:
 def _cmd_render(a) -> int:
     require("pyvista", "plbar render")
     require("PIL", "plbar render")
+    motion = _survey_source(a)
+    if motion is not None:
+        case, data = motion
+        dest = Path(a.out) if a.out else Path(a.src) / "render"
+        f = render_response(data, dest, field=a.field or "displacement", snapshots=a.snapshots or 4,
+                            gif=not a.no_gif, case=case, overwrite=a.overwrite)
+        _report(a, f, "render")
+        return 0
+    if a.periods is not None:
+        raise InputError("--periods is for a survey's motion (--from SURVEY --T T); a periodic response renders one "
+                         "period")
     st, run, case = _source(a, "render")
     dest = Path(a.out) if a.out else run / "render"
     if case is not None:
@@ -136,12 +184,15 @@ def _report(a, f, what: str) -> None:
 def register(subparsers) -> None:
     """Add ``export`` and ``render`` to ``plbar``'s subparsers."""
     e = subparsers.add_parser(
-        "export", help="write one periodic response for ParaView (.pvd + .vtu, or .xdmf + .h5)",
-        description="Write one periodic response (default: the largest xi_eq) as a time series on the bar "
-                    "mesh: displacement, velocity, energy densities, strain, stress, contact state and "
+        "export", help="write one periodic response, or a survey's simulated motion, for ParaView (.pvd + .vtu, "
+                       "or .xdmf + .h5)",
+        description="Write one periodic response (default: the largest xi_eq), or with --from SURVEY --T T the "
+                    "motion a survey simulated (its last --periods periods, impacts marked), as a time series on "
+                    "the bar mesh: displacement, velocity, energy densities, strain, stress, contact state and "
                     "reaction.  Open OUT/response.pvd (or response.xdmf) in ParaView.")
     _source_args(e, "vtk")
-    e.add_argument("--periods", type=int, choices=(1, 2), default=None, help="periods to write [1]")
+    e.add_argument("--periods", type=int, default=None,
+                   help="periods to write: 1 or 2 of a periodic response [1]; the last P of a survey's motion [10]")
     e.add_argument("--format", choices=("pvd", "xdmf", "both"), default=None, help="file format [pvd]")
     e.set_defaults(func=_cmd_export)
     r = subparsers.add_parser(
@@ -153,5 +204,7 @@ def register(subparsers) -> None:
     r.add_argument("--field", default=None, help="field to colour by [displacement]; e.g. velocity, stress, "
                                                  "strain, kinetic_energy_density")
     r.add_argument("--snapshots", type=int, default=None, help="snapshots over the period [4]")
+    r.add_argument("--periods", type=int, default=None,
+                   help="with --from SURVEY: the last P periods of its motion, drawn as one window [10]")
     r.add_argument("--no-gif", action="store_true", help="skip the animated GIF")
     r.set_defaults(func=_cmd_render)

@@ -1,4 +1,4 @@
-"""One periodic response sampled on its bar mesh: displacements, velocities, strains, energies (no files).
+"""A periodic response, or a simulated motion, sampled on its bar mesh: displacements, velocities, strains, energies.
 
 The bar is sampled at its mesh nodes (quadratic ``line3`` cells with their
 midside nodes for P2), the clamped node ``x = 0`` included with zero
@@ -16,13 +16,14 @@ import numpy as np
 from ..errors import InputError, PlbarError
 from ..util.reprs import build, rng
 
-__all__ = ["ResponseData", "response_data", "nodal_stress", "FIELD_KEYS", "XDMF_STEP_KEYS", "POINT_FIELDS",
+__all__ = ["ResponseData", "response_data", "motion_data", "nodal_stress", "FIELD_KEYS", "XDMF_STEP_KEYS",
+           "POINT_FIELDS",
            "CELL_FIELDS"]
 
 FIELD_KEYS = ("time", "phase_time", "state", "contact_reaction", "gap", "kinetic_energy", "potential_energy")
 #: the point and cell fields of a response (what ``plbar render --field`` may colour by; ``*_vec`` are 3-vectors)
 POINT_FIELDS = ("displacement", "displacement_vec", "velocity", "velocity_vec", "kinetic_energy_density",
-                "potential_energy_density", "stress_nodal")
+                "potential_energy_density", "stress_nodal", "kinetic_energy_nodal")
 CELL_FIELDS = ("strain", "stress", "strain_energy")
 #: per-step scalars also written into the XDMF as point data constant over the mesh (it has no field data)
 XDMF_STEP_KEYS = FIELD_KEYS[1:]
@@ -190,29 +191,44 @@ def response_data(orbit, info: dict | None = None, periods: int = 1, steps: int 
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 4:
         raise InputError(f"steps = {steps!r} must be an integer >= 4 (steps per period)")
     orb = orbit.take([0])
-    prob = orb.prob
-    pts, cells, ctype, EA, rA = _mesh(prob)
     T = float(orb.T[0])
     k = np.arange(periods * steps)
     t_abs = k * T / steps
     t_loc = (k % steps) * T / steps
     x, v, state = orb.response(t_loc[None, :])
-    x, v, state = x[0], v[0], state[0]
-    K = t_loc.size
-    u = np.concatenate([np.zeros((K, 1)), x], axis=1)
-    vel = np.concatenate([np.zeros((K, 1)), v], axis=1)
-    em, sen, ped, ked = _densities(u, vel, pts, cells, ctype, EA, rA)
     if hasattr(orb, "reaction_at"):             # an orbit of any signature (plbar.hybrid.OrbitSeries)
         margin = orb.reaction_at(t_loc)[0]
     else:
         margin = orb.reaction_margin(np.minimum(t_loc, orb.T1[0])[None, :])[0]
+    ek, ep = orb.energies(t_loc[None, :])
+    full = {"T1": float(orb.T1[0]), "T2": float(orb.T2[0]), "phi": float(np.mod(orb.phi[0], 2 * np.pi)), "T": T}
+    full.update(info or {})
+    full.update({"periods": periods, "steps": steps})
+    return _sampled(orb.prob, t_abs, t_abs, t_loc, x[0], v[0], state[0], margin, ek[0], ep[0], full)
+
+
+def _nodal_kinetic(prob, v) -> np.ndarray:
+    """Each node's share of the kinetic energy, ``v_i (M v)_i / 2`` (the clamp 0): it sums to ``v^T M v / 2``
+    (Eq. (12)) for any mass matrix, consistent or lumped, with point masses and the chain's."""
+    M = prob.system.M
+    Mv = (M @ v.T).T if not hasattr(M, "toarray") else np.asarray(M @ v.T).T
+    return np.concatenate([np.zeros((v.shape[0], 1)), 0.5 * v * Mv], axis=1)
+
+
+def _sampled(prob, times, t_abs, t_loc, x, v, state, margin, ek, ep, info, extra=None) -> ResponseData:
+    """The fields of states ``x, v`` (K, n) sampled at absolute times ``t_abs`` (``t_loc`` in the period or window;
+    ``times`` the series' own)."""
+    pts, cells, ctype, EA, rA = _mesh(prob)
+    K = t_loc.size
+    u = np.concatenate([np.zeros((K, 1)), x], axis=1)
+    vel = np.concatenate([np.zeros((K, 1)), v], axis=1)
+    em, sen, ped, ked = _densities(u, vel, pts, cells, ctype, EA, rA)
     inI = state == 1
     zero = np.zeros(K)
-    ek, ep = orb.energies(t_loc[None, :])
     field = {
         "time": t_abs, "phase_time": t_loc, "state": state.astype(np.int32),
         "contact_reaction": np.where(inI, margin, zero), "gap": np.where(inI, zero, -u[:, -1]),
-        "kinetic_energy": ek[0], "potential_energy": ep[0],
+        "kinetic_energy": ek, "potential_energy": ep, **(extra or {}),
     }
     zeros2 = np.zeros_like(u)
     point = {
@@ -220,11 +236,50 @@ def response_data(orbit, info: dict | None = None, periods: int = 1, steps: int 
         "velocity": vel, "velocity_vec": np.stack([vel, zeros2, zeros2], axis=-1),
         "kinetic_energy_density": ked, "potential_energy_density": ped,
         "stress_nodal": nodal_stress(u, pts, cells, ctype, EA),
+        "kinetic_energy_nodal": _nodal_kinetic(prob, v),
     }
     cell = {"strain": em, "stress": EA * em, "strain_energy": sen}
-    full = {"T1": float(orb.T1[0]), "T2": float(orb.T2[0]), "phi": float(np.mod(orb.phi[0], 2 * np.pi)), "T": T}
+    return ResponseData(pts, cells, ctype, times, point, cell, field, dict(info, cell_type=ctype))
+
+
+def motion_data(series, steps: int = 40, info: dict | None = None) -> ResponseData:
+    """Sample a simulated motion (:class:`plbar.motion.MotionSeries`) on its bar mesh, events marked.
+
+    ``steps`` samples per forcing period over the series' window, and one more just after every event (opening or
+    impact), so the time series holds the impacts as marked steps: the per-step fields ``event`` (0 a regular
+    sample, 1 the gap opens, 2 an impact, 3 an impact followed at once by the opening: a zero dwell, one step
+    since the times of a series increase strictly) and ``impact_loss`` (the energy an impact took, Eq. (14); 0
+    elsewhere).
+    ``time`` is absolute; the series' own times (``times``, ``phase_time``) run from 0 at the window's start, and
+    ``info["T"]`` is the window's length, so that a render draws the whole window.
+    """
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 4:
+        raise InputError(f"steps = {steps!r} must be an integer >= 4 (steps per period)")
+    P, T, t0 = series.periods, series.T, series.t0
+    grid = t0 + np.arange(P * steps + 1) * (T / steps)
+    ev = series.events
+    inside = ev["time"] < t0 + series.span
+    t_ev, k_ev, l_ev = ev["time"][inside], ev["kind"][inside].astype(np.int32), ev["loss"][inside]
+    # one step per distinct time: an impact and the opening that follows it at once (a zero dwell) are one step
+    u_ev, first = np.unique(t_ev, return_index=True)
+    code = np.zeros(u_ev.size, np.int32)
+    loss_ev = np.zeros(u_ev.size)
+    where = np.searchsorted(u_ev, t_ev)
+    np.add.at(code, where, k_ev)                # 1 opening, 2 impact, 3 impact with an immediate opening
+    np.add.at(loss_ev, where, np.where(k_ev == 2, l_ev, 0.0))
+    grid = grid[~np.isin(grid, u_ev)]
+    t_abs = np.concatenate([grid, u_ev])
+    kind = np.concatenate([np.zeros(grid.size, np.int32), code])
+    loss = np.concatenate([np.zeros(grid.size), loss_ev])
+    order = np.argsort(t_abs, kind="stable")
+    t_abs, kind, loss = t_abs[order], kind[order], loss[order]
+    x, v, state = series.response(t_abs)           # at an event's own time: the state just after it
+    margin = series.reaction(t_abs)
+    ek, ep = series.energies(t_abs)
+    full = {"T1": float(series.stuck_time), "T2": float(series.span - series.stuck_time), "phi": series.phi,
+            "T": float(series.span), "T_forcing": T, "t_start": float(t0), "periods": int(P), "steps": int(steps),
+            "impacts": int(np.sum(kind >= 2)), "openings": int(np.sum((kind == 1) | (kind == 3))),
+            "impact_loss": float(loss.sum()), "motion": True}
     full.update(info or {})
-    full.update({"periods": periods, "steps": steps, "cell_type": ctype})
-    return ResponseData(pts, cells, ctype, t_abs, point, cell, field, full)
-
-
+    return _sampled(series.prob, t_abs - t0, t_abs, t_abs - t0, x, v, state, margin, ek, ep, full,
+                    extra={"event": kind, "impact_loss": loss})

@@ -1,4 +1,4 @@
-"""ParaView output: one periodic response as a time series on the bar mesh.
+"""ParaView output: one periodic response, or a simulated motion, as a time series on the bar mesh.
 
 The bar is written as line cells along ``x`` (quadratic ``line3`` cells with
 their midside nodes for P2), the clamped node ``x = 0`` included with zero
@@ -7,8 +7,8 @@ displacement.  Every step holds
 point data
     ``displacement`` (axial ``u``), ``displacement_vec`` ``(u, 0, 0)`` for
     *Warp By Vector*, ``velocity``, ``velocity_vec``,
-    ``kinetic_energy_density``, ``potential_energy_density`` and
-    ``stress_nodal`` (see below);
+    ``kinetic_energy_density``, ``potential_energy_density``,
+    ``kinetic_energy_nodal`` and ``stress_nodal`` (see below);
 cell data
     ``strain``, ``stress`` (the axial force ``EA * strain``) and
     ``strain_energy`` (the element's exact share of the potential energy);
@@ -17,16 +17,22 @@ field data (``.vtu`` only; also in ``<name>_steps.csv``)
     2 free), ``contact_reaction`` (``-R >= 0``, the force the wall pushes
     with, Eq. (4); zero in state II), ``gap`` (``-x_c >= 0``, zero in state I),
     ``kinetic_energy``, ``potential_energy`` (Eqs. (12)-(13)),
-    ``T1``, ``T2``, ``phi``, ``T``.
+    ``T1``, ``T2``, ``phi``, ``T``; a simulated motion (:func:`plbar.io.motion_data`)
+    adds ``event`` (0 a regular sample, 1 the gap opens, 2 an impact, 3 an
+    impact and the opening at once: a step just after each event, at its
+    time) and ``impact_loss`` (Eq. (14) at an
+    impact step), and its ``T`` is the length of the window written (its
+    times run from 0 at the window's start; ``time`` is absolute).
 XDMF (``.xdmf`` + ``.h5``)
     The same point and cell data.  meshio's XDMF time series has no field
     data, so the per-step scalars ``phase_time``, ``state``,
     ``contact_reaction``, ``gap``, ``kinetic_energy`` and ``potential_energy``
-    are written as point data constant over the mesh (same names, same values
-    as the ``.vtu`` field data and ``<name>_steps.csv``); the time is the XDMF
-    step time.
+    (and a motion's ``event``, ``impact_loss``) are written as point data
+    constant over the mesh (same names, same values as the ``.vtu`` field data
+    and ``<name>_steps.csv``); the time is the XDMF step time.
 
-The displacements and velocities are those of :meth:`Orbits.response`, so the
+The displacements and velocities are those of :meth:`Orbits.response` (or of
+the simulator's recorded window, :class:`plbar.motion.MotionSeries`), so the
 file holds exactly the solver's response.
 
 Definitions of the derived fields
@@ -48,6 +54,10 @@ Definitions of the derived fields
   vertex shared by two elements the two element densities are averaged.
   Point masses carry kinetic energy that has no density; the totals in the
   field data include them.
+* ``kinetic_energy_nodal = 1/2 v_i (M v)_i`` is each node's share of the
+  kinetic energy (Eq. (12)): the point values sum to the total for any mass
+  matrix (consistent or lumped, point masses, the chain).  With the cell
+  ``strain_energy`` the energy fields integrate to the mechanical energy.
 """
 
 from __future__ import annotations
@@ -65,7 +75,7 @@ import numpy as np
 from ..errors import InputError, PlbarError
 from ..util.files import atomic_path, write_csv, write_json, write_text
 from ..util.reprs import build
-from .sampling import FIELD_KEYS, XDMF_STEP_KEYS, ResponseData
+from .sampling import FIELD_KEYS, ResponseData
 
 __all__ = ["ResponseFiles", "write_data", "write_xi_along_mesh", "load_pvd", "FORMATS"]
 
@@ -160,8 +170,8 @@ def _write_xdmf(data: ResponseData, folder: Path, name: str) -> tuple[Path, Path
                 for k in range(data.n_steps):
                     pd = {nm: np.ascontiguousarray(a[k]) for nm, a in data.point_data.items()}
                     n = data.points.size    # per-step scalars: constant point data (XDMF has no field data)
-                    pd.update({nm: np.full(n, data.field_data[nm][k]) for nm in XDMF_STEP_KEYS
-                               if nm in data.field_data})
+                    pd.update({nm: np.full(n, data.field_data[nm][k]) for nm in data.field_data
+                               if nm != "time"})
                     cd = {nm: [np.ascontiguousarray(a[k])] for nm, a in data.cell_data.items()}
                     w.write_data(float(data.times[k]), point_data=pd, cell_data=cd)
         h5, xdmf = folder / f"{name}.h5", folder / f"{name}.xdmf"
@@ -215,10 +225,10 @@ def write_data(data: ResponseData, folder, *, format: str = "pvd", name: str = "
                 old.unlink()
     if format in ("xdmf", "both"):
         xdmf, h5 = _write_xdmf(data, folder, name)
-    keys = list(FIELD_KEYS)
+    keys = list(FIELD_KEYS) + [k for k in data.field_data if k not in FIELD_KEYS]     # + a motion's event marks
     csv = write_csv(folder / f"{name}_steps.csv", ["step"] + keys,
                     [np.arange(data.n_steps)] + [data.field_data[k] for k in keys],
-                    ["%d"] + ["%.17g", "%.17g", "%d"] + ["%.17g"] * (len(keys) - 3))
+                    ["%d"] + ["%d" if np.asarray(data.field_data[k]).dtype.kind in "iu" else "%.17g" for k in keys])
     js = write_json(folder / f"{name}.json", dict(data.info, n_points=int(data.points.size),
                                                   n_cells=int(data.cells.shape[0])))
     return ResponseFiles(folder, pvd, tuple(vtus), xdmf, h5, csv, js, dict(data.info))

@@ -5,12 +5,14 @@
   the certified event search, switches, accounts of every piece, one trajectory at a time;
 * :mod:`.run` -- :func:`run`, many forcing periods on every core, and its record :class:`Run`;
 * :mod:`.compile` -- the kernel's first compile: due or not, ahead, in another process;
+* :mod:`.series` -- :class:`MotionSeries`: a recorded window at any times (export, render);
 * :mod:`.steady` -- :func:`steady`: periodic (stroboscopic period ``m``) or not, loss, ``xi_eq``, ``xi_w``.
 """
 
 from .model import CHATTER, FREE, OK, STALLED, STUCK, Padded, padded
 from .compile import COMPILE_NOTE, Elsewhere, compile_elsewhere, compiled
 from .run import Run, Start, energy, prepare, rest, run
+from .series import MotionSeries
 from .steady import KINDS, M_MAX, PERIODIC_TOL, Steady, periodicity, steady
 
 __all__ = [
@@ -20,6 +22,7 @@ __all__ = [
            "FREE",
            "KINDS",
            "M_MAX",
+           "MotionSeries",
            "OK",
            "PERIODIC_TOL",
            "STALLED",

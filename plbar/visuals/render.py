@@ -236,14 +236,22 @@ def render(source, out, field: str = "displacement", snapshots: int = 4, gif: bo
 
 
 def _spacetime(path, data, x, vals, on_points, seg_cell, first, t_loc, T, field, clim, cmap):
-    """Field over ``(x, t/T)`` for one period, viewed from above."""
+    """Field over ``(x, t/T)`` for one period (a simulated motion: its window, impacts and openings drawn), viewed
+    from above."""
     import pyvista as pv
 
     L = float(x[-1])
     H = 0.8 * L
-    tt = np.r_[t_loc[first], T] / T
-    v = vals[first]
-    v = np.vstack([v, v[:1]]) if on_points else v          # periodic closure on points
+    motion = "event" in data.field_data                     # a simulated motion: its whole window, events marked
+    if motion:
+        tt, keep = np.unique(t_loc[::-1], return_index=True)   # at an event's time, the state after it
+        keep = t_loc.size - 1 - keep
+        tt, v = tt / T, vals[keep]
+        v = v if on_points else v[:-1]
+    else:
+        tt = np.r_[t_loc[first], T] / T
+        v = vals[first]
+        v = np.vstack([v, v[:1]]) if on_points else v          # periodic closure on points
     g = pv.RectilinearGrid(x, tt * H, np.array([0.0]))
     if on_points:
         g.point_data[field] = v.ravel()                     # x fastest
@@ -255,15 +263,24 @@ def _spacetime(path, data, x, vals, on_points, seg_cell, first, t_loc, T, field,
         p.add_mesh(g, scalars=field, clim=clim, cmap=cmap, show_scalar_bar=True, lighting=False,
                    scalar_bar_args=_scalar_bar(p, field, (900, 760), x=0.88, y=0.1, height=0.76, width=0.05))
         T1 = data.info.get("T1")
-        if T1 is not None:
+        if motion:
+            ev = np.asarray(data.field_data["event"])
+            for te, k in zip(t_loc[ev > 0], ev[ev > 0]):
+                y = te / T * H
+                p.add_mesh(pv.Line((0, y, 0.01 * L), (L, y, 0.01 * L)), color="black" if k == 2 else "gray",
+                           line_width=3 if k == 2 else 1)
+        elif T1 is not None:
             y = T1 / T * H
             p.add_mesh(pv.Line((0, y, 0.01 * L), (L, y, 0.01 * L)), color="black", line_width=3)
         ticks = np.array([[0.0, -0.04 * H, 0], [L, -0.04 * H, 0], [-0.02 * L, 0, 0], [-0.02 * L, H, 0]])
-        p.add_point_labels(ticks, ["x = 0", "x = L", "t = 0", "t = T"], shape=None, show_points=False,
+        top = f"t = {data.info.get('periods', 1)} T" if motion else "t = T"
+        p.add_point_labels(ticks, ["x = 0", "x = L", "t = 0", top], shape=None, show_points=False,
                            font_size=12, text_color="black", justification_horizontal="center",
                            always_visible=True)
-        p.add_text(f"{field.replace('_', ' ')} over x (right) and t/T (up); black line: gap opens, t = T1",
-                   position="upper_left", font_size=9, color="black")
+        what = ("t (up, over the window); black lines: impacts, grey: gap opens" if motion else
+                "t/T (up); black line: gap opens, t = T1")
+        p.add_text(f"{field.replace('_', ' ')} over x (right) and {what}", position="upper_left", font_size=9,
+                   color="black")
         _fit(p, -0.1 * L, 1.04 * L, 0.6 * H, (900, 760), right=0.16, cy=0.5 * H)
         img = p.screenshot(return_img=True)
     finally:

@@ -4,6 +4,7 @@
 * :mod:`.tasks` -- the study's tasks: chunks from rest, and sweeps that carry the state up or down in ``T``;
 * :mod:`.settle` -- motions still approaching a stable orbit, told apart from irregular ones;
 * :mod:`.loads` -- the survey at every load position (and size): :func:`survey_loads`, :class:`SurveyLoads`;
+* :mod:`.motion` -- one motion of a survey folder simulated again (export, render): :func:`survey_motion`;
 * :mod:`.refine` -- the survey at several sizes N and the convergence of its means
   (:class:`SurveyRefinement`);
 * :mod:`.study` -- :func:`survey` (in memory), :func:`run_survey` (a resumable study folder with
@@ -12,6 +13,7 @@
 
 from .points import COLUMNS, survey_chunk
 from .loads import LOADS_COLUMNS, SurveyLoads, load_positions, run_survey_loads, survey_loads
+from .motion import SurveyMotion, is_survey, survey_motion
 from .refine import REFINE_COLUMNS, SurveyRefinement, run_survey_refine
 from .study import (SURVEY_OWNED, Survey, default_periods, default_record, run_survey, survey, survey_study,
                     write_survey)
@@ -20,4 +22,4 @@ from .tasks import MODES, case_fields, case_of, make_tasks, survey_task
 __all__ = ["COLUMNS", "survey_chunk", "SURVEY_OWNED", "Survey", "default_periods", "default_record", "run_survey",
            "survey", "survey_study", "write_survey", "REFINE_COLUMNS", "SurveyRefinement", "run_survey_refine", "MODES",
            "case_fields", "case_of", "make_tasks", "survey_task", "LOADS_COLUMNS", "SurveyLoads", "load_positions",
-           "run_survey_loads", "survey_loads"]
+           "run_survey_loads", "survey_loads", "SurveyMotion", "is_survey", "survey_motion"]

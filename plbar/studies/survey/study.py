@@ -22,7 +22,8 @@ from .tasks import MODES, case_fields, make_tasks, survey_task
 __all__ = ["Survey", "survey", "run_survey", "survey_study", "SURVEY_OWNED", "check_forcing_periods", "default_record"]
 
 #: what a survey owns in its folder (cleared before another survey is written there)
-SURVEY_OWNED = ("survey.csv", "summary.json", "survey.png", "survey.pdf", "study.json", "tasks", "sweeps", ".*.part.*")
+SURVEY_OWNED = ("survey.csv", "summary.json", "survey.png", "survey.pdf", "study.json", "tasks", "sweeps", ".*.part.*",
+                "vtk", "render")             # and the exports and renders of its motions
 
 _INT = ("m", "status")
 _TEXT = ("kind", "start", "signature")

@@ -21,7 +21,8 @@ from ...motion import padded
 from ...util.files import write_json
 from .points import survey_chunk, start_json, start_of
 
-__all__ = ["survey_task", "make_tasks", "balanced_parts", "MODES", "default_chunks", "case_fields", "case_of"]
+__all__ = ["survey_task", "make_tasks", "balanced_parts", "sweep_key", "MODES", "default_chunks", "case_fields",
+           "case_of"]
 
 #: Case fields that apply to one model only
 _CHAIN_ONLY = ("m", "k")
@@ -99,14 +100,15 @@ def case_of(fields: dict) -> Case:
     return Case(**c)
 
 
-def _sweep_key(task: dict) -> str:
+def sweep_key(task: dict) -> str:
+    """The folder name of a sweep's checkpoints (a hash of what defines it)."""
     core = {k: task[k] for k in ("case", "periods", "record", "mode", "T")}
     return hashlib.sha256(json.dumps(core, sort_keys=True).encode()).hexdigest()[:16]
 
 
 def _sweep(task: dict, case: Case) -> list[dict]:
     """The rows of a sweep, each forcing period from the previous final state (checkpointed per period)."""
-    folder = Path(task["checkpoints"]) / _sweep_key(task) if task.get("checkpoints") else None
+    folder = Path(task["checkpoints"]) / sweep_key(task) if task.get("checkpoints") else None
     pad = padded(case.problem())
     rows, start = [], None
     for i, T in enumerate(task["T"]):
