@@ -22,7 +22,7 @@ def test_command_prints_the_graph():
     p = subprocess.run([sys.executable, "-m", "plbar.util.layout"], capture_output=True, text=True, timeout=60)
     assert p.returncode == 0, p.stdout + p.stderr
     assert "response  -> errors, util, model" in p.stdout and "0 violation(s)" in p.stdout
-    assert "studies.survey     -> execution, refine" in p.stdout
+    assert "studies.survey     -> execution, loads, refine" in p.stdout
 
 
 def _pkg(tmp_path, files: dict):

@@ -38,14 +38,18 @@ def _periods(a, case) -> np.ndarray:
 
 
 def _lines(s, T) -> list[str]:
+    from ..motion import PERIODIC_TOL
+
     t = s.table
     lines = [f"plbar survey: {len(T)} forcing periods in [{T.min():.6g}, {T.max():.6g}], {s.summary['periods']} "
              f"periods each (last {s.summary['record']} recorded), {s.summary['seconds']:.1f} s"]
     for start, e in s.summary["by_start"].items():
         k = e["kinds"]
         by_m = ", ".join(f"m = {m}: {c}" for m, c in e["periodic_by_m"].items())
-        lines.append(f"  from {start:4s}: {k['periodic']} periodic ({by_m or '-'}), {k['irregular']} irregular"
-                     + (f", {k['failed']} failed" if k["failed"] else ""))
+        sel = (t["start"] == start) & (t["kind"] == "periodic") & (t["distance"] > PERIODIC_TOL)
+        settling = f"; {int(sel.sum())} still settling on their orbit" if sel.any() else ""
+        lines.append(f"  from {start:4s}: {k['periodic']} periodic ({by_m or '-'}{settling}), {k['irregular']} "
+                     "irregular" + (f", {k['failed']} failed" if k["failed"] else ""))
     per = (t["kind"] == "periodic") & (t["start"] == "rest")
     if per.any():
         i = int(np.nanargmax(np.where(per, t["xi_eq"], -np.inf)))

@@ -94,3 +94,16 @@ def test_run_writes_resumes_and_cli(tmp_path, capsys):
     assert main(["survey", "--T-list", "12", "--periods", "50", "--out", str(out), "--no-plot", "-q",
                  "--overwrite"]) == 0
     assert not (out / "survey_loads.csv").exists() and (out / "survey.csv").exists()
+
+
+def test_sizes_share_the_physical_positions():
+    """Under refinement (several N) every mesh gets the same physical positions; a cell of each N is that
+    mesh's own survey with a unit force at s."""
+    case = plbar.Case(model="fe", n=4, end_mass=0.5)
+    sl = survey_loads(case, [2.0, 3.0], positions=[0.25, 0.5, 1.0], sizes=[4, 8], periods=60, record=6)
+    t = sl.table
+    assert list(sl.sizes) == [4, 8] and list(sl.positions) == [0.25, 0.5, 1.0] and len(sl) == 12
+    ref = survey(replace(case, n=8, load_points=((0.5, 1.0),)), [2.0, 3.0], periods=60, record=6).table
+    sel = (t["N"] == 8) & (t["s"] == 0.5)
+    assert np.array_equal(t["loss_per_T"][sel], ref["loss_per_T"]) and list(t["kind"][sel]) == list(ref["kind"])
+    assert sl.grid("xi_eq", 8).shape == (3, 2)
