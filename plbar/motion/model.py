@@ -15,7 +15,7 @@ import numpy as np
 
 from ..model import Problem
 
-__all__ = ["CHATTER", "FREE", "OK", "STALLED", "STUCK", "Padded", "padded"]
+__all__ = ["CHATTER", "FREE", "OK", "STALLED", "STUCK", "Padded", "padded", "energy_consistent"]
 
 STUCK = 0   #: row of state I (contact held) in the padded arrays
 FREE = 1    #: row of state II (gap open)
@@ -36,14 +36,17 @@ class Padded:
         ``-x_c`` in state II (Eq. (5)); ``g >= 0`` while the state holds.
     rq : ndarray, shape (2,)
         Load term of the margin (``-r_q`` in state I, 0 in state II).
-    open_map : ndarray, shape (m, m)
-        I -> II switch of positions and velocities (``x^II = E x^I``).
+    open_map, open_vel : ndarray, shape (m, m)
+        I -> II switch of positions and of velocities (``x^II = E x^I``): the system's ``P12``, each made
+        energy-consistent (:func:`energy_consistent`).
     impact_pos, impact_vel : ndarray, shape (m, m)
-        II -> I switch: positions kept, momenta of the DOFs other than the contact kept (Eq. (10)).
+        II -> I switch: positions kept (``P21``), momenta of the DOFs other than the contact kept (``Q21``,
+        Eq. (10)); both energy-consistent (:func:`energy_consistent`).
     vc_row : ndarray, shape (m,)
         ``v_c = vc_row . etadot^II`` (contact velocity in state II).
     S : float
-        Impact mass ``M_cc - M_cr M_rr^-1 M_rc``: the impact loses ``S v_c^2 / 2`` (Eq. (14));
+        Impact mass ``M_cc - M_cr M_rr^-1 M_rc`` (as ``1 / (M^-1)_cc`` from the modes, the same to round-off): the
+        impact loses ``S v_c^2 / 2`` (Eq. (14));
         ``nan`` for a truncated system, whose loss is the modal kinetic energy difference.
     V : ndarray, shape (2, n, m)
         Modes as physical maps ``x = V[s] eta`` (contact DOF last; 0 in state I).
@@ -73,6 +76,7 @@ class Padded:
     size: np.ndarray
     zeta: np.ndarray | None = None
     cv: np.ndarray | None = None
+    open_vel: np.ndarray | None = None
 
     @property
     def m(self) -> int:
@@ -91,6 +95,57 @@ def _pad(a: np.ndarray, shape, fill: float = 0.0) -> np.ndarray:
     return out
 
 
+def _congruent(A, G, H):
+    """``A C`` with ``C^T (A^T G A) C = H`` up to the rounding of the result, ``C = I + O(error)``.
+
+    ``A^T G A = H + Delta`` with ``Delta`` of the order of the round-off of the modes: ``C = I - H^-1 Delta / 2``
+    leaves an error of order ``Delta^2``.  ``Delta`` is formed in extended precision (``numpy.longdouble``),
+    where it is exact for double inputs to far below their rounding; ``H^-1 Delta`` needs no more."""
+    L = np.longdouble
+    A = np.asarray(A, float)
+    D = A.astype(L).T @ np.asarray(G, float).astype(L) @ A.astype(L) - np.asarray(H, float).astype(L)
+    C = np.eye(A.shape[1]) - 0.5 * np.linalg.solve(np.asarray(H, float), np.asarray(D, float))
+    return (A.astype(L) @ C.astype(L)).astype(float)
+
+
+def energy_consistent(s) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]:
+    """The switch maps of the system ``s`` corrected so that the switches keep the modal energies to the rounding
+    of the maps: ``(open_pos, open_vel, impact_pos, impact_vel, S)``.
+
+    The maps ``P12``, ``P21``, ``Q21`` come from the modes, which hold their identities (orthonormality,
+    ``V^T K V = w^2``) to a few units of round-off; an opening then changes the potential energy by
+    ``eta^T (P12^T W2 P12 - W1) eta / 2`` (``W = diag(w^2)``), about 1e-15 of the energy, an impact its kinetic
+    energy by a few 1e-15 more than ``S v_c^2 / 2``, and a settled motion repeats those errors every period:
+    over 1,000 periods the energy budget drifted by 1e-12 of the work where the load does little work (issue 28).
+    Each map is corrected by a congruence ``C = I + O(1e-15)`` (:func:`_congruent`), with ``u`` the contact's
+    direction in state II (``x_c = u . eta |r|``, ``r`` the contact row of the modes) and ``N`` an orthonormal
+    basis of the positions and velocities with ``x_c = 0``:
+
+    * ``open_pos^T W2 open_pos = W1`` and ``open_vel^T open_vel = I`` (an opening keeps both energies);
+    * ``(impact_pos N)^T W1 (impact_pos N) = N^T W2 N`` (the impact keeps the potential energy of its positions,
+      ``x_c = 0``), unchanged across ``N``;
+    * ``(impact_vel N)^T (impact_vel N) = I``, ``impact_vel u = 0`` and ``S = 1 / |r|^2`` (the impact mass, the
+      same number to round-off: ``|r|^2 = (M^-1)_cc``): the kinetic energy after an impact is the one before less
+      ``S v_c^2 / 2`` (Eq. (14)).
+    """
+    W1, W2 = np.diag(s.w1 ** 2), np.diag(s.w2 ** 2)
+    m1, m2 = s.w1.size, s.w2.size
+    open_pos = _congruent(s.P12, W2, W1)
+    open_vel = _congruent(s.P12, np.eye(m2), np.eye(m1))
+    r = np.asarray(s.gap_row, float)
+    rr = float(np.sum(r.astype(np.longdouble) ** 2))
+    S = float(s.impact_mass)
+    if m1 != m2 - 1 or not rr > 0 or abs(S * rr - 1.0) > 1e-10:
+        return open_pos, open_vel, np.asarray(s.P21, float), np.asarray(s.Q21, float), S
+    _, _, vt = np.linalg.svd(r[None, :])
+    u, N = vt[0], vt[1:].T                                   # the contact's direction and x_c = 0
+    A = s.P21 @ N
+    impact_pos = s.P21 + (_congruent(A, W1, N.T @ W2 @ N) - A) @ N.T
+    B = s.Q21 @ N
+    impact_vel = s.Q21 + (_congruent(B, np.eye(m1), np.eye(m1)) - B) @ N.T - np.outer(s.Q21 @ u, u)
+    return open_pos, open_vel, impact_pos, impact_vel, 1.0 / rr
+
+
 def padded(prob: Problem) -> Padded:
     """The padded per-state data of ``prob`` (modes, margins, switch maps)."""
     s = prob.system
@@ -103,10 +158,13 @@ def padded(prob: Problem) -> Padded:
     V = np.zeros((2, n, m))
     V[0, :-1, :m1] = s.V1
     V[1, :, :m2] = s.V2
-    S = float("nan") if s.truncated else s.impact_mass
+    if s.truncated:
+        S, open_pos, open_vel, impact_pos, impact_vel = float("nan"), s.P12, s.P12, s.P21, s.Q21
+    else:
+        open_pos, open_vel, impact_pos, impact_vel, S = energy_consistent(s)
     size = np.sum(np.abs(c * f) / (w * w), axis=1) + np.abs(rq)
     damped = bool(getattr(s, "damped", False))
     zeta = np.vstack([_pad(s.zeta1, (m,)), _pad(s.zeta2, (m,))]) if damped else None
     cv = np.vstack([_pad(-np.asarray(s.r_v, float), (m,)), np.zeros(m)]) if damped else None
-    return Padded(w, f, c, rq, _pad(s.P12, (m, m)), _pad(s.P21, (m, m)), _pad(s.Q21, (m, m)), _pad(s.gap_row, (m,)),
-                  S, V, bool(s.truncated), size, zeta, cv)
+    return Padded(w, f, c, rq, _pad(open_pos, (m, m)), _pad(impact_pos, (m, m)), _pad(impact_vel, (m, m)),
+                  _pad(s.gap_row, (m,)), S, V, bool(s.truncated), size, zeta, cv, _pad(open_vel, (m, m)))

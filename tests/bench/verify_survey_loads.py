@@ -20,8 +20,10 @@ from __future__ import annotations
 
 import argparse
 import json
+import shutil
 import time
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
@@ -41,7 +43,8 @@ def main(argv=None):
     from plbar.studies.survey.settle import approach, orbit_of, settle
 
     case = plbar.Case(model="fe", n=16, end_mass=0.5) if a.fe else plbar.Case()
-    out = a.out or ("/tmp/verify-survey-loads-fe" if a.fe else "/tmp/verify-survey-loads")
+    out = Path(a.out or ("/tmp/verify-survey-loads-fe" if a.fe else "/tmp/verify-survey-loads"))
+    shutil.rmtree(out / "tasks", ignore_errors=True)      # a study resumes its finished tasks: start afresh here
     t0 = time.perf_counter()
     with get_executor("local", None, 2) as ex:
         sl = run_survey_loads(case, out=out, executor=ex, overwrite=True, progress=True)

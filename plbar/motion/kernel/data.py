@@ -5,7 +5,7 @@ the column names below are the only way the kernel and :mod:`plbar.motion.run` i
 
 * model ``md = (modal, margin, maps, vc_row, S, truncated)``: ``modal[W | F | C, state]`` the
   frequencies, modal loads and margin weights, ``margin[RQ | SIZE, state]``, ``maps[OPEN | IMPACT_POS |
-  IMPACT_VEL]`` the switch maps (:class:`plbar.motion.Padded`);
+  IMPACT_VEL | OPEN_VEL]`` the switch maps (:class:`plbar.motion.Padded`);
 * damping: None (undamped: no damped code is compiled) or ``damping[state, ZETA | CV]``;
 * trajectories ``tr = (tf, ti, z, tot)``: ``tf[b, T | OMEGA | PHI | TP | P]``, ``ti[b, PERIOD | STATE | ZEROS |
   STALL | STATUS | ROUNDS | NEED | EVENTS]``, the modal state ``z[b, 0 | 1]`` (``eta, eta'``) at the start of
@@ -26,7 +26,7 @@ __all__ = ["accounts", "damping", "grow_events", "model", "records", "trajectori
 
 W, F, C = 0, 1, 2
 RQ, SIZE = 0, 1
-OPEN, IMPACT_POS, IMPACT_VEL = 0, 1, 2
+OPEN, IMPACT_POS, IMPACT_VEL, OPEN_VEL = 0, 1, 2, 3
 ZETA, CV = 0, 1
 T, OMEGA, PHI, TP, P = 0, 1, 2, 3, 4
 PERIOD, STATE, ZEROS, STALL, STATUS, ROUNDS, NEED, EVENTS = 0, 1, 2, 3, 4, 5, 6, 7
@@ -43,7 +43,8 @@ def _f64(a):
 def model(pad) -> tuple:
     """The kernel's view of a :class:`plbar.motion.Padded`."""
     return (_f64(np.stack([pad.w, pad.f, pad.c])), _f64(np.stack([pad.rq, pad.size])),
-            _f64(np.stack([pad.open_map, pad.impact_pos, pad.impact_vel])), _f64(pad.vc_row),
+            _f64(np.stack([pad.open_map, pad.impact_pos, pad.impact_vel,
+                                pad.open_map if pad.open_vel is None else pad.open_vel])), _f64(pad.vc_row),
             float(0.0 if pad.truncated else pad.S), bool(pad.truncated))
 
 

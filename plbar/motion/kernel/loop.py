@@ -123,7 +123,7 @@ def switch(md, st, eta, vel, out_e, out_v):
     maps, vc_row, S, truncated = md[2], md[3], md[4], md[5]
     if st == STUCK:
         matvec(maps[D.OPEN], eta, out_e)
-        matvec(maps[D.OPEN], vel, out_v)
+        matvec(maps[D.OPEN_VEL], vel, out_v)
         return 1, 0.0
     matvec(maps[D.IMPACT_POS], eta, out_e)
     matvec(maps[D.IMPACT_VEL], vel, out_v)
