@@ -107,3 +107,21 @@ def test_sizes_share_the_physical_positions():
     sel = (t["N"] == 8) & (t["s"] == 0.5)
     assert np.array_equal(t["loss_per_T"][sel], ref["loss_per_T"]) and list(t["kind"][sel]) == list(ref["kind"])
     assert sl.grid("xi_eq", 8).shape == (3, 2)
+
+
+def test_a_study_reuses_only_what_the_same_code_computed(tmp_path, monkeypatch):
+    """A finished task is reused by the same code (its key covers plbar's code): after plbar changed, a rerun in
+    the same folder computes every task again and removes the old task files (found in issue 28: a kernel change
+    had silently kept the old cells)."""
+    from plbar.studies.execution import study as st
+
+    out = tmp_path / "sl"
+    kw = dict(positions=[1.0, 3.0], periods=40, out=out, plot=False)
+    run_survey_loads(plbar.Case(), [11.8], **kw)
+    first = {p.name for p in (out / "tasks").iterdir()}
+    run_survey_loads(plbar.Case(), [11.8], **kw)
+    assert {p.name for p in (out / "tasks").iterdir()} == first                    # resumed
+    monkeypatch.setattr(st, "code_hash", lambda: "another-plbar")
+    r = run_survey_loads(plbar.Case(), [11.8], **kw)
+    again = {p.name for p in (out / "tasks").iterdir()}
+    assert len(again) == 2 and not again & first and len(r) == 2

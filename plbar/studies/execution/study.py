@@ -6,7 +6,8 @@ A study is a folder::
     DIR/tasks/<key>.json    one finished task: {"key", "task", "result"}
     DIR/*.csv, *.json       tables assembled from the task files
 
-A *task* is a small JSON-able dict; its key is a hash of its canonical JSON.
+A *task* is a small JSON-able dict; its key is a hash of its canonical JSON and of plbar's code (a task is
+reused only by the code that computed it; the task files of other code are removed).
 :func:`run_study` submits the tasks without a result file to an executor
 (:mod:`plbar.executor`), and the *parent* writes each result as it arrives
 (temp file + rename, :mod:`plbar.io`), so a killed run leaves only complete
@@ -28,6 +29,7 @@ from typing import Callable
 from ...errors import OutputExistsError, PlbarError
 from ...util.files import write_json
 from ...util.progress import progress_bar
+from ...util.version import code_hash
 from .executor import SerialExecutor
 
 __all__ = ["Study", "StudyError", "task_key", "run_study", "load_results", "call_task"]
@@ -42,8 +44,10 @@ def _canonical(obj) -> str:
 
 
 def task_key(task: dict) -> str:
-    """Stable 16-hex-digit key of a task (hash of its canonical JSON)."""
-    return hashlib.sha256(_canonical(task).encode()).hexdigest()[:16]
+    """Stable 16-hex-digit key of a task: the hash of its canonical JSON and of plbar's code
+    (:func:`plbar.util.version.code_hash`), so that a rerun after plbar changed computes the task again instead of
+    reusing what other code computed."""
+    return hashlib.sha256((_canonical(task) + code_hash()).encode()).hexdigest()[:16]
 
 
 @dataclass(frozen=True)
@@ -145,6 +149,10 @@ def run_study(folder, study: Study, executor: cf.Executor | None = None, progres
     (folder / "tasks").mkdir(parents=True, exist_ok=True)
     _check_manifest(folder, study, overwrite)
     keys = study.keys
+    current = set(keys)
+    for old in (folder / "tasks").glob("*.json"):          # tasks of another code or study: never reused
+        if old.stem not in current:
+            old.unlink(missing_ok=True)
     todo = [(k, t) for k, t in zip(keys, study.tasks) if _read_task(_task_file(folder, k), k) is None]
     todo = list({k: t for k, t in todo}.items())          # duplicate tasks run once
     ex = executor or SerialExecutor()

@@ -261,7 +261,7 @@ def run_survey_loads(case: Case, T=None, positions=None, per_element: int | None
     folder = Path(out)
     T, positions = _defaults(case, T, positions, per_element)
     study = survey_loads_study(case, T, positions, sizes, periods, record)
-    claim = claim_folder(folder, "survey-loads", fingerprint(study.manifest()["tasks"]), SURVEY_LOADS_OWNED,
+    claim = claim_folder(folder, "survey-loads", fingerprint(list(study.tasks)), SURVEY_LOADS_OWNED,
                          overwrite)
     if progress and not compiled(case.problem()):
         message(f"plbar: {COMPILE_NOTE}")

@@ -176,9 +176,9 @@ def default_periods(case: Case, num: int = 161) -> np.ndarray:
 
 
 def _claim(folder: Path, study: Study, overwrite: bool):
-    """The one ownership rule (:func:`plbar.util.outputs.claim_folder`): the same survey resumes; another
-    command's or survey's folder is refused unless ``overwrite``."""
-    return claim_folder(folder, "survey", fingerprint(study.manifest()["tasks"]), SURVEY_OWNED, overwrite)
+    """The one ownership rule (:func:`plbar.util.outputs.claim_folder`): the same survey (its tasks, whatever
+    plbar computes them) resumes; another command's or survey's folder is refused unless ``overwrite``."""
+    return claim_folder(folder, "survey", fingerprint(list(study.tasks)), SURVEY_OWNED, overwrite)
 
 
 def run_survey(case: Case, T, periods: int = 1000, record: int | None = None, out="plbar-survey", modes=("rest",),
