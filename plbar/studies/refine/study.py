@@ -26,7 +26,7 @@ from ...util.files import write_json
 from ...util.outputs import claim_folder, fingerprint
 from ...util.progress import progress_bar
 from ...util.reprs import build
-from ...util.version import __version__
+from ...util.version import __version__, code_hash
 from .anchors import family_label, family_title, parse_anchor, slug
 from .tables import convergence_of, decay_of, refine_rows, write_refine
 from ..execution import SerialExecutor, Study, run_study
@@ -190,6 +190,7 @@ def case_at(base: dict, n: int) -> Case:
 def _level_key(task: dict, n: int) -> str:
     core = {k: task[k] for k in ("family", "base", "settings")}
     core["ns"] = [m for m in task["ns"] if m <= n]
+    core["code"] = code_hash()                       # a level is reused only by the code that computed it
     return hashlib.sha256(json.dumps(core, sort_keys=True).encode()).hexdigest()[:16]
 
 

@@ -19,6 +19,7 @@ import numpy as np
 from ...app import Case
 from ...motion import padded
 from ...util.files import write_json
+from ...util.version import code_hash
 from .points import survey_chunk, start_json, start_of
 
 __all__ = ["survey_task", "make_tasks", "balanced_parts", "sweep_key", "MODES", "default_chunks", "case_fields",
@@ -101,8 +102,9 @@ def case_of(fields: dict) -> Case:
 
 
 def sweep_key(task: dict) -> str:
-    """The folder name of a sweep's checkpoints (a hash of what defines it)."""
+    """The folder name of a sweep's checkpoints (a hash of what defines it and of plbar's code)."""
     core = {k: task[k] for k in ("case", "periods", "record", "mode", "T")}
+    core["code"] = code_hash()
     return hashlib.sha256(json.dumps(core, sort_keys=True).encode()).hexdigest()[:16]
 
 
