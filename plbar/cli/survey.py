@@ -13,7 +13,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import InputError
-from ..util.outputs import check_writable
+from ..util.outputs import check_creatable
 from .common import case_args, case_from_args, output_args, progress, report
 
 __all__ = ["register"]
@@ -74,7 +74,7 @@ def _cmd_survey(a) -> int:
     if a.sizes and len(a.sizes) == 1:
         case = _with_n(case, a.sizes[0])
     T = _periods(a, case)
-    out = check_writable(a.out)
+    out = check_creatable(a.out)              # made by the study's claim (removed again if it fails)
     if a.positions is not None or a.per_element is not None:
         return _loads(a, case, T, out)
     if a.sizes and len(a.sizes) > 1:

@@ -32,6 +32,7 @@ import contextlib
 import hashlib
 import importlib.util
 import json
+import os
 import shutil
 import tempfile
 from dataclasses import dataclass, field
@@ -41,7 +42,7 @@ from ..errors import InputError, OutputExistsError
 from .files import write_json
 from .version import __version__
 
-__all__ = ["MARKER", "Owner", "Claim", "fingerprint", "read_owner", "check_folder", "claim_folder",
+__all__ = ["check_creatable", "MARKER", "Owner", "Claim", "fingerprint", "read_owner", "check_folder", "claim_folder",
            "check_writable", "clear_owned", "require", "refuse_existing", "EXTRAS"]
 
 #: the owner marker every command writes into its output folder
@@ -233,6 +234,22 @@ def check_writable(folder) -> Path:
     except OSError as exc:
         raise InputError(f"output folder {str(folder)!r} cannot be written ({exc.strerror or exc}); "
                          "choose another --out") from None
+    return folder
+
+
+def check_creatable(folder) -> Path:
+    """Refuse (one-line :class:`InputError`) a folder that could not be created or written, without creating it: a
+    command validates everything before it makes its folder (the claim makes it, and removes it on failure)."""
+    folder = Path(folder)
+    for p in (folder, *folder.parents):
+        if p.exists():
+            if not p.is_dir():
+                raise InputError(f"output folder {str(folder)!r} cannot be used: {str(p)!r} is a file; "
+                                 "choose another --out")
+            if not os.access(p, os.W_OK | os.X_OK):
+                raise InputError(f"output folder {str(folder)!r} cannot be written ({str(p)!r} is not writable); "
+                                 "choose another --out")
+            break
     return folder
 
 

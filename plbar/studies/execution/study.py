@@ -22,6 +22,8 @@ import concurrent.futures as cf
 import contextlib
 import hashlib
 import json
+import signal
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
@@ -173,7 +175,8 @@ def _collect(ex, func, todo, folder: Path, bar) -> list[tuple[str, str]]:
     failed: list[tuple[str, str]] = []
     futs: dict = {}
     try:
-        futs = {ex.submit(call_task, func, t): (k, t) for k, t in todo}
+        with _no_sigint():                     # Ctrl-C while the pool forks its workers would be lost in a fork
+            futs = {ex.submit(call_task, func, t): (k, t) for k, t in todo}     # handler: held until they run
         for fut in cf.as_completed(futs):
             k, t = futs[fut]
             try:
@@ -187,15 +190,37 @@ def _collect(ex, func, todo, folder: Path, bar) -> list[tuple[str, str]]:
         # every finished task is on disk already; cancel the pending ones now, and stop the running ones
         for fut in futs:
             fut.cancel()
+        procs = _workers(ex)                   # before the shutdown, which forgets them
         ex.shutdown(wait=False, cancel_futures=True)
-        _stop_workers(ex)
+        _stop_workers(procs)
         raise
     return failed
 
 
-def _stop_workers(ex) -> None:
-    """Terminate the worker processes of a local process pool (a dask cluster cancels its own futures)."""
-    for proc in list(getattr(ex, "_processes", {}).values() or ()):
+@contextlib.contextmanager
+def _no_sigint():
+    """Hold SIGINT (in the main thread) while the block runs; a Ctrl-C pressed meanwhile arrives after it.
+
+    A process pool forks its workers at the first submissions, and a KeyboardInterrupt raised in a fork handler
+    is ignored by Python: without this, a Ctrl-C at that instant was lost and the study ran to its end.  The
+    workers inherit the held signal: the parent stops them."""
+    held = threading.current_thread() is threading.main_thread() and hasattr(signal, "pthread_sigmask")
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if held else None
+    try:
+        yield
+    finally:
+        if held:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def _workers(ex) -> list:
+    """The worker processes of a local process pool (none for another executor, or once it is shut down)."""
+    return list((getattr(ex, "_processes", None) or {}).values())
+
+
+def _stop_workers(procs) -> None:
+    """Terminate worker processes (a dask cluster cancels its own futures)."""
+    for proc in procs:
         with contextlib.suppress(Exception):
             proc.terminate()
 

@@ -263,11 +263,11 @@ def run_survey_loads(case: Case, T=None, positions=None, per_element: int | None
     study = survey_loads_study(case, T, positions, sizes, periods, record)
     claim = claim_folder(folder, "survey-loads", fingerprint(list(study.tasks)), SURVEY_LOADS_OWNED,
                          overwrite)
-    if progress and not compiled(case.problem()):
-        message(f"plbar: {COMPILE_NOTE}")
-    if executor is not None and not isinstance(executor, SerialExecutor):
-        prepare(case.problem())
     try:
+        if progress and not compiled(case.problem()):
+            message(f"plbar: {COMPILE_NOTE}")
+        if executor is not None and not isinstance(executor, SerialExecutor):
+            prepare(case.problem())
         results = run_study(folder, study, executor, progress=progress, overwrite=True)
     except BaseException:
         claim.abandon(("tasks/*.json",))

@@ -193,11 +193,11 @@ def run_survey(case: Case, T, periods: int = 1000, record: int | None = None, ou
     folder = Path(out)
     study = survey_study(case, T, periods, record, modes, chunks, checkpoints=folder / "sweeps")
     claim = _claim(folder, study, overwrite)
-    if progress and not compiled(case.problem()):
-        message(f"plbar: {COMPILE_NOTE}")
-    if executor is not None and not isinstance(executor, SerialExecutor):
-        prepare(case.problem())                  # forked workers inherit the loaded (or first compiled) kernel
     try:
+        if progress and not compiled(case.problem()):
+            message(f"plbar: {COMPILE_NOTE}")
+        if executor is not None and not isinstance(executor, SerialExecutor):
+            prepare(case.problem())              # forked workers inherit the loaded (or first compiled) kernel
         results = run_study(folder, study, executor, progress=progress, overwrite=True)
     except BaseException:
         claim.abandon(("tasks/*.json", "sweeps/*"))      # nothing finished: nothing left to block a corrected rerun
