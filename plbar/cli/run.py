@@ -73,7 +73,19 @@ def _plots(res, out, a) -> dict:
     return {"frequency_response": frequency_response(res, out, xi=a.plot_xi), "paths_plane": paths_plane(res, out)}
 
 
+def _number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def _cmd_run(a) -> int:
+    if a.case_pos and getattr(a, "elements", None) is not None and _number(a.case_pos):
+        raise InputError(f"plbar run solves one size: -N {a.elements} (the {a.case_pos!r} after it would be read "
+                         f"as a case file); for several sizes use plbar refine -N {a.elements} {a.case_pos} or "
+                         f"plbar survey -N {a.elements} {a.case_pos}")
     if a.case_pos:
         if a.case and a.case != a.case_pos:
             raise InputError("give the case file once (positional or --case)")

@@ -103,7 +103,12 @@ def graded_nodes(n_elements: int, length: float = 1.0, ratio: float = 1.0) -> np
 
 
 def _n_elements(n) -> int:
-    return integer("number of elements", n, 2)
+    n = integer("number of elements", n, 2)
+    most = int(np.floor((1.0 - 1e-9) / MIN_ELEMENT))
+    if n > most:
+        raise InputError(f"number of elements N = {n} is too large: its elements would be shorter than the "
+                         f"shortest allowed, {MIN_ELEMENT:g} L; give N <= {most}")
+    return n
 
 
 @dataclass(frozen=True)

@@ -69,3 +69,26 @@ def test_a_survey_interrupted_before_any_task_leaves_no_folder(tmp_path):
         pytest.skip("a task finished before the interrupt")
     assert p.returncode == 130
     assert not out.exists()
+
+
+@pytest.mark.parametrize("extra", [[], ["--grid", "50", "50"], ["--method", "grid"], ["--signatures", "all"]])
+def test_search_options_do_not_move_the_surveys_periods(tmp_path, capsys, extra):
+    """Options a survey does not use leave it alone (before: --grid or --method made the case "not the paper's" and
+    moved the default range from [6, 14] to [6.09984, 14.233])."""
+    import json
+
+    assert main(["survey", "--num", "3", "--periods", "20", "--no-plot", "--json", "--out", str(tmp_path / "s"),
+                 *extra]) == 0
+    assert json.loads(capsys.readouterr().out)["summary"]["T"] == [6.0, 10.0, 14.0]
+
+
+def test_errors_say_what_to_give(tmp_path, capsys):
+    """``run -N 8 16`` names the one size run takes and where several go (before: "conflicts with the case file
+    '16'"); an FE bar too fine for its shortest element says the largest N (before: "element 25005 ... too short")."""
+    assert main(["run", "-N", "8", "16", "--out", str(tmp_path / "r"), "--no-plot"]) == 2
+    err = capsys.readouterr().err
+    assert "one size" in err and "plbar refine -N 8 16" in err and "case file '16'" not in err
+    assert main(["run", "--model", "fe", "-N", "100000", "--out", str(tmp_path / "r"), "--no-plot"]) == 2
+    err = capsys.readouterr().err
+    assert "N <= 99999" in err and "element 25005" not in err
+    assert not (tmp_path / "r").exists()
