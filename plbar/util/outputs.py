@@ -217,13 +217,7 @@ def claim_folder(folder, command: str, fingerprint: str, owned, overwrite: bool 
 
 def check_writable(folder) -> Path:
     """Create ``folder`` if needed and prove that a file can be written there; else a one-line InputError."""
-    folder = Path(folder)
-    for p in (folder, *folder.parents):
-        if p.exists():
-            if not p.is_dir():
-                raise InputError(f"output folder {str(folder)!r} cannot be used: {str(p)!r} is a file; "
-                                 "choose another --out")
-            break
+    folder = check_creatable(folder)
     try:
         folder.mkdir(parents=True, exist_ok=True)
         for stale in folder.glob(".plbar-probe.*"):      # of a run killed in the middle of this check

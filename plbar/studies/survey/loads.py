@@ -35,7 +35,8 @@ from ...util.reprs import build, rng
 from ..execution import SerialExecutor, Study, run_study
 from ..loads import check_positions
 from .points import COLUMNS
-from .study import case_title, check_forcing_periods, default_periods, default_record
+from .study import (INT_COLUMNS, TEXT_COLUMNS, case_title, check_forcing_periods, columns_of, default_periods,
+                    default_record)
 from .tasks import case_fields, survey_task
 
 __all__ = ["SurveyLoads", "LOADS_COLUMNS", "SURVEY_LOADS_OWNED", "load_positions", "survey_loads",
@@ -46,8 +47,6 @@ LOADS_COLUMNS = ("N", "s") + COLUMNS
 #: what a load study owns in its folder
 SURVEY_LOADS_OWNED = ("survey_loads.csv", "summary.json", "survey_loads.png", "survey_loads.pdf", "study.json",
                       "tasks", ".*.part.*")
-_INT = ("N", "m", "status")
-_TEXT = ("kind", "signature")
 #: default number of positions (at least this many: every node and evenly spaced points between)
 DEFAULT_POSITIONS = 20
 
@@ -132,9 +131,7 @@ class SurveyLoads:
 def _grid(table: dict, column: str, N: int) -> np.ndarray:
     sel = table["N"] == N
     s, T = np.unique(table["s"][sel]), np.unique(table["T"][sel])
-    g = np.full((s.size, T.size), np.nan, dtype=table[column].dtype if column in _TEXT else float)
-    if column in _TEXT:
-        g = np.full((s.size, T.size), "", dtype=object)
+    g = np.full((s.size, T.size), "", dtype=object) if column in TEXT_COLUMNS else np.full((s.size, T.size), np.nan)
     g[np.searchsorted(s, table["s"][sel]), np.searchsorted(T, table["T"][sel])] = table[column][sel]
     return g
 
@@ -172,11 +169,7 @@ def survey_loads_study(case: Case, T, positions, sizes=None, periods: int = 1000
 def _table(results: list[dict]) -> dict:
     rows = [r for res in results for r in res["rows"]]
     rows.sort(key=lambda r: (r["N"], r["s"], r["T"]))
-    out = {}
-    for c in LOADS_COLUMNS:
-        vals = [r.get(c, np.nan) for r in rows]
-        out[c] = np.array(vals, dtype=object if c in _TEXT else (int if c in _INT else float))
-    return out
+    return columns_of(rows, LOADS_COLUMNS)
 
 
 def _summary(case: Case, table: dict, study: Study, seconds: float) -> dict:
@@ -209,7 +202,7 @@ def _summary(case: Case, table: dict, study: Study, seconds: float) -> dict:
 
 def _write(folder: Path, table: dict, summary: dict) -> dict:
     cols = list(LOADS_COLUMNS)
-    fmts = ["%s" if c in _TEXT else ("%d" if c in _INT else "%.17g") for c in cols]
+    fmts = ["%s" if c in TEXT_COLUMNS else ("%d" if c in INT_COLUMNS else "%.17g") for c in cols]
     return {"table": write_csv(folder / "survey_loads.csv", cols, [table[c] for c in cols], fmts),
             "summary": write_json(folder / "summary.json", summary)}
 

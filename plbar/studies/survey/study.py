@@ -25,8 +25,8 @@ __all__ = ["Survey", "survey", "run_survey", "survey_study", "SURVEY_OWNED", "ch
 SURVEY_OWNED = ("survey.csv", "summary.json", "survey.png", "survey.pdf", "study.json", "tasks", "sweeps", ".*.part.*",
                 "vtk", "render")             # and the exports and renders of its motions
 
-_INT = ("m", "status")
-_TEXT = ("kind", "start", "signature")
+INT_COLUMNS = ("N", "m", "status")             #: columns of integers in the survey's tables
+TEXT_COLUMNS = ("kind", "start", "signature")   #: columns of text
 
 
 @dataclass(frozen=True)
@@ -99,15 +99,17 @@ def survey_study(case: Case, T, periods: int = 1000, record: int | None = None, 
     return Study("survey", survey_task, tuple(tasks), params)
 
 
+def columns_of(rows: list[dict], cols) -> dict:
+    """The table of ``rows`` (dicts): one array per column, text as objects, counts as integers, the rest floats
+    (a missing field is nan)."""
+    kind = lambda c: object if c in TEXT_COLUMNS else (int if c in INT_COLUMNS else float)
+    return {c: np.array([r.get(c, np.nan) for r in rows], dtype=kind(c)) for c in cols}
+
+
 def _table(results: list[dict]) -> dict:
     rows = [dict(r, start=res["mode"]) for res in results for r in res["rows"]]
     rows.sort(key=lambda r: (MODES.index(r["start"]), r["T"]))
-    cols = COLUMNS + ("start",)
-    out = {}
-    for c in cols:
-        vals = [r.get(c, np.nan) for r in rows]
-        out[c] = np.array(vals, dtype=object if c in _TEXT else (int if c in _INT else float))
-    return out
+    return columns_of(rows, COLUMNS + ("start",))
 
 
 def _summary(case: Case, table: dict, study: Study, seconds: float) -> dict:
@@ -132,7 +134,7 @@ def write_survey(folder, table: dict, summary: dict) -> dict:
     """``survey.csv`` and ``summary.json`` (atomically)."""
     folder = Path(folder)
     cols = list(COLUMNS) + ["start"]
-    fmts = ["%s" if c in _TEXT else ("%d" if c in _INT else "%.17g") for c in cols]
+    fmts = ["%s" if c in TEXT_COLUMNS else ("%d" if c in INT_COLUMNS else "%.17g") for c in cols]
     return {"table": write_csv(folder / "survey.csv", cols, [table[c] for c in cols], fmts),
             "summary": write_json(folder / "summary.json", summary)}
 
