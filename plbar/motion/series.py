@@ -165,10 +165,6 @@ class MotionSeries:
             ep.append(0.5 * float(np.sum((w * e) ** 2)))
         return np.array(ek), np.array(ep)
 
-    def boundary_states(self):
-        """The kernel's states at the window's period boundaries: ``x, v`` (P + 1, n) and state (P + 1,) (1|2)."""
-        return self._x.copy(), self._v.copy(), np.where(self._s == STUCK, 1, 2)
-
     def boundary_mismatch(self) -> float:
         """Largest distance between a boundary state carried over its period by the flows and the kernel's next
         boundary state, relative to the largest state of the window (round-off: the two integrations agree)."""

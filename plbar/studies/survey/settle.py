@@ -92,11 +92,6 @@ class Approach:
         return a[a > 1e-12] ** (1.0 / self.orbit.sig.m)
 
     @property
-    def linear_rate(self) -> float:
-        """The slowest contraction per forcing period of a linear approach, ``max |mu|^(1/m)``."""
-        return float(self.max_abs_multiplier ** (1.0 / self.orbit.sig.m))
-
-    @property
     def settled(self) -> bool:
         """Stable, approached (``rate < 1``, last distance below the first), within :data:`SETTLED` and at the
         rate of one of its Floquet directions (:data:`RATE_MATCH`)."""
