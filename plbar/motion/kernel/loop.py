@@ -21,12 +21,12 @@ from math import cos, sin
 
 import numpy as np
 
-from ..model import CHATTER, OK, STALLED, STUCK
+from ..model import CHATTER, FREE, OK, STALLED, STUCK
 from . import data as D
 from .certify import ZERO, bracket, decide_step, lands, taylor
 from .closed import half, matvec, mode_flow
 from .jit import cached, inline, jit
-from .locate import locate
+from .locate import land, locate
 from .pieces import amplitude, piece_accounts
 from .split import SPLIT_MIN, particular, split_step
 
@@ -168,7 +168,10 @@ def _set(row, x):
 def _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, work, damping):
     """Account the segment that ends here, switch, record the event, count zero-length segments."""
     per, ev = rc[0], rc[1]
-    st, tp, p, period = s[D.STATE], f[D.TP], f[D.P], s[D.PERIOD]
+    st, tp, period = s[D.STATE], f[D.TP], s[D.PERIOD]
+    if st == FREE:                     # an impact: landed on x_c = 0 to its last bits, however it was found
+        f[D.P] = land(md, f[D.OMEGA], tp, f[D.P], 0.0, f[D.T] - tp, f[D.PHI], e, v, damping)
+    p = f[D.P]
     _account(md, f, s, z0, tot, acc, first, b, p, work, damping)
     time = period * f[D.T] + tp + p
     kind, loss = switch(md, st, e, v, e2, v2)
