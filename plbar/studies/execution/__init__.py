@@ -3,12 +3,14 @@
 * :mod:`.study` -- a study is a list of JSON-able tasks; :func:`run_study` runs them on any
   executor into a folder, one atomic result file per finished task, so a rerun resumes;
 * :mod:`.executor` -- local process pool, serial, or dask (one ``concurrent.futures`` interface);
-* :mod:`.tasks` -- the task function that solves one case and returns its branches as JSON.
+* :mod:`.tasks` -- the task function that solves one case and returns its branches as JSON;
+* :mod:`.reports` -- progress reported from inside a running task (:func:`report`), read by :func:`run_study`.
 """
 
 from .executor import KINDS, SerialExecutor, get_executor
+from .reports import report
 from .study import Study, StudyError, call_task, load_results, run_study, task_key
 from .tasks import branch_arrays, case_from_task, solve_task
 
 __all__ = ["KINDS", "SerialExecutor", "get_executor", "Study", "StudyError", "call_task", "load_results",
-           "run_study", "task_key", "branch_arrays", "case_from_task", "solve_task"]
+           "run_study", "task_key", "branch_arrays", "case_from_task", "solve_task", "report"]

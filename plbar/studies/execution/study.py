@@ -33,6 +33,7 @@ from ...util.files import write_json
 from ...util.progress import progress_bar
 from ...util.version import code_hash
 from .executor import SerialExecutor
+from .reports import POLL, read_report, reporting
 
 __all__ = ["Study", "StudyError", "task_key", "run_study", "load_results", "call_task"]
 
@@ -68,12 +69,20 @@ class Study:
         The tasks, in the order of the final tables.
     params : dict
         How the tasks were made (recorded, not used).
+    units : callable, optional
+        ``task -> int``: the units of work of a task that its function reports as it works
+        (:func:`plbar.studies.execution.reports.report`); the progress then counts units of every task, the
+        running ones included.  None: it counts finished tasks.
+    unit : str
+        The name of one unit.
     """
 
     name: str
     func: Callable[[dict], dict]
     tasks: tuple
     params: dict
+    units: Callable[[dict], int] | None = None
+    unit: str = "task"
 
     @property
     def func_name(self) -> str:
@@ -89,9 +98,15 @@ class Study:
                 "tasks": [{"key": k, "task": t} for k, t in zip(self.keys, self.tasks)]}
 
 
-def call_task(func, task: dict) -> dict:
-    """Run ``func`` on ``task`` (in a worker)."""
-    return func(task)
+def call_task(func, task: dict, report_to=None) -> dict:
+    """Run ``func`` on ``task`` (in a worker), its progress reports sent to the file ``report_to``
+    (:func:`plbar.studies.execution.reports.reporting`)."""
+    with reporting(report_to):
+        return func(task)
+
+
+def _report_file(folder: Path, key: str) -> Path:
+    return folder / "tasks" / f"{key}.progress"
 
 
 def _task_file(folder: Path, key: str) -> Path:
@@ -155,12 +170,17 @@ def run_study(folder, study: Study, executor: cf.Executor | None = None, progres
     for old in (folder / "tasks").glob("*.json"):          # tasks of another code or study: never reused
         if old.stem not in current:
             old.unlink(missing_ok=True)
+    for old in (folder / "tasks").glob("*.progress"):      # reports of a run that was stopped
+        old.unlink(missing_ok=True)
     todo = [(k, t) for k, t in zip(keys, study.tasks) if _read_task(_task_file(folder, k), k) is None]
     todo = list({k: t for k, t in todo}.items())          # duplicate tasks run once
     ex = executor or SerialExecutor()
-    bar = progress_bar(len(set(keys)), progress, study.name, "task", initial=len(set(keys)) - len(todo))
+    units = study.units or (lambda _task: 1)
+    every = dict(zip(keys, study.tasks))
+    total = sum(units(t) for t in every.values())
+    bar = progress_bar(total, progress, study.name, study.unit, initial=total - sum(units(t) for _, t in todo))
     try:
-        failed = _collect(ex, study.func, todo, folder, bar)
+        failed = _collect(ex, study.func, todo, folder, bar, units)
     finally:
         bar.close()
     if failed:
@@ -170,22 +190,34 @@ def run_study(folder, study: Study, executor: cf.Executor | None = None, progres
     return load_results(folder, study)
 
 
-def _collect(ex, func, todo, folder: Path, bar) -> list[tuple[str, str]]:
-    """Submit ``todo``, write each result as it arrives; on Ctrl-C cancel the pending tasks and stop the workers."""
+def _collect(ex, func, todo, folder: Path, bar, units) -> list[tuple[str, str]]:
+    """Submit ``todo``, write each result as it arrives, move the progress by the running tasks' reports every
+    :data:`.reports.POLL` s; on Ctrl-C cancel the pending tasks and stop the workers."""
     failed: list[tuple[str, str]] = []
     futs: dict = {}
+    shown = {k: 0 for k, _ in todo}          # units of each task the progress shows
     try:
         with _no_sigint():                     # Ctrl-C while the pool forks its workers would be lost in a fork
-            futs = {ex.submit(call_task, func, t): (k, t) for k, t in todo}     # handler: held until they run
-        for fut in cf.as_completed(futs):
-            k, t = futs[fut]
-            try:
-                res = fut.result()
-            except Exception as exc:  # noqa: BLE001 - reported together at the end
-                failed.append((k, f"{type(exc).__name__}: {exc}"))
-            else:
-                write_json(_task_file(folder, k), {"key": k, "task": t, "result": res})
-            bar.update(1)
+            futs = {ex.submit(call_task, func, t, _report_file(folder, k)): (k, t) for k, t in todo}  # handler:
+        pending = set(futs)                                                        # held until they run
+        while pending:
+            done, pending = cf.wait(pending, timeout=POLL, return_when=cf.FIRST_COMPLETED)
+            for fut in done:
+                k, t = futs[fut]
+                try:
+                    res = fut.result()
+                except Exception as exc:  # noqa: BLE001 - reported together at the end
+                    failed.append((k, f"{type(exc).__name__}: {exc}"))
+                else:
+                    write_json(_task_file(folder, k), {"key": k, "task": t, "result": res})
+                bar.update(units(t) - shown[k])
+                shown[k] = units(t)
+            for fut in pending:
+                k, t = futs[fut]
+                now = min(read_report(_report_file(folder, k)), units(t) - 1)
+                if now > shown[k]:
+                    bar.update(now - shown[k])
+                    shown[k] = now
     except KeyboardInterrupt:
         # every finished task is on disk already; cancel the pending ones now, and stop the running ones
         for fut in futs:
@@ -193,6 +225,8 @@ def _collect(ex, func, todo, folder: Path, bar) -> list[tuple[str, str]]:
         procs = _workers(ex)                   # before the shutdown, which forgets them
         ex.shutdown(wait=False, cancel_futures=True)
         _stop_workers(procs)
+        for k, _ in todo:
+            _report_file(folder, k).unlink(missing_ok=True)
         raise
     return failed
 

@@ -17,7 +17,7 @@ from ...util.progress import message
 from ...util.reprs import build, rng
 from ..execution import SerialExecutor, Study, run_study
 from .points import COLUMNS
-from .tasks import MODES, case_fields, make_tasks, survey_task
+from .tasks import MODES, case_fields, make_tasks, survey_task, task_units
 
 __all__ = ["Survey", "survey", "run_survey", "survey_study", "SURVEY_OWNED", "check_forcing_periods", "default_record"]
 
@@ -96,7 +96,7 @@ def survey_study(case: Case, T, periods: int = 1000, record: int | None = None, 
                          "after the transient)")
     tasks = make_tasks(case, T, int(periods), int(record), tuple(modes), chunks, checkpoints)
     params = {"periods": int(periods), "record": int(record), "modes": list(modes), "T": [float(t) for t in T]}
-    return Study("survey", survey_task, tuple(tasks), params)
+    return Study("survey", survey_task, tuple(tasks), params, task_units, "period")
 
 
 def columns_of(rows: list[dict], cols) -> dict:

@@ -20,9 +20,10 @@ from ...app import Case
 from ...motion import padded
 from ...util.files import write_json
 from ...util.version import code_hash
+from ..execution import report
 from .points import survey_chunk, start_json, start_of
 
-__all__ = ["survey_task", "make_tasks", "balanced_parts", "sweep_key", "MODES", "default_chunks", "case_fields",
+__all__ = ["survey_task", "task_units", "make_tasks", "balanced_parts", "sweep_key", "MODES", "default_chunks", "case_fields",
            "case_of"]
 
 #: Case fields that apply to one model only
@@ -122,20 +123,30 @@ def _sweep(task: dict, case: Case) -> list[dict]:
             except (OSError, ValueError):
                 got = None
         if got is None or got.get("T") != T:
-            r, fin = survey_chunk(case, [T], task["periods"], task["record"], start, pad)
+            r, fin = survey_chunk(case, [T], task["periods"], task["record"], start, pad, report)
             got = {"T": T, "row": r[0], "final": start_json(fin, 0)}
             if path is not None:
                 write_json(path, got)
+        else:
+            report(task["periods"])
         rows.append(got["row"])
         start = start_of([got["final"]])
     return rows
 
 
+def task_units(task: dict) -> int:
+    """A survey task's work: trajectories x forcing periods simulated (what :func:`survey_task` reports as it
+    goes, :func:`plbar.studies.execution.reports.report`)."""
+    return len(task["T"]) * int(task["periods"])
+
+
 def survey_task(task: dict) -> dict:
-    """Run one survey task: ``{"mode", "rows"}`` (one row per forcing period, in the task's order)."""
+    """Run one survey task: ``{"mode", "rows"}`` (one row per forcing period, in the task's order); its progress
+    is reported in :func:`task_units`."""
     case = case_of(task["case"])
     if task["mode"] == "rest":
-        rows, _ = survey_chunk(case, task["T"], task["periods"], task["record"])
+        B = len(task["T"])
+        rows, _ = survey_chunk(case, task["T"], task["periods"], task["record"], progress=lambda n: report(n * B))
     else:
         rows = _sweep(task, case)
     return {"mode": task["mode"], "rows": rows}
