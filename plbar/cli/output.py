@@ -21,7 +21,7 @@ from ..errors import InputError
 from ..io import CELL_FIELDS, POINT_FIELDS, response_data
 from ..util.outputs import require
 from ..util.progress import message
-from .common import hidden, report
+from .common import hidden, progress, report
 
 __all__ = ["register"]
 
@@ -107,7 +107,7 @@ def _source(a, kind: str):
 def _solved(a, st, run: Path, case):
     """Solve a case file and write its results into ``run`` (checked before the solve), as ``plbar run`` does."""
     with check_output(case, run, a.overwrite or st.overwrite) as claim:
-        res = solve(case)
+        res = solve(case, progress=progress(a))
         claim.take()
         write_results(res, run, overwrite=a.overwrite or st.overwrite)
     return res
