@@ -15,11 +15,11 @@ author = "the plbar authors"
 copyright = "the plbar authors"
 release = version = __version__
 
-extensions = ["myst_parser", "sphinx.ext.autodoc", "sphinx.ext.viewcode", "numpydoc"]
+extensions = ["myst_parser", "sphinx.ext.autodoc", "sphinx.ext.viewcode", "sphinx.ext.mathjax", "numpydoc"]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"
 exclude_patterns = ["_build", "img/*.md"]
-myst_enable_extensions = ["colon_fence"]
+myst_enable_extensions = ["colon_fence", "dollarmath", "amsmath"]
 myst_heading_anchors = 3
 
 # API reference: every front door, members in the order of __all__; numpydoc parses the docstrings
@@ -32,6 +32,10 @@ numpydoc_validation_checks = set()
 
 html_theme = "alabaster"
 html_title = f"plbar {version}"
-html_static_path = []
+html_static_path = ["_static"]
+html_css_files = ["plbar.css"]
+html_theme_options = {"page_width": "min(1280px, 96vw)", "sidebar_width": "240px"}
+# MathJax 3.2.2 (Apache-2.0, _static/mathjax/LICENSE) ships with the site: it typesets offline, no CDN
+mathjax_path = "mathjax/tex-chtml.js"
 highlight_language = "none"
 autodoc_inherit_docstrings = False
