@@ -1,5 +1,7 @@
-"""The documentation site: every page reachable, every example a page, and the Sphinx build with warnings as errors."""
+"""The documentation site: every page reachable, every example a page, the current option spellings, and the
+Sphinx build with warnings as errors."""
 
+import argparse
 import importlib.util
 import re
 import subprocess
@@ -10,6 +12,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
+PAGES = [ROOT / "README.md", *sorted(p for p in DOCS.rglob("*.md") if "_build" not in p.parts)]
 
 
 def test_readme_keeps_its_two_commands_and_links_to_pages_that_exist():
@@ -37,6 +40,36 @@ def test_every_front_door_has_an_api_page():
     doors = {m for m in layout.modules() if m.count(".") <= 1 or m.split(".")[1] in layout.ROOMS}
     doors = {m for m in doors if (layout.modules()[m].name == "__init__.py")} - {"plbar.cli"}
     assert doors <= {p.stem for p in (DOCS / "api").glob("plbar*.md")}, doors
+
+
+def old_spellings():
+    """The old option spellings the parser still takes: a second long name (``--n`` of ``-N/--elements``) or an
+    option hidden from the help of every command that has it (``--dest``); read from the parser, so it stays
+    current."""
+    from plbar.cli.main import build_parser
+
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    old, shown, hidden = set(), set(), set()
+    for parser in sub.choices.values():
+        for action in parser._actions:
+            names = [s for s in action.option_strings if s.startswith("--")]
+            old.update(names[1:])
+            (hidden if action.help == argparse.SUPPRESS else shown).update(names)
+    return old | (hidden - shown)
+
+
+def test_the_readme_and_the_docs_use_the_current_option_spellings():
+    old = old_spellings()
+    assert {"--at", "--n", "--dest"} <= old, old
+    pattern = re.compile(r"(?<![\w-])(" + "|".join(re.escape(s) for s in sorted(old)) + r")(?![\w-])")
+    for page in PAGES:
+        text = page.read_text()
+        if page.name == "cli.md":                                  # the one sentence that lists them
+            text = re.sub(r"Old spellings \([^)]*\) still work", "", text)
+        for n, line in enumerate(text.splitlines(), 1):
+            assert not pattern.search(line), f"{page.relative_to(ROOT)}:{n}: {line}"
+        for command in re.findall(r"plbar (?:export|render)\b[^`\n]*", text):   # the run read: --from, not --out
+            assert "--out" not in command or "--from" in command, f"{page.relative_to(ROOT)}: {command}"
 
 
 @pytest.mark.slow
