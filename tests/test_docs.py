@@ -4,6 +4,7 @@ Sphinx build with warnings as errors."""
 import argparse
 import importlib.util
 import re
+import runpy
 import subprocess
 import sys
 from pathlib import Path
@@ -34,12 +35,27 @@ def test_every_example_is_a_page_of_the_site():
         assert f"\n{script.stem}\n" in index, script.stem
 
 
-def test_every_front_door_has_an_api_page():
+def front_doors():
+    """The subpackages (and the rooms of a layer split into rooms) whose ``__init__`` the API documents."""
     from plbar.util import layout
 
     doors = {m for m in layout.modules() if m.count(".") <= 1 or m.split(".")[1] in layout.ROOMS}
-    doors = {m for m in doors if (layout.modules()[m].name == "__init__.py")} - {"plbar.cli"}
+    return {m for m in doors if (layout.modules()[m].name == "__init__.py")} - {"plbar.cli"}
+
+
+def test_every_front_door_has_an_api_page():
+    doors = front_doors()
     assert doors <= {p.stem for p in (DOCS / "api").glob("plbar*.md")}, doors
+
+
+def test_the_api_index_lists_every_page_with_its_front_doors_summary():
+    conf = runpy.run_path(str(DOCS / "conf.py"))     # the index's table is made by conf.py from these two
+    entries = conf["api_entries"]((DOCS / "api" / "index.md").read_text())
+    assert len(entries) == len(set(entries)), entries
+    assert set(entries) == {p.stem for p in (DOCS / "api").glob("plbar*.md")} >= front_doors(), entries
+    for name in entries:
+        line = conf["summary"](name)
+        assert len(line) > 20 and line.endswith("."), f"{name}: no one-line summary in its docstring: {line!r}"
 
 
 def old_spellings():
@@ -82,3 +98,6 @@ def test_the_site_builds_with_warnings_as_errors(tmp_path):
     for page in ("index", "theory", "loads", "refinement", "survey", "api/plbar.studies.loads",
                  "examples/one_response"):
         assert (tmp_path / "html" / f"{page}.html").is_file(), page
+    index = (tmp_path / "html" / "api" / "index.html").read_text()
+    rows = index.split('class="api-index', 1)[1].split("</table>", 1)[0].count("<tr")
+    assert rows == len(list((DOCS / "api").glob("plbar*.md"))), rows
