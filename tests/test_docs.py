@@ -88,6 +88,22 @@ def test_the_readme_and_the_docs_use_the_current_option_spellings():
             assert "--out" not in command or "--from" in command, f"{page.relative_to(ROOT)}: {command}"
 
 
+def prose(text):
+    """``text`` without its fenced code blocks, inline code and math."""
+    text = re.sub(r"^```.*?^```", "", text, flags=re.S | re.M)
+    return re.sub(r"`+[^`]*`+|\$\$.*?\$\$|\$[^$\n]+\$", "", text, flags=re.S)
+
+
+def test_formulas_are_math_not_unicode_and_typeset_by_the_shipped_mathjax():
+    for page in PAGES:
+        for n, line in enumerate(prose(page.read_text()).splitlines(), 1):
+            found = re.findall(r"[\u0370-\u03ff\u00b2\u00b3\u1d40\u207b\u2070-\u209f\u2211\u221a\u222b]", line)
+            assert not found, f"{page.relative_to(ROOT)}: {found} outside $...$ in: {line.strip()[:120]}"
+    conf = runpy.run_path(str(DOCS / "conf.py"))
+    assert {"dollarmath", "amsmath"} <= set(conf["myst_enable_extensions"])
+    assert (DOCS / "_static" / conf["mathjax_path"]).is_file()         # offline: no CDN
+
+
 @pytest.mark.slow
 @pytest.mark.skipif(any(importlib.util.find_spec(m) is None for m in ("sphinx", "myst_parser", "numpydoc")),
                     reason='the docs extra is not installed (pip install -e ".[docs]")')
@@ -98,6 +114,11 @@ def test_the_site_builds_with_warnings_as_errors(tmp_path):
     for page in ("index", "theory", "loads", "refinement", "survey", "api/plbar.studies.loads",
                  "examples/one_response"):
         assert (tmp_path / "html" / f"{page}.html").is_file(), page
+    for page in ("theory", "damping", "load_structure"):            # math typeset: MathJax and no raw $ left
+        html = (tmp_path / "html" / f"{page}.html").read_text()
+        assert 'src="_static/mathjax/tex-chtml.js' in html and html.count('class="math') > 10, page
+        text = re.sub(r"<(script|pre|code)\b.*?</\1>|<(span|div) class=\"math.*?</\2>", "", html, flags=re.S)
+        assert "$" not in text, page
     index = (tmp_path / "html" / "api" / "index.html").read_text()
     rows = index.split('class="api-index', 1)[1].split("</table>", 1)[0].count("<tr")
     assert rows == len(list((DOCS / "api").glob("plbar*.md"))), rows
