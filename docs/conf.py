@@ -36,7 +36,7 @@ html_theme = "alabaster"
 html_title = f"plbar {version}"
 html_static_path = ["_static"]
 html_css_files = ["plbar.css"]
-html_theme_options = {"page_width": "min(1280px, 96vw)", "sidebar_width": "240px"}
+html_theme_options = {"page_width": "min(1280px, 96vw)", "sidebar_width": "240px", "body_max_width": "none"}
 # MathJax 3.2.2 (Apache-2.0, _static/mathjax/LICENSE) ships with the site: it typesets offline, no CDN
 mathjax_path = "mathjax/tex-chtml.js"
 highlight_language = "none"
