@@ -1,7 +1,10 @@
-"""The documentation site: every page reachable, every example a page, and the Sphinx build with warnings as errors."""
+"""The documentation site: every page reachable, every example a page, the current option spellings, and the
+Sphinx build with warnings as errors."""
 
+import argparse
 import importlib.util
 import re
+import runpy
 import subprocess
 import sys
 from pathlib import Path
@@ -10,6 +13,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
+PAGES = [ROOT / "README.md", *sorted(p for p in DOCS.rglob("*.md") if "_build" not in p.parts)]
 
 
 def test_readme_keeps_its_two_commands_and_links_to_pages_that_exist():
@@ -31,12 +35,73 @@ def test_every_example_is_a_page_of_the_site():
         assert f"\n{script.stem}\n" in index, script.stem
 
 
-def test_every_front_door_has_an_api_page():
+def front_doors():
+    """The subpackages (and the rooms of a layer split into rooms) whose ``__init__`` the API documents."""
     from plbar.util import layout
 
     doors = {m for m in layout.modules() if m.count(".") <= 1 or m.split(".")[1] in layout.ROOMS}
-    doors = {m for m in doors if (layout.modules()[m].name == "__init__.py")} - {"plbar.cli"}
+    return {m for m in doors if (layout.modules()[m].name == "__init__.py")} - {"plbar.cli"}
+
+
+def test_every_front_door_has_an_api_page():
+    doors = front_doors()
     assert doors <= {p.stem for p in (DOCS / "api").glob("plbar*.md")}, doors
+
+
+def test_the_api_index_lists_every_page_with_its_front_doors_summary():
+    conf = runpy.run_path(str(DOCS / "conf.py"))     # the index's table is made by conf.py from these two
+    entries = conf["api_entries"]((DOCS / "api" / "index.md").read_text())
+    assert len(entries) == len(set(entries)), entries
+    assert set(entries) == {p.stem for p in (DOCS / "api").glob("plbar*.md")} >= front_doors(), entries
+    for name in entries:
+        line = conf["summary"](name)
+        assert len(line) > 20 and line.endswith("."), f"{name}: no one-line summary in its docstring: {line!r}"
+
+
+def old_spellings():
+    """The old option spellings the parser still takes: a second long name (``--n`` of ``-N/--elements``) or an
+    option hidden from the help of every command that has it (``--dest``); read from the parser, so it stays
+    current."""
+    from plbar.cli.main import build_parser
+
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    old, shown, hidden = set(), set(), set()
+    for parser in sub.choices.values():
+        for action in parser._actions:
+            names = [s for s in action.option_strings if s.startswith("--")]
+            old.update(names[1:])
+            (hidden if action.help == argparse.SUPPRESS else shown).update(names)
+    return old | (hidden - shown)
+
+
+def test_the_readme_and_the_docs_use_the_current_option_spellings():
+    old = old_spellings()
+    assert {"--at", "--n", "--dest"} <= old, old
+    pattern = re.compile(r"(?<![\w-])(" + "|".join(re.escape(s) for s in sorted(old)) + r")(?![\w-])")
+    for page in PAGES:
+        text = page.read_text()
+        if page.name == "cli.md":                                  # the one sentence that lists them
+            text = re.sub(r"Old spellings \([^)]*\) still work", "", text)
+        for n, line in enumerate(text.splitlines(), 1):
+            assert not pattern.search(line), f"{page.relative_to(ROOT)}:{n}: {line}"
+        for command in re.findall(r"plbar (?:export|render)\b[^`\n]*", text):   # the run read: --from, not --out
+            assert "--out" not in command or "--from" in command, f"{page.relative_to(ROOT)}: {command}"
+
+
+def prose(text):
+    """``text`` without its fenced code blocks, inline code and math."""
+    text = re.sub(r"^```.*?^```", "", text, flags=re.S | re.M)
+    return re.sub(r"`+[^`]*`+|\$\$.*?\$\$|\$[^$\n]+\$", "", text, flags=re.S)
+
+
+def test_formulas_are_math_not_unicode_and_typeset_by_the_shipped_mathjax():
+    for page in PAGES:
+        for n, line in enumerate(prose(page.read_text()).splitlines(), 1):
+            found = re.findall(r"[\u0370-\u03ff\u00b2\u00b3\u1d40\u207b\u2070-\u209f\u2211\u221a\u222b]", line)
+            assert not found, f"{page.relative_to(ROOT)}: {found} outside $...$ in: {line.strip()[:120]}"
+    conf = runpy.run_path(str(DOCS / "conf.py"))
+    assert {"dollarmath", "amsmath"} <= set(conf["myst_enable_extensions"])
+    assert (DOCS / "_static" / conf["mathjax_path"]).is_file()         # offline: no CDN
 
 
 @pytest.mark.slow
@@ -49,3 +114,11 @@ def test_the_site_builds_with_warnings_as_errors(tmp_path):
     for page in ("index", "theory", "loads", "refinement", "survey", "api/plbar.studies.loads",
                  "examples/one_response"):
         assert (tmp_path / "html" / f"{page}.html").is_file(), page
+    for page in ("theory", "damping", "load_structure"):            # math typeset: MathJax and no raw $ left
+        html = (tmp_path / "html" / f"{page}.html").read_text()
+        assert 'src="_static/mathjax/tex-chtml.js' in html and html.count('class="math') > 10, page
+        text = re.sub(r"<(script|pre|code)\b.*?</\1>|<(span|div) class=\"math.*?</\2>", "", html, flags=re.S)
+        assert "$" not in text, page
+    index = (tmp_path / "html" / "api" / "index.html").read_text()
+    rows = index.split('class="api-index', 1)[1].split("</table>", 1)[0].count("<tr")
+    assert rows == len(list((DOCS / "api").glob("plbar*.md"))), rows
