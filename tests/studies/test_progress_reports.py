@@ -98,3 +98,30 @@ def test_a_survey_task_reports_its_units(tmp_path):
             seen.append(R._now["done"])
     assert seen == [task_units(t) for t in st.tasks] == [120, 120]
     assert np.all(np.asarray(seen) > 0)
+
+
+def test_refine_moves_within_a_mesh(monkeypatch):
+    """``refine`` counted meshes only (18 s without a move at N = 16): now the carried points of each mesh."""
+    import plbar
+    import plbar.studies.refine.study as refine_mod
+
+    said = []
+
+    class Bar(Recorder):
+        def set_description(self, desc, *_):
+            said.append((desc, self.n))
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            return False
+
+    monkeypatch.setattr(refine_mod, "progress_bar", lambda total, *a, **k: Bar(total))
+    task = refine_mod.refine_study([plbar.Case()], [3, 4, 5]).tasks[0]
+    refine_mod.track_family(task, progress=True)
+    inside = [(d, n) for d, n in said if ": point " in d]
+    assert {d.split(",")[1].split(":")[0].strip() for d, _ in inside} == {"N = 4", "N = 5"}
+    assert all(n < 3 for _, n in inside)               # while the mesh is being carried, before it counts
+    j, k = map(int, inside[-1][0].rsplit(" ", 1)[1].split("/"))
+    assert j == k > 1

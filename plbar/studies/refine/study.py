@@ -213,7 +213,12 @@ def track_family(task: dict, progress: bool = False) -> list[list[dict]]:
     folder = Path(task["checkpoints"]) / f"{slug(task['series'])}-{slug(task['family'])}" \
         if task.get("checkpoints") else None
     chains: list[list[dict]] = []
-    with progress_bar(len(task["ns"]), progress, f"{task['series']} {task['family']}", "mesh") as bar:
+    label = f"{task['series']} {task['family']}"
+    with progress_bar(len(task["ns"]), progress, label, "mesh") as bar:
+        def tick(j, k):                        # within a mesh: the carried points, so that the progress moves
+            bar.set_description(f"{label}, N = {n}: point {j}/{k}")
+            bar.update(0)
+
         for n in task["ns"]:
             key = _level_key(task, n)
             path = folder / f"N{n:05d}.json" if folder else None
@@ -221,11 +226,12 @@ def track_family(task: dict, progress: bool = False) -> list[list[dict]]:
             if got is None:
                 case = case_at(task["base"], n)
                 got = seed_levels(case, anchor, st) if not chains else \
-                    [carry_level(ch[-1], case, anchor, st) for ch in chains]
+                    [carry_level(ch[-1], case, anchor, st, tick) for ch in chains]
                 got = mark_merges(got, [family_label(task["family"], k, len(got)) for k in range(len(got))], st)
                 if path:
                     write_json(path, {"key": key, "n": n, "levels": got})
             chains = [[lv] for lv in got] if not chains else [ch + [lv] for ch, lv in zip(chains, got)]
+            bar.set_description(label)
             bar.update(1)
     return chains
 

@@ -200,22 +200,27 @@ def _normals(U: np.ndarray) -> np.ndarray:
     return np.c_[-t[:, 1], t[:, 0]]
 
 
-def _pieces(prob, band: Band, curves, st: TrackSettings):
+def _pieces(prob, band: Band, curves, st: TrackSettings, tick=None):
     """Follow the new zero curves near the carried ``curves`` (normalised): lazily, in curve order.
 
     A carried point within one step of a curve already followed is skipped (it
     lies on it); any other is moved onto the zero set along the carried curve's
     normal (within ``reach``) and, unless it lands on a curve already followed,
     the curve through it is followed.  Returns the traces, the evaluations and
-    the number of carried points that found no zero within reach.
+    the number of carried points that found no zero within reach.  ``tick(j, k)``, if given, is told after each
+    of the ``k`` carried points it tries (progress).
     """
     reach = st.reach * st.step
     carried = np.concatenate(curves)
     done, traces, nev, lost = [], [], 0, 0
-    for U in curves:
-        idx = _thin(U, st.step)
+    thinned = [_thin(U, st.step) for U in curves]
+    total, j = sum(len(idx) for idx in thinned), 0
+    for U, idx in zip(curves, thinned):
         nrm = _normals(U)
         for i in idx:
+            j += 1
+            if tick is not None:
+                tick(j, total)
             if any(np.linalg.norm(d - U[i], axis=1).min() < st.step for d in done):
                 continue
             V, k = correct_onto(prob, band, U[i:i + 1], nrm[i:i + 1], reach)
@@ -233,8 +238,9 @@ def _pieces(prob, band: Band, curves, st: TrackSettings):
     return traces, nev, lost
 
 
-def carry_level(prev: dict, case: Case, anchor: Anchor, st: TrackSettings) -> dict:
-    """The family on the mesh of ``case``, carried from the level ``prev`` of a coarser mesh."""
+def carry_level(prev: dict, case: Case, anchor: Anchor, st: TrackSettings, tick=None) -> dict:
+    """The family on the mesh of ``case``, carried from the level ``prev`` of a coarser mesh (``tick``: progress,
+    :func:`_pieces`)."""
     t0 = time.perf_counter()
     prob = case.problem()
     T0I, T0II = prob.system.T0
@@ -247,7 +253,7 @@ def carry_level(prev: dict, case: Case, anchor: Anchor, st: TrackSettings) -> di
             "nothing to carry: the family had ended"
         return {**head, "pieces": [], "status": "ended", "notes": [why], "evaluations": 0,
                 "time": time.perf_counter() - t0}
-    traces, nev, lost = _pieces(prob, band, curves, st)
+    traces, nev, lost = _pieces(prob, band, curves, st, tick)
     pieces = []
     for tr in traces:
         piece = _evaluated(prob, np.asarray(tr.P, float))
