@@ -13,7 +13,8 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from ..errors import InputError
-from ..model import ELEMENTS, MASSES, Bar, Load, Problem, chain, check_rayleigh, graded_nodes, problem
+from ..model import (ELEMENTS, MASSES, Bar, Load, Problem, chain, check_rayleigh, check_restitution, graded_nodes,
+                     problem)
 from ..paths import Domain, default_domain
 from ..util.check import choice, integer, interval, number, pairs, positive, show
 from ..util.check import grid as check_grid
@@ -95,6 +96,11 @@ class Case:
         + beta K`` (FORMULATION §8; :func:`plbar.rayleigh_from_ratio` gives it from
         one ratio at two periods).  Default None: undamped, the paper;
         ``(0, 0)`` is taken as None.
+    restitution : float
+        Coefficient of restitution ``e`` of the contact, in ``[0, 1]`` (Newton's impact law: the contact
+        leaves the wall at ``e`` times the speed it hit it with, losing ``1 - e^2`` of the plastic impact's
+        loss).  Default 0: the paper's perfectly plastic impact.  The simulator and the survey use any ``e``;
+        the periodic responses (``run``) are the plastic ones.
     """
 
     model: str = "chain"
@@ -121,6 +127,7 @@ class Case:
     modes: int | None = None
     label: str = field(default="", compare=False)
     rayleigh: tuple[float, float] | None = None
+    restitution: float = 0.0
 
     def __post_init__(self):
         choice("model", self.model, MODELS)
@@ -131,6 +138,7 @@ class Case:
         if self.modes is not None:
             object.__setattr__(self, "modes", integer("modes", self.modes, 1))
         object.__setattr__(self, "rayleigh", check_rayleigh(self.rayleigh))
+        object.__setattr__(self, "restitution", check_restitution(self.restitution))
         if self.n is not None:
             object.__setattr__(self, "n", integer("n" if self.model == "fe" else "chain size N", self.n, 2))
         for nm in ("length", "EA", "rhoA", "m", "k", "grading"):
@@ -247,7 +255,7 @@ class Case:
 
     def problem(self) -> Problem:
         """Assemble the bar, solve both eigenproblems and attach the load (the expensive step: call once)."""
-        return problem(self.bar(), self.load(), modes=self.modes, rayleigh=self.rayleigh)
+        return problem(self.bar(), self.load(), modes=self.modes, rayleigh=self.rayleigh, restitution=self.restitution)
 
     def domain(self, prob: Problem) -> Domain:
         """The search domain: ``T1``, ``T2`` if given, else the paper's ``(0, T0^alpha / 2]``."""
@@ -259,7 +267,7 @@ class Case:
 
         ``n`` is filled in and ``length`` is the bar's (``N`` for the chain); a chain has no FE fields, an FE bar
         no ``m, k``, and a mesh file stands for ``n``, ``grading`` and ``length``; ``rayleigh`` appears only for a
-        damped case.
+        damped case, ``restitution`` only where it is not 0.
         """
         d = asdict(self)
         d["n"] = self.n_eff
@@ -268,6 +276,8 @@ class Case:
         drop = tuple(FE_ONLY) if self.model == "chain" else ("m", "k")
         if self.mesh_file is not None:
             drop += ("n", "grading", "length")
+        if not d["restitution"]:
+            drop += ("restitution",)
         if d["rayleigh"] is None:
             drop += ("rayleigh",)
         else:

@@ -26,7 +26,8 @@ mesh_file`` (relative to the TOML file), ``point_masses = [[x, m], ...]``,
 ``modes`` (modal truncation: the lowest modes of each state),
 ``rayleigh = [alpha, beta]`` (inherent damping ``C = alpha M + beta K``; default none)
 or ``damping_ratio = XI`` with ``damping_at = [T_A, T_B]`` (the same from one ratio at
-two periods, :func:`plbar.rayleigh_from_ratio`).
+two periods, :func:`plbar.rayleigh_from_ratio`), ``restitution = E`` (the contact's coefficient of
+restitution, ``0 <= E <= 1``; default 0, the paper's plastic impact).
 Every mistake raises :class:`plbar.errors.CaseFileError` with one line naming
 the file, the section and the key.
 """

@@ -115,6 +115,10 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
     if not isinstance(case, Case):
         raise InputError(f"case = {show(case)} is not a plbar.Case ({type(case).__name__}); "
                          "build one with plbar.Case(...) or read a file with plbar.casefile.load_case")
+    if case.restitution:
+        raise InputError(f"restitution = {case.restitution:g}: the periodic responses are those of the paper's "
+                         "plastic impact (the ones with rebounds are not built yet); the simulator and the survey "
+                         "take any restitution: plbar survey --restitution E")
     check_grid(case.grid, stacklevel=3)
     t0 = time.perf_counter()
     prob = case.problem()

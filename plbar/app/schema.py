@@ -16,7 +16,7 @@ SCHEMA = {
             "mass": ("choice", ("lumped", "consistent")), "length": "float", "EA": "float", "rhoA": "float",
             "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs",
             "end_mass": "float", "end_mass_absolute": "bool", "modes": "int", "rayleigh": "pair",
-            "damping_ratio": "float", "damping_at": "pair"},
+            "damping_ratio": "float", "damping_at": "pair", "restitution": "float"},
     "load": {"node": "int", "at": "float", "amplitude": "float"},
     "search": {"grid": "grid", "T1": "pair", "T2": "pair", "method": ("choice", ("continuation", "grid")),
                "signatures": ("choice", ("default", "paper", "all"))},
@@ -47,7 +47,9 @@ HELP = {
             "rayleigh": "inherent damping C = alpha M + beta K, `[alpha, beta]` >= 0 [none]",
             "damping_ratio": "the Rayleigh damping with this ratio at the two periods of `damping_at`; not with "
                              "`rayleigh`",
-            "damping_at": "the two periods `[T_A, T_B]` where `damping_ratio` holds"},
+            "damping_at": "the two periods `[T_A, T_B]` where `damping_ratio` holds",
+            "restitution": "coefficient of restitution e of the contact, 0 <= e <= 1 (the survey and the "
+                           "simulator; run's periodic responses need 0, the paper's plastic impact) [0]"},
     "load": {"node": "a force on free DOF K (1-based from the clamp); or `at`",
              "at": "a point force at position s in (0, L]; or `node`", "amplitude": "its amplitude [1]"},
     "search": {"grid": "scan grid over (T1, T2) [200, 200]",

@@ -10,8 +10,8 @@ from .bar import (ELEMENTS, MASSES, Assembled, Bar, assemble, chain, graded_node
                   uniform_nodes)
 from .damping import check_rayleigh, rayleigh_from_ratio, rayleigh_ratio
 from .load import Load, node, point
-from .system import Problem, TwoStateSystem, problem, two_state, with_load_vector
+from .system import Problem, TwoStateSystem, check_restitution, problem, two_state, with_load_vector
 
 __all__ = ["ELEMENTS", "MASSES", "Assembled", "Bar", "assemble", "chain", "graded_nodes", "uniform_bar",
            "uniform_nodes", "check_rayleigh", "rayleigh_from_ratio", "rayleigh_ratio", "Load", "node", "point", "Problem", "TwoStateSystem", "problem", "two_state",
-           "with_load_vector"]
+           "with_load_vector", "check_restitution"]

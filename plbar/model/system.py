@@ -16,7 +16,7 @@ reaction gains a term in the modal velocities (``r_v``).  Without damping
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.linalg as sla
@@ -27,7 +27,7 @@ from ..errors import InputError
 from .load import Load
 from ..util.reprs import build, rng
 
-__all__ = ["TwoStateSystem", "Problem", "two_state", "problem", "with_load_vector"]
+__all__ = ["TwoStateSystem", "Problem", "two_state", "problem", "with_load_vector", "check_restitution"]
 
 
 def _modes(K: np.ndarray, M: np.ndarray, what: str, m: int | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -250,6 +250,9 @@ class Problem:
         Load term of the state I reaction, ``M_cr V1 f1 - q_c``.
     bar, load, asm : optional
         Where the problem came from.
+    restitution : float
+        Coefficient of restitution ``e`` of the contact, ``0 <= e <= 1`` (Newton's impact law, issue 31):
+        0 is the paper's perfectly plastic impact; only the simulator (:mod:`plbar.motion`) uses ``e > 0``.
     """
 
     system: TwoStateSystem
@@ -260,6 +263,7 @@ class Problem:
     bar: Bar | None = None
     load: Load | None = None
     asm: Assembled | None = None
+    restitution: float = 0.0
 
     def __repr__(self) -> str:
         s = self.system
@@ -270,6 +274,8 @@ class Problem:
             items["bar"] = repr(self.bar.describe())
         if self.load is not None:
             items["load"] = repr(self.load.describe())
+        if self.restitution:
+            items["restitution"] = self.restitution
         return build("Problem", items)
 
     def cached(self, key: str, factory):
@@ -294,8 +300,22 @@ def with_load_vector(sys: TwoStateSystem, q: np.ndarray, bar=None, load=None, as
     return Problem(sys, q, f1, f2, r_q, bar, load, asm)
 
 
+def check_restitution(e) -> float:
+    """A validated coefficient of restitution: a finite number in ``[0, 1]``."""
+    bad = f"restitution = {e!r} must be a number in [0, 1] (0: plastic impact, the paper; 1: elastic)"
+    if isinstance(e, (bool, str, bytes)):
+        raise InputError(bad)
+    try:
+        v = float(e)
+    except (TypeError, ValueError):
+        raise InputError(bad) from None
+    if not 0.0 <= v <= 1.0:
+        raise InputError(bad)
+    return v
+
+
 def problem(bar: Bar, load: Load | None = None, q: np.ndarray | None = None, modes=None,
-            rayleigh=None) -> Problem:
+            rayleigh=None, restitution: float = 0.0) -> Problem:
     """Assemble ``bar``, build both states and attach the load.
 
     Parameters
@@ -307,7 +327,10 @@ def problem(bar: Bar, load: Load | None = None, q: np.ndarray | None = None, mod
         Modal truncation (see :func:`two_state`); default all modes.
     rayleigh : (float, float), optional
         Rayleigh damping ``(alpha, beta)`` (see :func:`two_state`); default none.
+    restitution : float
+        Coefficient of restitution of the contact (:class:`Problem`); default 0, the paper's plastic impact.
     """
+    e = check_restitution(restitution)
     a = assemble(bar)
     sys = two_state(a.M, a.K, a.x, modes, rayleigh)
     if load is not None:
@@ -318,4 +341,5 @@ def problem(bar: Bar, load: Load | None = None, q: np.ndarray | None = None, mod
             raise InputError(f"load vector q must be finite, non-zero and of length {a.n}")
     else:
         raise InputError("give a load (plbar.point / plbar.node) or a load vector q")
-    return with_load_vector(sys, qv, bar, load, a)
+    prob = with_load_vector(sys, qv, bar, load, a)
+    return replace(prob, restitution=e) if e else prob

@@ -57,6 +57,8 @@ class Padded:
         Inherent (Rayleigh) damping: the modal ratios of each state, and the margin's weights on the
         modal velocities (``-r_v`` in state I: the damper's share of the reaction; 0 in state II);
         None without damping (the undamped code path, bit for bit).
+    restitution : float
+        The contact's coefficient of restitution (:class:`plbar.model.Problem`; the kernel's rebounds).
     size : ndarray, shape (2,)
         The margin's own size in each state, ``sum_j |c_j f_j| / w_j^2 + |rq|`` (the static response to
         the load's amplitude): the floor of its round-off level (a bar at rest has no size of its own).
@@ -77,6 +79,7 @@ class Padded:
     zeta: np.ndarray | None = None
     cv: np.ndarray | None = None
     open_vel: np.ndarray | None = None
+    restitution: float = 0.0
 
     @property
     def m(self) -> int:
@@ -187,4 +190,5 @@ def padded(prob: Problem) -> Padded:
     zeta = np.vstack([_pad(s.zeta1, (m,)), _pad(s.zeta2, (m,))]) if damped else None
     cv = np.vstack([_pad(-np.asarray(s.r_v, float), (m,)), np.zeros(m)]) if damped else None
     return Padded(w, f, c, rq, _pad(open_pos, (m, m)), _pad(impact_pos, (m, m)), _pad(impact_vel, (m, m)),
-                  _pad(s.gap_row, (m,)), S, V, bool(s.truncated), size, zeta, cv, _pad(open_vel, (m, m)))
+                  _pad(s.gap_row, (m,)), S, V, bool(s.truncated), size, zeta, cv, _pad(open_vel, (m, m)),
+                  float(getattr(prob, "restitution", 0.0)))

@@ -57,6 +57,9 @@ class MotionSeries:
     """
 
     def __init__(self, prob: Problem, r: Run, b: int, periods: int | None = None):
+        if getattr(prob, "restitution", 0.0):
+            raise InputError("a motion with rebounds (restitution > 0) cannot be replayed yet: its series follows "
+                             "the plastic impact's switches (issue 31)")
         R = int(r.record)
         P = R if periods is None else periods
         if isinstance(P, bool) or int(P) != P or not 1 <= P <= R:

@@ -3,7 +3,7 @@
 Small tuples of plain arrays keep the compiled code small (and its first compile short);
 the column names below are the only way the kernel and :mod:`plbar.motion.run` index them.
 
-* model ``md = (modal, margin, maps, vc_row, S, truncated)``: ``modal[W | F | C, state]`` the
+* model ``md = (modal, margin, maps, vc_row, S, truncated, e)`` (``e`` the coefficient of restitution): ``modal[W | F | C, state]`` the
   frequencies, modal loads and margin weights, ``margin[RQ | SIZE, state]``, ``maps[OPEN | IMPACT_POS |
   IMPACT_VEL | OPEN_VEL]`` the switch maps (:class:`plbar.motion.Padded`);
 * damping: None (undamped: no damped code is compiled) or ``damping[state, ZETA | CV]``;
@@ -32,6 +32,8 @@ T, OMEGA, PHI, TP, P = 0, 1, 2, 3, 4
 PERIOD, STATE, ZEROS, STALL, STATUS, ROUNDS, NEED, EVENTS = 0, 1, 2, 3, 4, 5, 6, 7
 IMPACTS, OPENINGS, LOSS = 0, 1, 2
 TIME, KIND = 0, 1
+OPENS, IMPACT, REBOUND, STICK = 1, 2, 3, 4   #: event kinds: the gap opens; a plastic impact; a rebound; rebounds
+#: that accumulate (chattering) and end stuck (recorded at their accumulation time)
 WORK, LOSSES, VISC = 0, 1, 2
 D_EQ, D_W, WORK_REC, STUCK_T, AMP, VISC_REC = 0, 1, 2, 3, 4, 5
 
@@ -45,7 +47,7 @@ def model(pad) -> tuple:
     return (_f64(np.stack([pad.w, pad.f, pad.c])), _f64(np.stack([pad.rq, pad.size])),
             _f64(np.stack([pad.open_map, pad.impact_pos, pad.impact_vel,
                                 pad.open_map if pad.open_vel is None else pad.open_vel])), _f64(pad.vc_row),
-            float(0.0 if pad.truncated else pad.S), bool(pad.truncated))
+            float(0.0 if pad.truncated else pad.S), bool(pad.truncated), float(pad.restitution))
 
 
 def damping(pad):

@@ -33,6 +33,7 @@ from .split import SPLIT_MIN, particular, split_step
 __all__ = [
     "CAP",
     "CHATTER",
+    "CHATTER_H",
     "DEEP_MAX",
     "MAX_STALL",
     "MAX_ZERO",
@@ -41,6 +42,7 @@ __all__ = [
     "STALLED",
     "TINY",
     "advance",
+    "rebound",
     "flow_all",
     "switch",
 ]
@@ -53,6 +55,7 @@ ORDER = 8           #: order of the Taylor model of the margin
 LARGE_ORDER = 16    #: order of the Taylor model of a system of SPLIT_MIN modes or more (longer steps, for the cost)
 SPLIT_ORDER = 16    #: order of the split model's (its low modes are slow: a higher order certifies longer steps)
 DEEP_MAX = 40       #: highest order of the deep model (where no derivative up to ORDER is significant)
+CHATTER_H = 1e-11   #: rebounds accumulate (:func:`rebound`) once the next flight is this low, of the margin's size
 
 
 @jit
@@ -114,24 +117,69 @@ def _certify(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, amp, P, fa
 
 
 @jit
-def switch(md, st, eta, vel, out_e, out_v):
-    """The event at the current point: ``(kind, loss)``; the new modal state into ``out_e, out_v``.
+def switch(md, st, eta, vel, out_e, out_v, load, damping):
+    """The event at the current point: ``(kind, loss, dt)``; the new modal state into ``out_e, out_v``.
 
     kind 1: the gap opens (I -> II, ``x^II = E x^I``); kind 2: plastic impact (II -> I, Eq. (10)),
-    loss ``S v_c^2 / 2`` (Eq. (14)); for a truncated system the modal kinetic energy difference.
+    loss ``S v_c^2 / 2`` (Eq. (14)); for a truncated system the modal kinetic energy difference.  With a
+    coefficient of restitution ``e > 0`` (``md[6]``) an impact is a rebound (:func:`rebound`, kind 3, the state
+    stays II) unless the rebounds accumulate (kind 4: the plastic impact, ``dt`` the time to the accumulation
+    point).  ``load`` is ``cos(W t - phi)`` here.
     """
-    maps, vc_row, S, truncated = md[2], md[3], md[4], md[5]
+    maps, vc_row, S, truncated, rest = md[2], md[3], md[4], md[5], md[6]
     if st == STUCK:
         matvec(maps[D.OPEN], eta, out_e)
         matvec(maps[D.OPEN_VEL], vel, out_v)
-        return 1, 0.0
+        return D.OPENS, 0.0, 0.0
+    kind, loss, dt = D.IMPACT, 0.0, 0.0
+    if rest > 0.0:
+        kind, loss, dt = rebound(md, eta, vel, out_e, out_v, load, damping)
+        if kind == D.REBOUND:
+            return kind, loss, dt
     matvec(maps[D.IMPACT_POS], eta, out_e)
     matvec(maps[D.IMPACT_VEL], vel, out_v)
     ke, vc = 0.0, 0.0
     for j in range(vel.size):
         ke += vel[j] * vel[j] - out_v[j] * out_v[j]
         vc += vel[j] * vc_row[j]
-    return 2, (0.5 * ke if truncated else 0.5 * S * vc * vc)
+    return kind, (0.5 * ke if truncated else 0.5 * S * vc * vc), dt
+
+
+@jit
+def rebound(md, eta, vel, out_e, out_v, load, damping):
+    """Newton's impact law with restitution ``e = md[6]`` at an impact of state II: ``(kind, loss, dt)``.
+
+    The impulse acts along the contact DOF, so in the modal coordinates (mass-orthonormal) along the contact row
+    ``r`` (``x_c = r . eta``): ``v+ = v - (1 + e) (r . v) r / |r|^2``, which gives ``r . v+ = -e r . v`` and loses
+    ``(1 - e^2) (r . v)^2 / (2 |r|^2)`` of kinetic energy (``|r|^2 = (M^-1)_cc``: the loss of Eq. (14) times
+    ``1 - e^2``); the positions are kept.  Kind 3 (:data:`.data.REBOUND`), the state into ``out_e, out_v``.
+
+    Where the contact is pressed to the wall (its free acceleration ``a > 0`` there) the rebounds come back ever
+    faster: with ``a`` held, the flights last ``2 e^k v / a`` and add up to ``dt = 2 e v / (a (1 - e))``, after
+    which the contact stays at the wall with ``v_c = 0`` (chattering).  Once the next flight's height
+    ``(e v)^2 / (2 a)`` is below :data:`CHATTER_H` of the margin's size, the rest of the sequence is that limit:
+    kind 4 (:data:`.data.STICK`, the caller's plastic impact, which loses the contact's whole kinetic energy,
+    what the rest of the sequence loses, ``sum (1 - e^2) e^(2k) = 1``), with ``dt``.  The bar beside it moves
+    as in state I meanwhile: the contact is within that height of the wall (docs/restitution.md).
+    """
+    modal, vc_row, e = md[0], md[3], md[6]
+    rr, vc, a, size = 0.0, 0.0, 0.0, md[1][D.SIZE, FREE]
+    for j in range(vel.size):
+        rr += vc_row[j] * vc_row[j]
+        vc += vc_row[j] * vel[j]
+    k = (1.0 + e) * vc / rr
+    for j in range(vel.size):
+        w = modal[D.W, FREE, j]
+        out_e[j] = eta[j]
+        out_v[j] = vel[j] - k * vc_row[j]
+        acc = modal[D.F, FREE, j] * load - w * w * eta[j]
+        if damping is not None:
+            acc -= 2.0 * damping[FREE, D.ZETA, j] * w * out_v[j]
+        a += vc_row[j] * acc
+        size = max(size, abs(vc_row[j] * eta[j]))
+    if e < 1.0 and a > 0.0 and (e * vc) ** 2 <= 2.0 * a * CHATTER_H * size:
+        return D.STICK, 0.0, 2.0 * e * vc / (a * (1.0 - e))
+    return D.REBOUND, 0.5 * (1.0 - e * e) * vc * vc / rr, 0.0
 
 
 @jit
@@ -174,18 +222,19 @@ def _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, work, damping):
     p = f[D.P]
     _account(md, f, s, z0, tot, acc, first, b, p, work, damping)
     time = period * f[D.T] + tp + p
-    kind, loss = switch(md, st, e, v, e2, v2)
+    kind, loss, dt = switch(md, st, e, v, e2, v2, cos(f[D.OMEGA] * (tp + p) - f[D.PHI]), damping)
     f[D.TP] = tp + p
     f[D.P] = 0.0
     _set(z0[0], e2)
     _set(z0[1], v2)
-    s[D.STATE] = 1 - st
+    if kind != D.REBOUND:
+        s[D.STATE] = 1 - st
     tot[D.LOSSES] += loss
     if period >= first:
         r, n = period - first, s[D.EVENTS]
-        per[b, r, D.IMPACTS if kind == 2 else D.OPENINGS] += 1.0
+        per[b, r, D.OPENINGS if kind == D.OPENS else D.IMPACTS] += 1.0
         per[b, r, D.LOSS] += loss
-        ev[b, n, D.TIME], ev[b, n, D.KIND], ev[b, n, D.LOSS] = time, kind, loss
+        ev[b, n, D.TIME], ev[b, n, D.KIND], ev[b, n, D.LOSS] = time + dt, kind, loss
         s[D.EVENTS] = n + 1
     s[D.ZEROS] = s[D.ZEROS] + 1 if p == 0.0 else 0
     s[D.STALL] = 0

@@ -99,7 +99,8 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
     T = np.asarray(T, float)
     r = run(pad, T, 0.0, periods, record, start, progress)
     s = steady(r)
-    settled = {b: settle(prob, r, b) for b in np.flatnonzero(s.kind == KINDS.index("irregular"))}
+    exact = not prob.restitution           # the exact orbits (plbar.hybrid) are those of the plastic impact
+    settled = {b: settle(prob, r, b) for b in np.flatnonzero(s.kind == KINDS.index("irregular"))} if exact else {}
     settled = {b: a for b, a in settled.items() if a is not None}
     if settled:
         s = steady(r, settled=[settled[b].orbit.sig.m if b in settled else 0 for b in range(T.size)])
@@ -112,7 +113,7 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
                    if getattr(prob.system, "damped", False) else float(s.xi_eq[i]))
         if i in settled:
             row.update(_orbit_fields(settled[i]))
-        elif row["kind"] == "periodic":
+        elif row["kind"] == "periodic" and exact:
             row.update(_polish(prob, r, i, row["m"], row["loss_per_T"]))
         rows.append(row)
     return rows, r.final
