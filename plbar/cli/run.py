@@ -104,7 +104,7 @@ def _cmd_run(a) -> int:
             res = solve(case, progress=progress(a))
             claim.take()
             files = write_results(res, out, overwrite=overwrite)
-    files.update(_plots(res, out, a))
+        files.update(_plots(res, out, a))            # still holding the folder's lock
     s = res.summary()
     report(a, {"summary": s, "files": {k: str(v) for k, v in files.items()}}, _human(s, files, a.verbose))
     return 0

@@ -92,3 +92,55 @@ def test_errors_say_what_to_give(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "N <= 99999" in err and "element 25005" not in err
     assert not (tmp_path / "r").exists()
+
+
+CHEAP_RUN = ["run", "--no-plot", "--signatures", "paper", "-q"]     # about 2 s: two of them overlap
+
+
+def test_two_cases_into_one_folder_at_once_one_is_refused(tmp_path):
+    """Two runs of different cases started together on one folder: one writes, the other is refused with exit 2 and
+    one line; the folder holds the winner's case (before: both exited 0, both said "wrote", one case was lost)."""
+    import json
+
+    out = str(tmp_path / "same")
+    ps = [_plbar(CHEAP_RUN + ["--out", out]), _plbar(CHEAP_RUN + ["--out", out, "--load-node", "3"])]
+    res = [(p.wait(timeout=300), p.communicate()[1]) for p in ps]
+    assert sorted(rc for rc, _ in res) == [0, 2], res
+    won = [rc for rc, _ in res].index(0)
+    lost_err = res[1 - won][1]
+    assert "error: output folder" in lost_err and lost_err.count("plbar: error") == 1
+    load = json.loads((tmp_path / "same" / "summary.json").read_text())["case"]["load_nodes"]
+    assert (load == [[3, 1.0]]) == (won == 1)
+    assert not (tmp_path / "same" / ".plbar-lock").exists()
+
+
+def test_the_same_case_twice_at_once_one_is_refused(tmp_path):
+    """The same case twice at once on one folder: the second is refused while the first runs (documented in
+    docs/cli.md), the results are the first's, whole."""
+    out = str(tmp_path / "same")
+    ps = [_plbar(CHEAP_RUN + ["--out", out]) for _ in range(2)]
+    res = [(p.wait(timeout=300), p.communicate()[1]) for p in ps]
+    if sorted(rc for rc, _ in res) == [0, 0]:
+        pytest.skip("the two runs did not overlap")
+    assert sorted(rc for rc, _ in res) == [0, 2], res
+    assert "in use by another plbar command" in "".join(err for _, err in res)
+    assert main(CHEAP_RUN + ["--out", out]) == 0
+
+
+def test_a_folder_locked_by_a_live_process_is_refused_a_dead_ones_lock_is_taken_over(tmp_path, capsys):
+    import json
+    import socket
+
+    out = tmp_path / "r"
+    out.mkdir()
+    live = subprocess.Popen(["sleep", "60"])
+    try:
+        (out / ".plbar-lock").write_text(json.dumps({"pid": live.pid, "host": socket.gethostname()}))
+        assert main(CHEAP_RUN + ["--out", str(out)]) == 2
+        assert f"in use by another plbar command (pid {live.pid})" in capsys.readouterr().err
+        assert not (out / "summary.json").exists()
+    finally:
+        live.kill()
+        live.wait()
+    assert main(CHEAP_RUN + ["--out", str(out)]) == 0          # its process is dead: a stale lock
+    assert (out / "summary.json").exists() and not (out / ".plbar-lock").exists()
