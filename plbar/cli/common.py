@@ -3,7 +3,10 @@
 * ``--out DIR`` is where a command writes; ``--from DIR`` is a previous run it reads;
 * ``--overwrite`` lets a command replace what another command or case owns in its ``--out``
   (:func:`plbar.util.outputs.claim_folder`, never silently);
-* ``--quiet`` prints nothing on success, ``--json`` prints the result as JSON (both without progress bars);
+* ``--quiet`` prints nothing on success, ``--json`` prints the result as JSON (both without progress bars); the
+  JSON is one shape for every command: ``{"summary": {...}, "files": ...}`` (:func:`report`);
+* ``--yes`` starts a job estimated above an hour or half the machine's memory (else refused with the estimate and
+  what to do instead: :func:`plbar.app.cost.check_cost`);
 * the model is ``--model``, ``-N/--elements``, ``--element``, ``--mass``, ``--end-mass``; the inherent damping
   ``--rayleigh A B`` or ``--damping-ratio XI --at T_A T_B`` (``--damping-at``); the load ``--load-node`` /
   ``--load-at``; a TOML file is ``--case FILE`` (``plbar run FILE`` too) and then no model, load or search option
@@ -19,7 +22,7 @@ from ..app import Case, load_case
 from ..errors import InputError
 from ..model import rayleigh_from_ratio
 
-__all__ = ["output_args", "case_args", "case_from_args", "progress", "report", "hidden", "plural"]
+__all__ = ["output_args", "yes_arg", "case_args", "case_from_args", "progress", "report", "hidden", "plural"]
 
 hidden = argparse.SUPPRESS
 
@@ -40,6 +43,13 @@ def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None
                    help="replace what another command or case owns in DIR (its owner marker .plbar-owner.json)")
     g.add_argument("--quiet", "-q", action="store_true", help="print nothing on success (no progress bars)")
     g.add_argument("--json", action="store_true", help="print the result as JSON (no progress bars)")
+
+
+def yes_arg(p: argparse.ArgumentParser) -> None:
+    """``--yes``: start a costly job that is otherwise refused (:func:`plbar.app.cost.check_cost`)."""
+    p.add_argument("--yes", "-y", action="store_true",
+                   help="start a job estimated above an hour or half of this machine's memory (else refused, with "
+                        "the estimate and a cheaper command)")
 
 
 def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", sizes=None, at: bool = True,

@@ -10,7 +10,7 @@ from ..errors import InputError
 from ..io import SHIPPED, write_shipped
 from ..util.outputs import claim_folder, fingerprint
 from ..util.progress import message
-from .common import case_args, case_from_args, output_args, plural, progress, report
+from .common import case_args, case_from_args, output_args, plural, progress, report, yes_arg
 
 __all__ = ["register"]
 
@@ -93,8 +93,8 @@ def _cmd_run(a) -> int:
     case, st = case_from_args(a)
     out = Path(a.out if st is None or a.out != "plbar-out" or st.dir is None else st.dir)
     overwrite = a.overwrite or (st is not None and st.overwrite)
+    note = cost_note(case, yes=a.yes)                  # a costly solve is refused before anything is made
     with check_output(case, out, overwrite) as claim:   # before the solve: fail fast; undone if interrupted
-        note = cost_note(case)
         if note and not a.quiet:
             message(note)
         if st is not None:
@@ -135,6 +135,7 @@ def register(sub) -> None:
     r.add_argument("--plot-xi", choices=("eq", "w"), default="eq",
                    help="the damping ratio drawn: xi_eq of Eq. (22), or xi_w (one frequency, the forcing's) [eq]")
     r.add_argument("--verbose", "-v", action="store_true", help="list every branch (default: the top 5 by xi_eq)")
+    yes_arg(r)
     case_args(r)
     r.set_defaults(func=_cmd_run)
     m = sub.add_parser("mesh", help="regenerate the shipped mesh files",

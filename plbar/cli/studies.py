@@ -14,7 +14,8 @@ import numpy as np
 from ..errors import InputError
 from ..util.outputs import claim_folder, fingerprint, require
 from ..util.progress import message
-from .common import CASE_OPTIONS, case_args, case_from_args, hidden, output_args, plural, progress, report
+from .common import (CASE_OPTIONS, case_args, case_from_args, hidden, output_args, plural, progress, report,
+                     yes_arg)
 
 __all__ = ["register"]
 
@@ -26,7 +27,7 @@ def _cmd_sweep(a) -> int:
     from ..studies.loads import sweep_loads
 
     case, _ = case_from_args(a)
-    note = cost_note(case)
+    note = cost_note(case, yes=a.yes)
     if note and not a.quiet:
         message(note)
     plot = not a.no_plot and importlib.util.find_spec("matplotlib") is not None
@@ -167,6 +168,7 @@ def register(sub) -> None:
     s.add_argument("--no-pairs", action="store_true", help="skip the node-pair table")
     s.add_argument("--pairs", action="store_true", help=hidden)
     s.add_argument("--no-plot", action="store_true", help="skip xi_T_s.png")
+    yes_arg(s)
     case_args(s, "the reference load", at=False)     # --at: the old spelling of --positions
     s.set_defaults(func=_cmd_sweep)
 

@@ -14,7 +14,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..util.outputs import check_creatable
-from .common import case_args, case_from_args, output_args, progress, report
+from ..util.progress import message
+from .common import case_args, case_from_args, output_args, progress, report, yes_arg
 
 __all__ = ["register"]
 
@@ -35,6 +36,29 @@ def _periods(a, case) -> np.ndarray:
     if a.num < 1:
         raise InputError(f"--num {a.num} must be at least 1")
     return np.linspace(lo, hi, a.num)
+
+
+def _cost(a, case, T) -> None:
+    """Refuse a survey above the limits of :func:`plbar.app.cost.check_cost` (unless ``--yes``); say what a long
+    one will cost: its motions x forcing periods, and the time from the measured cost of one period."""
+    import os
+
+    from ..app.cost import NOTE_SECONDS, check_cost, duration, survey_seconds
+    from ..studies.survey.loads import DEFAULT_POSITIONS
+
+    motions = len(T) * (1 + len(set(a.cont or ())))
+    if a.positions is not None or a.per_element is not None:
+        motions *= len(a.positions) if a.positions is not None else max(DEFAULT_POSITIONS, a.per_element * case.n_eff)
+    sizes = sorted(set(a.sizes)) if a.sizes and len(a.sizes) > 1 else [None]
+    cpu = sum(survey_seconds(case if n is None else _with_n(case, n), motions, a.periods) for n in sizes)
+    workers = 1 if a.executor == "serial" and not a.scheduler else (a.workers or os.cpu_count() or 1)
+    wall = cpu / workers
+    what = (f"this survey simulates {motions:,} motions x {a.periods:,} forcing periods"
+            + (f" on {len(sizes)} meshes" if len(sizes) > 1 else "")
+            + f": about {duration(cpu)} of CPU, {duration(wall)} on {workers} worker{'s' if workers > 1 else ''}")
+    check_cost(wall, 0.0, what, "fewer periods (--num, --periods) or a coarser bar (-N)", a.yes)
+    if wall > NOTE_SECONDS and not (a.quiet or a.json):
+        message(f"plbar: note: {what}")
 
 
 def _lines(s, T) -> list[str]:
@@ -74,6 +98,7 @@ def _cmd_survey(a) -> int:
     if a.sizes and len(a.sizes) == 1:
         case = _with_n(case, a.sizes[0])
     T = _periods(a, case)
+    _cost(a, case, T)
     out = check_creatable(a.out)              # made by the study's claim (removed again if it fails)
     if a.positions is not None or a.per_element is not None:
         return _loads(a, case, T, out)
@@ -189,6 +214,7 @@ def register(sub) -> None:
     s.add_argument("--no-paths", action="store_true", help="do not solve the exact branches under the figure")
     s.add_argument("--paths", action="store_true",
                    help="solve the exact branches under the figure even for a large model [only N <= 12]")
+    yes_arg(s)
     case_args(s, "the load", sizes=())
     for act in list(s._actions):
         if act.dest in _SEARCH:

@@ -144,3 +144,53 @@ def test_a_folder_locked_by_a_live_process_is_refused_a_dead_ones_lock_is_taken_
         live.wait()
     assert main(CHEAP_RUN + ["--out", str(out)]) == 0          # its process is dead: a stale lock
     assert (out / "summary.json").exists() and not (out / ".plbar-lock").exists()
+
+
+def _stop(*a, **k):
+    raise KeyboardInterrupt                                         # the user's Ctrl-C, right at the start
+
+
+@pytest.mark.parametrize("args, says", [
+    (["run", "--model", "fe", "-N", "2000", "--no-plot"], ["days", "12.3 GB", "'plbar refine'", "--yes to start"]),
+    (["sweep-loads", "--model", "fe", "-N", "2000", "--no-plot"], ["days", "GB", "--yes to start"]),
+    (["survey", "--num", "100000", "--no-plot"], ["100,000 motions x 1,000 forcing periods", "hours", "--num",
+                                                  "--yes to start"]),
+    (["run", "--model", "fe", "-N", "99999", "--no-plot", "--yes"], ["240.0 GB", "memory", "not started"])])
+def test_a_costly_job_is_refused_before_anything_is_made(tmp_path, capsys, args, says):
+    """Above an hour or half the memory: exit 2, one line with the estimate, what to do instead and --yes (before:
+    "about 4 days and 12.3 GB" and it started; a survey of 100,000 periods started without a word; -N 99999 died
+    with a MemoryError, a 74.5 GiB dense eigenproblem); larger than the memory: refused even with --yes."""
+    assert main([*args, "--out", str(tmp_path / "big")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and all(s in err for s in says), err
+    assert not (tmp_path / "big").exists()
+
+
+def test_yes_starts_a_costly_job_and_the_default_jobs_start_without_it(tmp_path, capsys, monkeypatch):
+    import plbar.cli.run as cli_run
+    import plbar.studies.survey as survey
+
+    monkeypatch.setattr(cli_run, "solve", _stop)
+    monkeypatch.setattr(survey, "run_survey", _stop)
+    assert main(["run", "--model", "fe", "-N", "2000", "--no-plot", "--yes", "--out", str(tmp_path / "a")]) == 130
+    assert "note: this solve (2000 DOFs" in capsys.readouterr().err
+    for args in (["run", "--no-plot"], ["survey", "--no-plot"]):
+        assert main([*args, "--out", str(tmp_path / "b")]) == 130
+        err = capsys.readouterr().err
+        assert "error" not in err and "note" not in err and err.startswith("plbar: interrupted"), err
+
+
+def test_an_interrupted_progress_line_says_interrupted(capsys, monkeypatch):
+    """The last line of a phase ended by Ctrl-C (before: "scanning: 0/40000 points (0 %), done in 10.0 s")."""
+    from plbar.util.progress import progress_bar
+
+    monkeypatch.setenv("PLBAR_PROGRESS_DELAY", "0")
+    with pytest.raises(KeyboardInterrupt):
+        with progress_bar(40000, True, "scanning", "point") as bar:
+            bar.update(5)
+            raise KeyboardInterrupt
+    with progress_bar(3, True, "scanning", "point") as bar:
+        bar.update(3)
+    lines = capsys.readouterr().err.splitlines()
+    assert lines[-2].startswith("plbar: scanning: 5/40000 points (0 %), interrupted after ") and "done" not in lines[-2]
+    assert lines[-1].startswith("plbar: scanning: 3/3 points (100 %), done in ")

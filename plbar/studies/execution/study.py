@@ -158,11 +158,8 @@ def run_study(folder, study: Study, executor: cf.Executor | None = None, progres
     todo = [(k, t) for k, t in zip(keys, study.tasks) if _read_task(_task_file(folder, k), k) is None]
     todo = list({k: t for k, t in todo}.items())          # duplicate tasks run once
     ex = executor or SerialExecutor()
-    bar = progress_bar(len(set(keys)), progress, study.name, "task", initial=len(set(keys)) - len(todo))
-    try:
+    with progress_bar(len(set(keys)), progress, study.name, "task", initial=len(set(keys)) - len(todo)) as bar:
         failed = _collect(ex, study.func, todo, folder, bar)
-    finally:
-        bar.close()
     if failed:
         lines = "; ".join(f"{k}: {m}" for k, m in failed[:5])
         raise StudyError(f"{len(failed)} of {len(todo)} task(s) failed ({lines}); "
