@@ -16,7 +16,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..app import (OutputSettings, case_of_run, check_output, cost_note, files_of, from_run, load_case,
-                   render_response, solve, write_response, write_response_data, write_results)
+                   render_response, select, solve, write_response, write_response_data, write_results)
 from ..errors import InputError
 from ..io import CELL_FIELDS, POINT_FIELDS, response_data
 from ..util.outputs import require
@@ -106,12 +106,14 @@ def _source(a, kind: str):
 
 
 def _solved(a, st, run: Path, case):
-    """Solve a case file and write its results into ``run`` (checked before the solve), as ``plbar run`` does."""
+    """Solve a case file and write its results into ``run`` (checked before the solve), as ``plbar run`` does; a bad
+    ``--branch``/``--index`` of the solve is refused before its results are written."""
     note = cost_note(case, yes=a.yes)              # a costly solve is refused before anything is made
     if note and not (a.quiet or a.json):
         message(note)
     with check_output(case, run, a.overwrite or st.overwrite) as claim:
         res = solve(case)
+        select(res, _pick(a.branch, st.branch), _pick(a.index, st.index))
         claim.take()
         write_results(res, run, overwrite=a.overwrite or st.overwrite)
     return res

@@ -194,3 +194,47 @@ def test_an_interrupted_progress_line_says_interrupted(capsys, monkeypatch):
     lines = capsys.readouterr().err.splitlines()
     assert lines[-2].startswith("plbar: scanning: 5/40000 points (0 %), interrupted after ") and "done" not in lines[-2]
     assert lines[-1].startswith("plbar: scanning: 3/3 points (100 %), done in ")
+
+
+CASE_TOML = '[bar]\nmodel = "chain"\nn = 5\n[search]\ngrid = [30, 30]\nsignatures = "paper"\n'
+
+
+@pytest.fixture(scope="module")
+def cheap_run(tmp_path_factory):
+    """A run folder (for export and render --from) and a cheap case file (for --case)."""
+    d = tmp_path_factory.mktemp("cheap")
+    assert main(["run", "--no-plot", "--signatures", "paper", "--grid", "30", "30", "-q", "--out", str(d / "run")]) == 0
+    (d / "c.toml").write_text(CASE_TOML)
+    return d
+
+
+REFUSED = {
+    "run": [["--T1", "-1", "2"], ["-N", "0"], ["--grid", "1", "1"], ["--load-node", "9"], ["--modes", "0"],
+            ["--model", "fe", "-N", "2000"]],
+    "refine": [["--workers", "0"], ["--executor", "dask"], ["-N", "0", "4"], ["--window", "-1"], ["--family", "foo"]],
+    "sweep-loads": [["--positions", "99"], ["-N", "0"], ["--per-element", "0"], ["--T1", "5", "1"],
+                    ["--model", "fe", "-N", "2000"]],
+    "export": [["--from", "{run}", "--branch", "999"], ["--from", "{run}", "--steps", "2"],
+               ["--from", "{run}", "--periods", "5"], ["--case", "{case}", "--from", "{new}", "--branch", "999"],
+               ["--case", "{case}", "--from", "{new}", "--index", "99999"]],
+    "render": [["--from", "{run}", "--field", "foo"], ["--from", "{run}", "--snapshots", "0"],
+               ["--case", "{case}", "--from", "{new}", "--branch", "999"]],
+}
+
+
+@pytest.mark.parametrize("cmd, bad", [(c, b) for c, bs in REFUSED.items() for b in bs],
+                         ids=[f"{c}{' '.join(b)}" for c, bs in REFUSED.items() for b in bs])
+def test_a_refused_command_leaves_no_folder(tmp_path, capsys, monkeypatch, cheap_run, cmd, bad):
+    """Every command that writes a folder validates before it makes one: a refused input (exit 2, one line) leaves
+    neither its --out nor, for export/render --case, the run folder (before: export/render --case solved and
+    wrote the run, then refused the --branch or --index; run made its folder before its cost was checked)."""
+    import sys
+
+    if cmd in ("export", "render"):
+        pytest.importorskip("pyvista")
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)         # "--executor dask" without dask installed
+    args = [b.format(run=cheap_run / "run", case=cheap_run / "c.toml", new=tmp_path / "a" / "run") for b in bad]
+    plot = ["--no-plot"] if cmd in ("run", "refine", "sweep-loads") else []
+    assert main([cmd, *args, *plot, "--out", str(tmp_path / "a" / "b"), "-q"]) == 2
+    assert capsys.readouterr().err.count("\n") == 1
+    assert not (tmp_path / "a").exists()
