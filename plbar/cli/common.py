@@ -156,10 +156,23 @@ def progress(a) -> bool:
     return not (getattr(a, "quiet", False) or getattr(a, "json", False))
 
 
-def report(a, payload: dict, text: str) -> None:
-    """Print ``payload`` as JSON (``--json``), ``text`` (default) or nothing (``--quiet``)."""
+def _paths(files):
+    """``files`` with every path as a string (name -> path, or a list of paths)."""
+    if isinstance(files, dict):
+        return {k: _paths(v) for k, v in files.items()}
+    if isinstance(files, (list, tuple)):
+        return [str(f) for f in files]
+    return str(files)
+
+
+def report(a, summary: dict, files: dict, text: str, **data) -> None:
+    """Print the result as JSON (``--json``), ``text`` (default) or nothing (``--quiet``).
+
+    The JSON is one shape for every command: ``{"summary": {...}, "files": {name: path or [paths]}}``, and the
+    command's tables ``data`` (``refine``: ``rates``, ``rows``) beside them.
+    """
     if a.json:
-        print(json.dumps(payload, default=str))
+        print(json.dumps({"summary": summary, "files": _paths(files), **data}, default=str))
     elif not a.quiet:
         print(text)
 

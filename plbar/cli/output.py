@@ -183,7 +183,8 @@ def _report(a, f, what: str) -> None:
     files = files_of(f)
     main = [v for v in files.values() if not isinstance(v, list)]
     n = sum(len(v) for v in files.values() if isinstance(v, list))
-    report(a, {"files": files, "info": getattr(f, "info", None)},
+    summary = f.info if what == "export" else {"field": f.field, "snapshots": len(f.snapshots)}
+    report(a, summary, files,
            f"plbar {what}: wrote " + ", ".join(main) + (f" and {n} more files" if n else ""))
 
 

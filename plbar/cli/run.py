@@ -106,7 +106,7 @@ def _cmd_run(a) -> int:
             files = write_results(res, out, overwrite=overwrite)
         files.update(_plots(res, out, a))            # still holding the folder's lock
     s = res.summary()
-    report(a, {"summary": s, "files": {k: str(v) for k, v in files.items()}}, _human(s, files, a.verbose))
+    report(a, s, files, _human(s, files, a.verbose))
     return 0
 
 
@@ -118,7 +118,8 @@ def _cmd_mesh(a) -> int:
     text = ("wrote " + ", ".join(str(f) for f in files)) if files else "wrote nothing"
     if kept:
         text += f"; kept {plural(len(kept), 'existing file')} (--overwrite replaces them)"
-    report(a, {"files": [str(f) for f in files], "kept": [str(claim.folder / n) for n in kept]}, text)
+    report(a, {"written": len(files), "kept": len(kept)}, {"meshes": files, "kept": [claim.folder / n for n in kept]},
+           text)
     return 0
 
 

@@ -43,7 +43,7 @@ def _cmd_sweep(a) -> int:
     if s.get("no_path"):
         lines.append(f"  {plural(len(s['no_path']), 'load')} with no path (h(q) = 0): see summary.json 'no_path'")
     lines.append("  wrote " + ", ".join(str(f) for f in r.files.values()))
-    report(a, {"summary": s, "files": {k: str(v) for k, v in r.files.items()}}, "\n".join(lines))
+    report(a, s, r.files, "\n".join(lines))
     return 0
 
 
@@ -118,10 +118,9 @@ def _cmd_refine(a) -> int:
                        rates_always=a.rates_always)
     lines = _refine_lines(r, a.rates_always) + [f"done in {r.time:.1f} s; wrote " + ", ".join(
         str(f) for v in r.files.values() for f in (v if isinstance(v, list) else [v]))]
-    payload = {"rates": r.rates, "rows": [{k: (None if isinstance(v, float) and not np.isfinite(v) else v)
-                                              for k, v in row.items()} for row in r.rows],
-               "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v) for k, v in r.files.items()}}
-    report(a, payload, "\n".join(lines))
+    rows = [{k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in row.items()}
+            for row in r.rows]
+    report(a, r.summary, r.files, "\n".join(lines), rates=r.rates, rows=rows)
     return 0
 
 
@@ -135,7 +134,8 @@ def _cmd_figures(a) -> int:
     grid = tuple(a.grid or (200, 200))
     with claim_folder(a.out, "figures", fingerprint({"grid": list(grid)}), FIGURES_OWNED, a.overwrite) as claim:
         files = make_all(claim.folder, grid=grid, which=a.only, progress=progress(a))
-    report(a, {"files": [str(f) for f in files]}, f"wrote {plural(len(files), 'file')} into {a.out}")
+    report(a, {"figures": len(files), "grid": list(grid)}, {"figures": files},
+           f"wrote {plural(len(files), 'file')} into {a.out}")
     return 0
 
 

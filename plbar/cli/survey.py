@@ -113,9 +113,7 @@ def _cmd_survey(a) -> int:
     with get_executor(kind, a.scheduler, a.workers) as ex:
         s = run_survey(case, T, a.periods, a.record, out, modes, ex, progress=progress(a), overwrite=a.overwrite,
                        plot=plot, chunks=a.chunks, paths=paths)
-    payload = {"summary": s.summary, "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v)
-                                               for k, v in s.files.items()}}
-    report(a, payload, "\n".join(_lines(s, T)))
+    report(a, s.summary, s.files, "\n".join(_lines(s, T)))
     return 0
 
 
@@ -142,8 +140,7 @@ def _loads(a, case, T, out) -> int:
                        f"{d['position_of_largest_mean_xi_eq']:g}")
     lines.append(f"  energy budget closes to {r.summary['energy_residual_max']:.1e} of the work")
     lines.append("  wrote " + ", ".join(str(f) for v in r.files.values() for f in (v if isinstance(v, list) else [v])))
-    report(a, {"summary": r.summary, "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v)
-                                               for k, v in r.files.items()}}, "\n".join(lines))
+    report(a, r.summary, r.files, "\n".join(lines))
     return 0
 
 
@@ -172,8 +169,7 @@ def _refine(a, case, T, out) -> int:
             lines.append(f"    {q:10s} {vals}  {rate}")
     lines.append("  wrote " + ", ".join(str(f) for v in r.files.values() for f in (v if isinstance(v, list)
                                                                                       else [v])))
-    report(a, {"rates": r.rates, "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v)
-                                              for k, v in r.files.items()}}, "\n".join(lines))
+    report(a, r.summary, r.files, "\n".join(lines), rates=r.rates)
     return 0
 
 

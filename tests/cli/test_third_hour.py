@@ -238,3 +238,34 @@ def test_a_refused_command_leaves_no_folder(tmp_path, capsys, monkeypatch, cheap
     assert main([cmd, *args, *plot, "--out", str(tmp_path / "a" / "b"), "-q"]) == 2
     assert capsys.readouterr().err.count("\n") == 1
     assert not (tmp_path / "a").exists()
+
+
+JSON_COMMANDS = {
+    "run": ["run", "--no-plot", "--signatures", "paper", "--grid", "30", "30"],
+    "mesh": ["mesh"],
+    "sweep-loads": ["sweep-loads", "--no-plot", "--grid", "30", "30", "--positions", "1", "2"],
+    "refine": ["refine", "-N", "3", "4", "--grid", "30", "30", "--executor", "serial", "--no-plot"],
+    "figures": ["figures", "--only", "fig2", "--grid", "20", "20"],
+    "survey": ["survey", "--num", "3", "--periods", "20", "--no-plot", "--executor", "serial"],
+    "export": ["export", "--from", "{run}", "--steps", "8"],
+    "render": ["render", "--from", "{run}", "--steps", "8", "--snapshots", "1", "--no-gif"],
+}
+
+
+@pytest.mark.parametrize("cmd", list(JSON_COMMANDS))
+def test_every_commands_json_is_one_shape(tmp_path, capsys, cheap_run, cmd):
+    """``--json``: a top-level ``summary`` object and a ``files`` object (name -> path or list of paths), for every
+    command (before: refine had no summary, export and render an ``info``, mesh and figures a list of files)."""
+    import json
+
+    if cmd in ("export", "render"):
+        pytest.importorskip("pyvista")
+    if cmd == "figures":
+        pytest.importorskip("matplotlib")
+    args = [x.format(run=cheap_run / "run") for x in JSON_COMMANDS[cmd]]
+    assert main([*args, "--out", str(tmp_path / "o"), "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    assert isinstance(got["summary"], dict) and got["summary"], got
+    assert isinstance(got["files"], dict) and got["files"], got
+    assert all(isinstance(v, (str, list)) for v in got["files"].values())
+    assert "info" not in got
