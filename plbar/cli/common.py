@@ -22,7 +22,7 @@ from ..app import Case, load_case
 from ..errors import InputError
 from ..model import rayleigh_from_ratio
 
-__all__ = ["output_args", "yes_arg", "case_args", "case_from_args", "progress", "report", "hidden", "plural"]
+__all__ = ["output_args", "yes_arg", "case_args", "case_from_args", "case_flags", "progress", "report", "hidden", "plural"]
 
 hidden = argparse.SUPPRESS
 
@@ -149,6 +149,28 @@ def case_from_args(a):
               signatures=getattr(a, "signatures", None), modes=a.modes, end_mass=a.end_mass,
               end_mass_absolute=a.end_mass_absolute, rayleigh=_rayleigh(a))
     return Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None}), None
+
+
+def case_flags(a, skip=()) -> str:
+    """The model and load options given in ``a`` as command-line text (``--case FILE`` for a case file), leaving out
+    the dest names ``skip``: to name another command on the same case."""
+    if getattr(a, "case", None):
+        return f"--case {a.case}"
+    words = []
+    for dest, flag in CASE_OPTIONS.items():
+        v = getattr(a, dest, None)
+        if v is None or dest in skip:
+            continue
+        flag = flag.split("/")[0]
+        if v is True:
+            words.append(flag)
+        elif isinstance(v, (list, tuple)) and dest in ("load_node", "load_at"):
+            words += [f"{flag} {x:g}" for x in v]
+        elif isinstance(v, (list, tuple)):
+            words.append(f"{flag} {' '.join(f'{x:g}' for x in v)}")
+        else:
+            words.append(f"{flag} {v:g}" if isinstance(v, (int, float)) else f"{flag} {v}")
+    return " ".join(words)
 
 
 def progress(a) -> bool:

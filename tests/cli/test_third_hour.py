@@ -269,3 +269,30 @@ def test_every_commands_json_is_one_shape(tmp_path, capsys, cheap_run, cmd):
     assert isinstance(got["files"], dict) and got["files"], got
     assert all(isinstance(v, (str, list)) for v in got["files"].values())
     assert "info" not in got
+
+
+FE_RUN = ["run", "--model", "fe", "-N", "6", "--element", "P2", "--mass", "consistent", "--load-at", "0.37", "--grid",
+          "60", "60", "--signatures", "paper", "--no-plot"]
+
+
+def test_an_fe_run_leads_with_its_stable_responses(tmp_path, capsys):
+    """The summary says how many points are stable, lists branches with stable points first and no branch of fewer
+    than 3 points (before: a 1-point branch in the top five, the stable ones among the rest)."""
+    assert main([*FE_RUN, "--out", str(tmp_path / "f")]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert "points are stable, on 2 branches" in out[3]
+    listed = [line for line in out if line.startswith("  branch ")]
+    stable = [int(line.rsplit(",", 1)[1].split()[0]) > 0 for line in listed]
+    assert len(listed) == 5 and stable == sorted(stable, reverse=True) and stable[0]
+    assert all(int(line.split(":")[1].split()[0]) >= 3 for line in listed)
+
+
+def test_a_run_without_a_stable_point_points_to_the_survey(tmp_path, capsys):
+    """No stable point: one line says so and names the survey with the same case options."""
+    fe = FE_RUN[:FE_RUN.index("--grid")]
+    assert main([*fe, "--grid", "40", "40", "--signatures", "paper", "--no-plot", "--T1", "0.08", "0.16", "--T2", "0.6",
+                 "0.85", "--out", str(tmp_path / "f")]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[3].startswith("  none of the 385 points is stable") and out[3].endswith(
+        "run plbar survey --model fe -N 6 --element P2 --mass consistent --load-at 0.37")
+    assert "stable points first" not in out[4]
