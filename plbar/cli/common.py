@@ -22,7 +22,8 @@ from ..app import Case, load_case
 from ..errors import InputError
 from ..model import rayleigh_from_ratio
 
-__all__ = ["output_args", "yes_arg", "case_args", "case_from_args", "case_flags", "progress", "report", "hidden", "plural"]
+__all__ = ["output_args", "yes_arg", "case_args", "case_from_args", "case_flags", "progress", "report", "hidden",
+           "plural"]
 
 hidden = argparse.SUPPRESS
 

@@ -8,6 +8,7 @@ from pathlib import Path
 from ..app import check_output, cost_note, run_case_file, solve, write_results
 from ..errors import InputError
 from ..io import SHIPPED, write_shipped
+from ..util.check import MIN_BRANCH_POINTS
 from ..util.outputs import claim_folder, fingerprint
 from ..util.progress import message
 from .common import case_args, case_flags, case_from_args, output_args, plural, progress, report, yes_arg
@@ -15,7 +16,6 @@ from .common import case_args, case_flags, case_from_args, output_args, plural, 
 __all__ = ["register"]
 
 TOP = 5     #: branches listed by default (stable ones first, then the largest xi_eq); --verbose lists all
-SHORT = 3   #: a branch of fewer points is left out of the default list (a fragment of the grid)
 #: the search options of ``plbar run`` that ``plbar survey`` does not take
 SEARCH = ("grid", "T1", "T2", "method", "signatures")
 
@@ -27,16 +27,18 @@ def _line(b: dict, damped: bool = False) -> str:
             f"{b['stable_points']} stable")
 
 
-def _stable_line(summary: dict, survey: str) -> str:
+def _stable_lines(summary: dict, survey: str) -> list[str]:
     """What to look at first: the stable points (what a real bar can settle on), or, without any, the survey."""
     brs = summary["branches"] + summary.get("other_signatures", [])
     total, stable = sum(b["points"] for b in brs), sum(b["stable_points"] for b in brs)
+    if not total:
+        return []                                      # nothing found: said by solve's warning
     if not stable:
-        return (f"  none of the {plural(total, 'point')} is stable: a real bar settles on none of these responses; to see "
-                f"what it does, run plbar survey {survey}".rstrip())
+        return [f"  none of the {plural(total, 'point')} is stable: a real bar settles on none of these responses; to "
+                f"see what it does, run plbar survey {survey}".rstrip()]
     on = sum(b["stable_points"] > 0 for b in brs)
-    return (f"  {stable:,} of {total:,} points are stable, on {plural(on, 'branch')}: what a real bar can settle on "
-            "(the unstable ones it leaves); listed first")
+    return [f"  {stable:,} of {total:,} points are stable, on {plural(on, 'branch')}: what a real bar can settle on "
+            "(the unstable ones it leaves); listed first"]
 
 
 def _human(summary: dict, files: dict, verbose: bool, survey: str = "") -> str:
@@ -44,22 +46,22 @@ def _human(summary: dict, files: dict, verbose: bool, survey: str = "") -> str:
     lines = [f"plbar: {summary['bar']}; load {summary['load']}",
              f"  fundamental periods T0_I = {summary['T0_I']:.6g}, T0_II = {summary['T0_II']:.6g}",
              f"  {plural(summary['n_branches'], 'branch')}, {plural(summary['n_points'], 'admissible path point')} "
-             f"in {summary['run_time']:.3g} s", _stable_line(summary, survey)]
+             f"in {summary['run_time']:.3g} s", *_stable_lines(summary, survey)]
     if summary.get("rayleigh"):
         lines.insert(2, f"  Rayleigh damping alpha = {summary['rayleigh'][0]:.6g}, beta = {summary['rayleigh'][1]:.6g}")
     order = sorted(brs, key=lambda b: (b["stable_points"] == 0, -b["xi_range"][1]))
-    shown = order if verbose else [b for b in order if b["points"] >= SHORT][:TOP]
+    shown = order if verbose else [b for b in order if b["points"] >= MIN_BRANCH_POINTS][:TOP]
     if shown and len(shown) < len(brs):
         first = "stable points first, then the largest xi_eq" if shown[0]["stable_points"] else "the largest xi_eq"
         lines.append(f"  {'the ' if len(shown) > 1 else ''}{plural(len(shown), 'branch')} with {first}, of at least "
-                     f"{SHORT} points (--verbose lists all {len(brs)}):")
+                     f"{MIN_BRANCH_POINTS} points (--verbose lists all {len(brs)}):")
     lines += [_line(b, bool(summary.get("rayleigh"))) for b in shown]
     if not verbose and len(shown) < len(brs):
         rest = [b for b in brs if b not in shown]
-        short = sum(b["points"] < SHORT for b in rest)
+        short = sum(b["points"] < MIN_BRANCH_POINTS for b in rest)
         lines.append(f"  ... {plural(len(rest), 'more branch')} with {plural(sum(b['points'] for b in rest), 'point')} "
-                     f"(max xi_eq {max(b['xi_range'][1] for b in rest):.4g}; {short} with fewer than {SHORT} points): "
-                     "all in paths.csv and summary.json")
+                     f"(max xi_eq {max(b['xi_range'][1] for b in rest):.4g}; {short} with fewer than "
+                     f"{MIN_BRANCH_POINTS} points): all in paths.csv and summary.json")
     other = summary.get("other_signatures", [])
     if other:
         by = {}
@@ -153,8 +155,8 @@ def register(sub) -> None:
     r.add_argument("--no-plot", action="store_true", help="skip the PNG plots")
     r.add_argument("--plot-xi", choices=("eq", "w"), default="eq",
                    help="the damping ratio drawn: xi_eq of Eq. (22), or xi_w (one frequency, the forcing's) [eq]")
-    r.add_argument("--verbose", "-v", action="store_true", help="list every branch (default: 5 of at least 3 points, stable ones first, then by "
-                                                         "xi_eq)")
+    r.add_argument("--verbose", "-v", action="store_true",
+                   help="list every branch (default: 5 of at least 3 points, stable ones first, then by xi_eq)")
     yes_arg(r)
     case_args(r)
     r.set_defaults(func=_cmd_run)

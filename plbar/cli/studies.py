@@ -35,10 +35,10 @@ def _cmd_sweep(a) -> int:
                     progress=progress(a), plot=plot, positions_csv=a.positions_csv, overwrite=a.overwrite)
     s = r.summary
     lines = [f"plbar sweep-loads: {plural(len(r), 'path point')} from one solve "
-             f"({s['times']['solve']:.3g} s), {plural(s['positions'], 'position')} and the worst load in "
-             f"{s['times']['load_study']:.3g} s"]
+             f"({s['times']['solve']:.3g} s), {plural(s['positions'], 'position')} and the load of the largest "
+             f"xi_eq in {s['times']['load_study']:.3g} s"]
     for fam, e in s.get("families", {}).items():
-        lines.append(f"  {fam:8s}: worst load xi_eq = {e['xi_worst_max']:.4f}, best single force "
+        lines.append(f"  {fam:8s}: largest xi_eq of any load = {e['xi_worst_max']:.4f}, best single force "
                      f"{e['xi_best_single_max']:.4f} at s = {e['s_at_best_single']:.4g}")
     if s.get("no_path"):
         lines.append(f"  {plural(len(s['no_path']), 'load')} with no path (h(q) = 0): see summary.json 'no_path'")
@@ -154,8 +154,8 @@ def register(sub) -> None:
     s = sub.add_parser("sweep-loads", help="xi_eq for loads anywhere on the bar, from one solve (paper Sec. 4.2)",
                        description="Solve the case once (its load is the reference: any load with a contact "
                                    "response gives the same paths), then xi_eq and Delta_PL of a unit force at "
-                                   "many positions, the node pairs (Fig. 9) and the worst load distribution at "
-                                   "every path point.  Writes DIR/xi_positions.npz, worst_load.csv, "
+                                   "many positions, the node pairs (Fig. 9) and the load distribution of the largest "
+                                   "xi_eq at every path point.  Writes DIR/xi_positions.npz, worst_load.csv, "
                                    "worst_load_shapes.npz, load_pairs.csv, xi_along_mesh.vtu, xi_T_s.png, "
                                    "summary.json.")
     output_args(s, "plbar-sweep", "study folder")

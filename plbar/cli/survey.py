@@ -28,13 +28,14 @@ def _periods(a, case) -> np.ndarray:
 
     if a.T_list:
         return np.asarray(a.T_list, float)
+    if a.num < 2:
+        raise InputError(f"--num {a.num} is not a range of forcing periods: give --num 2 or more, or one period with "
+                         "--T-list T")
     if a.T is None:
         return default_periods(case, a.num)
     lo, hi = a.T
     if not (np.isfinite(lo) and np.isfinite(hi) and 0 < lo <= hi):
         raise InputError(f"--T {lo:g} {hi:g} must be a range 0 < LO <= HI of forcing periods")
-    if a.num < 1:
-        raise InputError(f"--num {a.num} must be at least 1")
     return np.linspace(lo, hi, a.num)
 
 
@@ -188,7 +189,7 @@ def register(sub) -> None:
     g = s.add_argument_group("forcing periods")
     g.add_argument("--T", type=float, nargs=2, default=None, metavar=("LO", "HI"),
                    help="range of forcing periods [6 14 for the paper's case; 0.6-1.4 T0_I for a chain, "
-                        "0.75-2.25 T0_I for an FE bar]")
+                        "0.75 T0_I to the top of what 'plbar run' searches, (T0_I + T0_II)/2, for an FE bar]")
     g.add_argument("--num", type=int, default=161, metavar="K", help="forcing periods in the range [161]")
     g.add_argument("--T-list", dest="T_list", type=float, nargs="+", default=None, metavar="T",
                    help="explicit forcing periods (instead of --T/--num)")

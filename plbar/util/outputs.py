@@ -49,8 +49,8 @@ from ..errors import InputError, OutputExistsError
 from .files import write_json
 from .version import __version__
 
-__all__ = ["check_creatable", "MARKER", "LOCK", "Owner", "Claim", "fingerprint", "read_owner", "check_folder", "claim_folder",
-           "check_writable", "clear_owned", "require", "refuse_existing", "EXTRAS"]
+__all__ = ["check_creatable", "MARKER", "LOCK", "Owner", "Claim", "fingerprint", "read_owner", "check_folder",
+           "claim_folder", "check_writable", "clear_owned", "require", "refuse_existing", "EXTRAS"]
 
 #: the owner marker every command writes into its output folder
 MARKER = ".plbar-owner.json"

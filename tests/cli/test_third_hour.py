@@ -296,3 +296,46 @@ def test_a_run_without_a_stable_point_points_to_the_survey(tmp_path, capsys):
     assert out[3].startswith("  none of the 385 points is stable") and out[3].endswith(
         "run plbar survey --model fe -N 6 --element P2 --mass consistent --load-at 0.37")
     assert "stable points first" not in out[4]
+
+
+def test_nothing_found_warns_and_the_plot_covers_the_range_asked(tmp_path, capsys, monkeypatch):
+    """A search window with no response: a warning naming it, and a figure over the range asked (before: "0
+    branches" without a word, then 'failed: ValueError: Data cannot be log-scaled', exit 1)."""
+    pytest.importorskip("matplotlib")
+    import plbar.visuals.plots as plots
+
+    seen = {}
+    save = plots._save
+
+    def spy(fig, out, name):
+        seen[name] = fig.axes[-1].get_xlim()
+        return save(fig, out, name)
+
+    monkeypatch.setattr(plots, "_save", spy)
+    assert main(["run", "--T1", "0.001", "0.002", "--T2", "0.001", "0.002", "--grid", "40", "40", "--signatures",
+                 "paper", "--out", str(tmp_path / "e")]) == 0
+    err = capsys.readouterr().err
+    assert "warning: no admissible periodic response in T1 = [0.001, 0.002]" in err
+    assert seen["frequency_response"] == pytest.approx((0.002, 0.004))
+
+
+def test_small_inputs_say_what_they_do(tmp_path, capsys):
+    """survey --num 1 is refused with what to give (before: only T = 6, a clipped figure); --modes beyond the DOFs is
+    refused (before: accepted and recorded as 1000); the FE survey's default periods end where run's search does
+    (before: up to 2.25 T0_I, half the figure without exact branches); sweep-loads says "largest xi_eq", not "worst"."""
+    import plbar
+    from plbar.app.signatures import hybrid_window
+    from plbar.paths.branches import default_domain
+    from plbar.studies.survey import default_periods
+
+    assert main(["survey", "--num", "1", "--out", str(tmp_path / "s"), "-q"]) == 2
+    assert "--T-list" in capsys.readouterr().err and not (tmp_path / "s").exists()
+    assert main(["run", "--modes", "1000", "--no-plot", "--out", str(tmp_path / "m")]) == 2
+    assert "at most 5" in capsys.readouterr().err and not (tmp_path / "m").exists()
+    case = plbar.Case(model="fe", n=8)
+    prob = case.problem()
+    assert default_periods(case, 5)[-1] == pytest.approx(hybrid_window(prob, default_domain(prob))[1])
+    assert main(["sweep-loads", "-N", "4", "--load-at", "1.5", "--grid", "40", "40", "--positions", "1", "2",
+                 "--no-plot", "--out", str(tmp_path / "w")]) == 0
+    out = capsys.readouterr().out
+    assert "largest xi_eq of any load" in out and "worst" not in out.replace("worst_load", "")
