@@ -158,9 +158,11 @@ def frequency_response(res, out, name: str = "frequency_response", xi: str = "eq
     ev = _event_points(res.branches, None if xi == "eq" else [b.xi_w for b in res.branches])
     _draw_events(ax2, ev, (2, 3))
     _draw_signatures(ax1, ax2, getattr(res, "hybrid", ()), xi)
-    T0I, T0II = res.paths.prob.system.T0
-    _anchors(ax1, T0I, T0II)
-    _anchors(ax2, T0I, T0II, label=False)
+    found = bool(res.branches or getattr(res, "hybrid", ()))
+    if found:                       # (without a response, T0's labels would lie far outside the range asked)
+        T0I, T0II = res.paths.prob.system.T0
+        _anchors(ax1, T0I, T0II)
+        _anchors(ax2, T0I, T0II, label=False)
     ax1.set_ylabel(r"max $|x_c|$ (contact node)")
     ax2.set_ylabel(r"$\xi_{eq}$ (Eq. 22)" if xi == "eq" else r"$\xi_\omega$ (one frequency, the forcing's)")
     ax2.set_xlabel("forcing period $T$")
@@ -174,7 +176,7 @@ def frequency_response(res, out, name: str = "frequency_response", xi: str = "eq
         ax1.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
     if ev:
         ax2.legend(loc="best", framealpha=0.8, title="events")
-    if res.branches or getattr(res, "hybrid", ()):
+    if found:
         ax1.set_yscale("log")
         _plain_log_ticks(ax1)
     else:                                   # nothing found: say so over the range asked (no log axis of nothing)
