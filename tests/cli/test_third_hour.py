@@ -155,7 +155,8 @@ def _stop(*a, **k):
     (["sweep-loads", "--model", "fe", "-N", "2000", "--no-plot"], ["days", "GB", "--yes to start"]),
     (["survey", "--num", "100000", "--no-plot"], ["100,000 motions x 1,000 forcing periods", "hours", "--num",
                                                   "--yes to start"]),
-    (["run", "--model", "fe", "-N", "99999", "--no-plot", "--yes"], ["240.0 GB", "memory", "not started"])])
+    (["run", "--model", "fe", "-N", "99999", "--no-plot", "--yes"], ["240.0 GB", "memory", "not started"])],
+    ids=["run", "sweep-loads", "survey", "beyond-memory"])
 def test_a_costly_job_is_refused_before_anything_is_made(tmp_path, capsys, args, says):
     """Above an hour or half the memory: exit 2, one line with the estimate, what to do instead and --yes (before:
     "about 4 days and 12.3 GB" and it started; a survey of 100,000 periods started without a word; -N 99999 died
