@@ -160,6 +160,9 @@ class Case:
             if getattr(self, nm) is not None:
                 object.__setattr__(self, nm, interval(f"search domain {nm}", getattr(self, nm)))
         bar = self._make_bar()                 # fail now on the mesh (file), point masses, section and load
+        if self.modes is not None and self.modes > bar.n_dofs:
+            raise InputError(f"modes = {self.modes} is more than the {bar.n_dofs} degrees of freedom of this bar; "
+                             f"give at most {bar.n_dofs} (--modes M), or none for the full model")
         if not self.load_nodes and not self.load_points:     # the default load: a fixed physical position
             if self.model == "chain":
                 object.__setattr__(self, "load_nodes", ((1, 1.0),))

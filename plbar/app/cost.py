@@ -4,18 +4,28 @@ The time of :func:`plbar.solve` is set by the modes it keeps (the degrees of fre
 ``modes``) and the scan grid.  Measured on 2 cores (FE P1 lumped, 200 x 200 grid; the chain N = 5 for the
 smallest size): :data:`MEASURED`.  Between the sizes measured the estimate interpolates on log-log axes;
 beyond them it grows like ``n^2.1`` (time, the README's fit over N = 10..100) and ``n^0.56`` (memory, the last
-measured slope).  An estimate, good to a factor of about 2.
+measured slope), and the memory is at least the dense eigenproblem's (:data:`DENSE_COPIES` arrays of n x n).  An
+estimate, good to a factor of about 2.  A survey's time is its simulated forcing periods times the measured cost
+of one (:data:`SURVEY_PERIOD`).
+
+:func:`check_cost` is the one rule of every command before a costly job: above :data:`LIMIT_SECONDS` or
+:data:`RAM_SHARE` of the machine's memory it is refused unless the user says ``--yes``; a job that cannot fit in
+the machine's memory at all is refused always (before anything is allocated).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+import os
+
 import numpy as np
 
+from ..errors import InputError
 from .case import Case
 
-__all__ = ["Cost", "estimate_cost", "cost_note", "MEASURED", "MEMORY", "NOTE_SECONDS", "SIGNATURES"]
+__all__ = ["Cost", "estimate_cost", "cost_note", "check_cost", "survey_seconds", "duration", "MEASURED", "MEMORY",
+           "NOTE_SECONDS", "LIMIT_SECONDS", "RAM_SHARE", "SIGNATURES", "SURVEY_PERIOD"]
 
 #: (modes per state, seconds) measured for a 200 x 200 grid (README "Speed"; the chain N = 5 for n = 5)
 MEASURED = ((5, 0.7), (10, 5.0), (20, 29.0), (50, 239.0), (100, 583.0))
@@ -28,6 +38,13 @@ SIGNATURES_EXPONENT = 1.7    #: beyond the largest size measured
 TIME_EXPONENT = 2.1      #: beyond the largest size measured
 MEMORY_EXPONENT = 0.56   #: beyond the largest size measured
 NOTE_SECONDS = 60.0      #: above this estimate ``plbar run`` says so before it starts
+LIMIT_SECONDS = 3600.0   #: above this estimate a command starts only with ``--yes``
+RAM_SHARE = 0.5          #: ... or above this share of the machine's memory
+DENSE_COPIES = 3         #: dense n x n arrays of the eigenproblem (K, M, the modes): the memory floor
+#: (degrees of freedom, seconds to simulate one forcing period of one motion), measured on 1 core (busy): the
+#: paper's chain N = 5 (20000 periods, periodic motions) and FE P1 lumped N = 16 (2000 periods, irregular)
+SURVEY_PERIOD = ((5, 2.0e-4), (16, 3.5e-3))
+SURVEY_EXPONENT = 2.5    #: beyond the largest size measured (the slope between the two)
 GRID = 200 * 200         #: the grid of the measurements
 
 
@@ -59,26 +76,81 @@ def estimate_cost(case: Case) -> Cost:
     modes = dofs if case.modes is None else min(case.modes, dofs)
     g = case.grid[0] * case.grid[1] / GRID
     sig = 0.0 if case.signatures == "paper" else _loglog(modes, SIGNATURES, SIGNATURES_EXPONENT)
-    return Cost(_loglog(modes, MEASURED, TIME_EXPONENT) * g + sig, _loglog(modes, MEMORY, MEMORY_EXPONENT), modes,
-                dofs, tuple(case.grid), sig)
+    dense = DENSE_COPIES * 8.0 * dofs ** 2 / 1e9
+    return Cost(_loglog(modes, MEASURED, TIME_EXPONENT) * g + sig,
+                max(_loglog(modes, MEMORY, MEMORY_EXPONENT), dense), modes, dofs, tuple(case.grid), sig)
 
 
-def _duration(s: float) -> str:
+def survey_seconds(case: Case, motions: int, periods: int) -> float:
+    """The estimated CPU time of simulating ``motions`` motions of ``case`` over ``periods`` forcing periods each."""
+    return motions * periods * _loglog(case.bar().n_dofs, SURVEY_PERIOD, SURVEY_EXPONENT)
+
+
+def duration(s: float) -> str:
+    """``"45 s"``, ``"3 minutes"``, ``"4 hours"``, ``"2 days"``."""
     for unit, size in (("days", 86400.0), ("hours", 3600.0), ("minutes", 60.0)):
         if s >= 2 * size:
             return f"{s / size:.0f} {unit}"
     return f"{s:.0f} s"
 
 
-def cost_note(case: Case, threshold: float = NOTE_SECONDS) -> str | None:
-    """One line: what a solve of ``case`` will cost and what to do instead, if above ``threshold`` s (else None)."""
+#: what to use instead of a costly solve
+CHEAPER = ("to follow one family to fine meshes use 'plbar refine', to locate paths fast use --modes M (never for "
+           "xi_eq), or a coarser --grid")
+
+
+def _solve_text(case: Case, c: Cost) -> str:
+    kept = "the full model" if case.modes is None else f"{c.modes} modes per state"
+    sig = (f", {duration(c.signatures)} of it the search for every other signature (--signatures paper skips "
+           "it)") if c.signatures > 0.25 * c.seconds else ""
+    return (f"this solve ({c.dofs} DOFs, {kept}, grid {c.grid[0]} x {c.grid[1]}) will take about "
+            f"{duration(c.seconds)}{sig} and {c.gigabytes:.1f} GB (the time grows like DOFs^2.1: README 'Speed')")
+
+
+def cost_note(case: Case, threshold: float = NOTE_SECONDS, yes: bool = False) -> str | None:
+    """One line: what a solve of ``case`` will cost and what to do instead, if above ``threshold`` s (else None).
+
+    First :func:`check_cost`: a solve above the limits is refused unless ``yes``.
+    """
     c = estimate_cost(case)
+    check_cost(c.seconds, c.gigabytes, _solve_text(case, c), CHEAPER, yes)
     if c.seconds <= threshold:
         return None
-    kept = "the full model" if case.modes is None else f"{c.modes} modes per state"
-    sig = (f", {_duration(c.signatures)} of it the search for every other signature (--signatures paper skips "
-           "it)") if c.signatures > 0.25 * c.seconds else ""
-    return (f"plbar: note: this solve ({c.dofs} DOFs, {kept}, grid {c.grid[0]} x {c.grid[1]}) will take about "
-            f"{_duration(c.seconds)}{sig} and {c.gigabytes:.1f} GB (the time grows like DOFs^2.1: README 'Speed'); "
-            "to follow one family to fine meshes use 'plbar refine', to locate paths fast use --modes M "
-            "(never for xi_eq), or a coarser --grid")
+    return f"plbar: note: {_solve_text(case, c)}; {CHEAPER}"
+
+
+def _machine_gigabytes() -> float | None:
+    """The machine's memory (GB), None where unknown."""
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 1e9
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def check_cost(seconds: float, gigabytes: float, job: str, cheaper: str, yes: bool) -> None:
+    """Refuse a costly job before it starts (the one rule of every command; see the module docstring).
+
+    Parameters
+    ----------
+    seconds, gigabytes : float
+        The job's estimated time (on this machine's cores) and peak memory.
+    job : str
+        What the job is and what it will cost (``"this solve (...) will take about 4 days and 12.3 GB"``).
+    cheaper : str
+        What to do instead.
+    yes : bool
+        The user's ``--yes``: start a job above the limits anyway (never one larger than the memory).
+
+    Raises
+    ------
+    InputError
+        Above :data:`LIMIT_SECONDS` or :data:`RAM_SHARE` of the memory without ``yes``; above the memory always.
+    """
+    ram = _machine_gigabytes()
+    if ram is not None and gigabytes > ram:
+        raise InputError(f"{job}: more than this machine's {ram:.1f} GB of memory, so it is not started; {cheaper}")
+    if yes:
+        return
+    if seconds > LIMIT_SECONDS or (ram is not None and gigabytes > RAM_SHARE * ram):
+        limit = f"{duration(LIMIT_SECONDS)} or {RAM_SHARE * ram:.1f} GB" if ram else duration(LIMIT_SECONDS)
+        raise InputError(f"{job}, above the {limit} plbar starts without asking; {cheaper}; --yes to start anyway")

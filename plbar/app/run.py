@@ -108,7 +108,7 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
     """Solve ``case`` (default: the paper's chain N = 5, unit force on DOF 1).
 
     Warns (:class:`plbar.errors.CoarseGridWarning`) when the scan grid has
-    fewer than 20 points along an axis, or a branch has fewer than 3 points.
+    fewer than 20 points along an axis, a branch has fewer than 3 points, or nothing is found.
     """
     if case is None:
         case = Case()
@@ -136,7 +136,16 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
                       f"{MIN_BRANCH_POINTS} points on grid = "
                       f"{case.grid}; refine the grid (or narrow T1/T2) to resolve them", CoarseGridWarning,
                       stacklevel=2)
+    if not paths.branches and not hybrid:
+        warnings.warn(f"no admissible periodic response in T1 = {_interval(domain.T1)}, T2 = {_interval(domain.T2)} "
+                      f"(forcing periods T in {_interval((domain.T1[0] + domain.T2[0], domain.T1[1] + domain.T2[1]))})"
+                      f" on grid = {case.grid}; widen T1/T2 (default (0, T0/2] each) or refine the grid",
+                      CoarseGridWarning, stacklevel=2)
     return Result(case, paths, time.perf_counter() - t0, hybrid)
+
+
+def _interval(r) -> str:
+    return f"[{r[0]:.6g}, {r[1]:.6g}]"
 
 
 def _first_hybrid_id(res: Result) -> int:

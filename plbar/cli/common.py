@@ -3,7 +3,10 @@
 * ``--out DIR`` is where a command writes; ``--from DIR`` is a previous run it reads;
 * ``--overwrite`` lets a command replace what another command or case owns in its ``--out``
   (:func:`plbar.util.outputs.claim_folder`, never silently);
-* ``--quiet`` prints nothing on success, ``--json`` prints the result as JSON (both without progress bars);
+* ``--quiet`` prints nothing on success, ``--json`` prints the result as JSON (both without progress bars); the
+  JSON is one shape for every command: ``{"summary": {...}, "files": ...}`` (:func:`report`);
+* ``--yes`` starts a job estimated above an hour or half the machine's memory (else refused with the estimate and
+  what to do instead: :func:`plbar.app.cost.check_cost`);
 * the model is ``--model``, ``-N/--elements``, ``--element``, ``--mass``, ``--end-mass``; the inherent damping
   ``--rayleigh A B`` or ``--damping-ratio XI --at T_A T_B`` (``--damping-at``); the load ``--load-node`` /
   ``--load-at``; a TOML file is ``--case FILE`` (``plbar run FILE`` too) and then no model, load or search option
@@ -19,7 +22,8 @@ from ..app import Case, load_case
 from ..errors import InputError
 from ..model import rayleigh_from_ratio
 
-__all__ = ["output_args", "case_args", "case_from_args", "progress", "report", "hidden", "plural"]
+__all__ = ["output_args", "yes_arg", "case_args", "case_from_args", "case_flags", "progress", "report", "hidden",
+           "plural"]
 
 hidden = argparse.SUPPRESS
 
@@ -40,6 +44,13 @@ def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None
                    help="replace what another command or case owns in DIR (its owner marker .plbar-owner.json)")
     g.add_argument("--quiet", "-q", action="store_true", help="print nothing on success (no progress bars)")
     g.add_argument("--json", action="store_true", help="print the result as JSON (no progress bars)")
+
+
+def yes_arg(p: argparse.ArgumentParser) -> None:
+    """``--yes``: start a costly job that is otherwise refused (:func:`plbar.app.cost.check_cost`)."""
+    p.add_argument("--yes", "-y", action="store_true",
+                   help="start a job estimated above an hour or half of this machine's memory (else refused, with "
+                        "the estimate and a cheaper command)")
 
 
 def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", sizes=None, at: bool = True,
@@ -141,15 +152,50 @@ def case_from_args(a):
     return Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None}), None
 
 
+def case_flags(a, skip=()) -> str:
+    """The model and load options given in ``a`` as command-line text (``--case FILE`` for a case file), leaving out
+    the dest names ``skip``: to name another command on the same case."""
+    if getattr(a, "case", None):
+        return f"--case {a.case}"
+    words = []
+    for dest, flag in CASE_OPTIONS.items():
+        v = getattr(a, dest, None)
+        if v is None or dest in skip:
+            continue
+        flag = flag.split("/")[0]
+        if v is True:
+            words.append(flag)
+        elif isinstance(v, (list, tuple)) and dest in ("load_node", "load_at"):
+            words += [f"{flag} {x:g}" for x in v]
+        elif isinstance(v, (list, tuple)):
+            words.append(f"{flag} {' '.join(f'{x:g}' for x in v)}")
+        else:
+            words.append(f"{flag} {v:g}" if isinstance(v, (int, float)) else f"{flag} {v}")
+    return " ".join(words)
+
+
 def progress(a) -> bool:
     """Progress bars (stderr) unless ``--quiet`` or ``--json``."""
     return not (getattr(a, "quiet", False) or getattr(a, "json", False))
 
 
-def report(a, payload: dict, text: str) -> None:
-    """Print ``payload`` as JSON (``--json``), ``text`` (default) or nothing (``--quiet``)."""
+def _paths(files):
+    """``files`` with every path as a string (name -> path, or a list of paths)."""
+    if isinstance(files, dict):
+        return {k: _paths(v) for k, v in files.items()}
+    if isinstance(files, (list, tuple)):
+        return [str(f) for f in files]
+    return str(files)
+
+
+def report(a, summary: dict, files: dict, text: str, **data) -> None:
+    """Print the result as JSON (``--json``), ``text`` (default) or nothing (``--quiet``).
+
+    The JSON is one shape for every command: ``{"summary": {...}, "files": {name: path or [paths]}}``, and the
+    command's tables ``data`` (``refine``: ``rates``, ``rows``) beside them.
+    """
     if a.json:
-        print(json.dumps(payload, default=str))
+        print(json.dumps({"summary": summary, "files": _paths(files), **data}, default=str))
     elif not a.quiet:
         print(text)
 

@@ -15,13 +15,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..app import (OutputSettings, case_of_run, check_output, files_of, from_run, load_case, render_response, solve,
-                   write_response, write_response_data, write_results)
+from ..app import (OutputSettings, case_of_run, check_output, cost_note, files_of, from_run, load_case,
+                   render_response, select, solve, write_response, write_response_data, write_results)
 from ..errors import InputError
 from ..io import CELL_FIELDS, POINT_FIELDS, response_data
 from ..util.outputs import require
 from ..util.progress import message
-from .common import hidden, progress, report
+from .common import hidden, progress, report, yes_arg
 
 __all__ = ["register"]
 
@@ -46,6 +46,7 @@ def _source_args(p, kind: str) -> None:
                         "run folder)")
     p.add_argument("--quiet", "-q", action="store_true", help="print nothing on success")
     p.add_argument("--json", action="store_true", help="print the written files as JSON")
+    yes_arg(p)
 
 
 def _pick(arg, setting):
@@ -105,9 +106,14 @@ def _source(a, kind: str):
 
 
 def _solved(a, st, run: Path, case):
-    """Solve a case file and write its results into ``run`` (checked before the solve), as ``plbar run`` does."""
+    """Solve a case file and write its results into ``run`` (checked before the solve), as ``plbar run`` does; a bad
+    ``--branch``/``--index`` of the solve is refused before its results are written."""
+    note = cost_note(case, yes=a.yes)              # a costly solve is refused before anything is made
+    if note and not (a.quiet or a.json):
+        message(note)
     with check_output(case, run, a.overwrite or st.overwrite) as claim:
         res = solve(case, progress=progress(a))
+        select(res, _pick(a.branch, st.branch), _pick(a.index, st.index))
         claim.take()
         write_results(res, run, overwrite=a.overwrite or st.overwrite)
     return res
@@ -177,7 +183,8 @@ def _report(a, f, what: str) -> None:
     files = files_of(f)
     main = [v for v in files.values() if not isinstance(v, list)]
     n = sum(len(v) for v in files.values() if isinstance(v, list))
-    report(a, {"files": files, "info": getattr(f, "info", None)},
+    summary = f.info if what == "export" else {"field": f.field, "snapshots": len(f.snapshots)}
+    report(a, summary, files,
            f"plbar {what}: wrote " + ", ".join(main) + (f" and {n} more files" if n else ""))
 
 

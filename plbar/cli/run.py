@@ -8,13 +8,16 @@ from pathlib import Path
 from ..app import check_output, cost_note, run_case_file, solve, write_results
 from ..errors import InputError
 from ..io import SHIPPED, write_shipped
+from ..util.check import MIN_BRANCH_POINTS
 from ..util.outputs import claim_folder, fingerprint
 from ..util.progress import message
-from .common import case_args, case_from_args, output_args, plural, progress, report
+from .common import case_args, case_flags, case_from_args, output_args, plural, progress, report, yes_arg
 
 __all__ = ["register"]
 
-TOP = 5     #: branches listed by default (the largest xi_eq first); --verbose lists all
+TOP = 5     #: branches listed by default (stable ones first, then the largest xi_eq); --verbose lists all
+#: the search options of ``plbar run`` that ``plbar survey`` does not take
+SEARCH = ("grid", "T1", "T2", "method", "signatures")
 
 
 def _line(b: dict, damped: bool = False) -> str:
@@ -24,24 +27,41 @@ def _line(b: dict, damped: bool = False) -> str:
             f"{b['stable_points']} stable")
 
 
-def _human(summary: dict, files: dict, verbose: bool) -> str:
+def _stable_lines(summary: dict, survey: str) -> list[str]:
+    """What to look at first: the stable points (what a real bar can settle on), or, without any, the survey."""
+    brs = summary["branches"] + summary.get("other_signatures", [])
+    total, stable = sum(b["points"] for b in brs), sum(b["stable_points"] for b in brs)
+    if not total:
+        return []                                      # nothing found: said by solve's warning
+    if not stable:
+        return [f"  none of the {plural(total, 'point')} is stable: a real bar settles on none of these responses; to "
+                f"see what it does, run plbar survey {survey}".rstrip()]
+    on = sum(b["stable_points"] > 0 for b in brs)
+    return [f"  {stable:,} of {total:,} points are stable, on {plural(on, 'branch')}: what a real bar can settle on "
+            "(the unstable ones it leaves); listed first"]
+
+
+def _human(summary: dict, files: dict, verbose: bool, survey: str = "") -> str:
     brs = summary["branches"]
     lines = [f"plbar: {summary['bar']}; load {summary['load']}",
              f"  fundamental periods T0_I = {summary['T0_I']:.6g}, T0_II = {summary['T0_II']:.6g}",
              f"  {plural(summary['n_branches'], 'branch')}, {plural(summary['n_points'], 'admissible path point')} "
-             f"in {summary['run_time']:.3g} s"]
-    shown = brs if verbose else sorted(brs, key=lambda b: -b["xi_range"][1])[:TOP]
-    if not verbose and len(brs) > TOP:
-        lines.append(f"  the {TOP} branches with the largest xi_eq (--verbose lists all {len(brs)}):")
+             f"in {summary['run_time']:.3g} s", *_stable_lines(summary, survey)]
     if summary.get("rayleigh"):
         lines.insert(2, f"  Rayleigh damping alpha = {summary['rayleigh'][0]:.6g}, beta = {summary['rayleigh'][1]:.6g}")
+    order = sorted(brs, key=lambda b: (b["stable_points"] == 0, -b["xi_range"][1]))
+    shown = order if verbose else [b for b in order if b["points"] >= MIN_BRANCH_POINTS][:TOP]
+    if shown and len(shown) < len(brs):
+        first = "stable points first, then the largest xi_eq" if shown[0]["stable_points"] else "the largest xi_eq"
+        lines.append(f"  {'the ' if len(shown) > 1 else ''}{plural(len(shown), 'branch')} with {first}, of at least "
+                     f"{MIN_BRANCH_POINTS} points (--verbose lists all {len(brs)}):")
     lines += [_line(b, bool(summary.get("rayleigh"))) for b in shown]
-    if not verbose and len(brs) > TOP:
+    if not verbose and len(shown) < len(brs):
         rest = [b for b in brs if b not in shown]
-        short = sum(b["points"] < 3 for b in rest)
+        short = sum(b["points"] < MIN_BRANCH_POINTS for b in rest)
         lines.append(f"  ... {plural(len(rest), 'more branch')} with {plural(sum(b['points'] for b in rest), 'point')} "
-                     f"(max xi_eq {max(b['xi_range'][1] for b in rest):.4g}; {short} with fewer than 3 points): "
-                     "all in paths.csv and summary.json")
+                     f"(max xi_eq {max(b['xi_range'][1] for b in rest):.4g}; {short} with fewer than "
+                     f"{MIN_BRANCH_POINTS} points): all in paths.csv and summary.json")
     other = summary.get("other_signatures", [])
     if other:
         by = {}
@@ -93,8 +113,8 @@ def _cmd_run(a) -> int:
     case, st = case_from_args(a)
     out = Path(a.out if st is None or a.out != "plbar-out" or st.dir is None else st.dir)
     overwrite = a.overwrite or (st is not None and st.overwrite)
+    note = cost_note(case, yes=a.yes)                  # a costly solve is refused before anything is made
     with check_output(case, out, overwrite) as claim:   # before the solve: fail fast; undone if interrupted
-        note = cost_note(case)
         if note and not a.quiet:
             message(note)
         if st is not None:
@@ -104,9 +124,9 @@ def _cmd_run(a) -> int:
             res = solve(case, progress=progress(a))
             claim.take()
             files = write_results(res, out, overwrite=overwrite)
-    files.update(_plots(res, out, a))
+        files.update(_plots(res, out, a))            # still holding the folder's lock
     s = res.summary()
-    report(a, {"summary": s, "files": {k: str(v) for k, v in files.items()}}, _human(s, files, a.verbose))
+    report(a, s, files, _human(s, files, a.verbose, case_flags(a, skip=SEARCH)))
     return 0
 
 
@@ -118,7 +138,8 @@ def _cmd_mesh(a) -> int:
     text = ("wrote " + ", ".join(str(f) for f in files)) if files else "wrote nothing"
     if kept:
         text += f"; kept {plural(len(kept), 'existing file')} (--overwrite replaces them)"
-    report(a, {"files": [str(f) for f in files], "kept": [str(claim.folder / n) for n in kept]}, text)
+    report(a, {"written": len(files), "kept": len(kept)}, {"meshes": files, "kept": [claim.folder / n for n in kept]},
+           text)
     return 0
 
 
@@ -134,7 +155,9 @@ def register(sub) -> None:
     r.add_argument("--no-plot", action="store_true", help="skip the PNG plots")
     r.add_argument("--plot-xi", choices=("eq", "w"), default="eq",
                    help="the damping ratio drawn: xi_eq of Eq. (22), or xi_w (one frequency, the forcing's) [eq]")
-    r.add_argument("--verbose", "-v", action="store_true", help="list every branch (default: the top 5 by xi_eq)")
+    r.add_argument("--verbose", "-v", action="store_true",
+                   help="list every branch (default: 5 of at least 3 points, stable ones first, then by xi_eq)")
+    yes_arg(r)
     case_args(r)
     r.set_defaults(func=_cmd_run)
     m = sub.add_parser("mesh", help="regenerate the shipped mesh files",

@@ -14,7 +14,8 @@ import numpy as np
 from ..errors import InputError
 from ..util.outputs import claim_folder, fingerprint, require
 from ..util.progress import message
-from .common import CASE_OPTIONS, case_args, case_from_args, hidden, output_args, plural, progress, report
+from .common import (CASE_OPTIONS, case_args, case_from_args, hidden, output_args, plural, progress, report,
+                     yes_arg)
 
 __all__ = ["register"]
 
@@ -26,7 +27,7 @@ def _cmd_sweep(a) -> int:
     from ..studies.loads import sweep_loads
 
     case, _ = case_from_args(a)
-    note = cost_note(case)
+    note = cost_note(case, yes=a.yes)
     if note and not a.quiet:
         message(note)
     plot = not a.no_plot and importlib.util.find_spec("matplotlib") is not None
@@ -34,15 +35,15 @@ def _cmd_sweep(a) -> int:
                     progress=progress(a), plot=plot, positions_csv=a.positions_csv, overwrite=a.overwrite)
     s = r.summary
     lines = [f"plbar sweep-loads: {plural(len(r), 'path point')} from one solve "
-             f"({s['times']['solve']:.3g} s), {plural(s['positions'], 'position')} and the worst load in "
-             f"{s['times']['load_study']:.3g} s"]
+             f"({s['times']['solve']:.3g} s), {plural(s['positions'], 'position')} and the load of the largest "
+             f"xi_eq in {s['times']['load_study']:.3g} s"]
     for fam, e in s.get("families", {}).items():
-        lines.append(f"  {fam:8s}: worst load xi_eq = {e['xi_worst_max']:.4f}, best single force "
+        lines.append(f"  {fam:8s}: largest xi_eq of any load = {e['xi_worst_max']:.4f}, best single force "
                      f"{e['xi_best_single_max']:.4f} at s = {e['s_at_best_single']:.4g}")
     if s.get("no_path"):
         lines.append(f"  {plural(len(s['no_path']), 'load')} with no path (h(q) = 0): see summary.json 'no_path'")
     lines.append("  wrote " + ", ".join(str(f) for f in r.files.values()))
-    report(a, {"summary": s, "files": {k: str(v) for k, v in r.files.items()}}, "\n".join(lines))
+    report(a, s, r.files, "\n".join(lines))
     return 0
 
 
@@ -117,10 +118,9 @@ def _cmd_refine(a) -> int:
                        rates_always=a.rates_always)
     lines = _refine_lines(r, a.rates_always) + [f"done in {r.time:.1f} s; wrote " + ", ".join(
         str(f) for v in r.files.values() for f in (v if isinstance(v, list) else [v]))]
-    payload = {"rates": r.rates, "rows": [{k: (None if isinstance(v, float) and not np.isfinite(v) else v)
-                                              for k, v in row.items()} for row in r.rows],
-               "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v) for k, v in r.files.items()}}
-    report(a, payload, "\n".join(lines))
+    rows = [{k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in row.items()}
+            for row in r.rows]
+    report(a, r.summary, r.files, "\n".join(lines), rates=r.rates, rows=rows)
     return 0
 
 
@@ -134,7 +134,8 @@ def _cmd_figures(a) -> int:
     grid = tuple(a.grid or (200, 200))
     with claim_folder(a.out, "figures", fingerprint({"grid": list(grid)}), FIGURES_OWNED, a.overwrite) as claim:
         files = make_all(claim.folder, grid=grid, which=a.only, progress=progress(a))
-    report(a, {"files": [str(f) for f in files]}, f"wrote {plural(len(files), 'file')} into {a.out}")
+    report(a, {"figures": len(files), "grid": list(grid)}, {"figures": files},
+           f"wrote {plural(len(files), 'file')} into {a.out}")
     return 0
 
 
@@ -153,8 +154,8 @@ def register(sub) -> None:
     s = sub.add_parser("sweep-loads", help="xi_eq for loads anywhere on the bar, from one solve (paper Sec. 4.2)",
                        description="Solve the case once (its load is the reference: any load with a contact "
                                    "response gives the same paths), then xi_eq and Delta_PL of a unit force at "
-                                   "many positions, the node pairs (Fig. 9) and the worst load distribution at "
-                                   "every path point.  Writes DIR/xi_positions.npz, worst_load.csv, "
+                                   "many positions, the node pairs (Fig. 9) and the load distribution of the largest "
+                                   "xi_eq at every path point.  Writes DIR/xi_positions.npz, worst_load.csv, "
                                    "worst_load_shapes.npz, load_pairs.csv, xi_along_mesh.vtu, xi_T_s.png, "
                                    "summary.json.")
     output_args(s, "plbar-sweep", "study folder")
@@ -167,6 +168,7 @@ def register(sub) -> None:
     s.add_argument("--no-pairs", action="store_true", help="skip the node-pair table")
     s.add_argument("--pairs", action="store_true", help=hidden)
     s.add_argument("--no-plot", action="store_true", help="skip xi_T_s.png")
+    yes_arg(s)
     case_args(s, "the reference load", at=False)     # --at: the old spelling of --positions
     s.set_defaults(func=_cmd_sweep)
 

@@ -14,7 +14,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..util.outputs import check_creatable
-from .common import case_args, case_from_args, output_args, progress, report
+from ..util.progress import message
+from .common import case_args, case_from_args, output_args, progress, report, yes_arg
 
 __all__ = ["register"]
 
@@ -27,14 +28,38 @@ def _periods(a, case) -> np.ndarray:
 
     if a.T_list:
         return np.asarray(a.T_list, float)
+    if a.num < 2:
+        raise InputError(f"--num {a.num} is not a range of forcing periods: give --num 2 or more, or one period with "
+                         "--T-list T")
     if a.T is None:
         return default_periods(case, a.num)
     lo, hi = a.T
     if not (np.isfinite(lo) and np.isfinite(hi) and 0 < lo <= hi):
         raise InputError(f"--T {lo:g} {hi:g} must be a range 0 < LO <= HI of forcing periods")
-    if a.num < 1:
-        raise InputError(f"--num {a.num} must be at least 1")
     return np.linspace(lo, hi, a.num)
+
+
+def _cost(a, case, T) -> None:
+    """Refuse a survey above the limits of :func:`plbar.app.cost.check_cost` (unless ``--yes``); say what a long
+    one will cost: its motions x forcing periods, and the time from the measured cost of one period."""
+    import os
+
+    from ..app.cost import NOTE_SECONDS, check_cost, duration, survey_seconds
+    from ..studies.survey.loads import DEFAULT_POSITIONS
+
+    motions = len(T) * (1 + len(set(a.cont or ())))
+    if a.positions is not None or a.per_element is not None:
+        motions *= len(a.positions) if a.positions is not None else max(DEFAULT_POSITIONS, a.per_element * case.n_eff)
+    sizes = sorted(set(a.sizes)) if a.sizes and len(a.sizes) > 1 else [None]
+    cpu = sum(survey_seconds(case if n is None else _with_n(case, n), motions, a.periods) for n in sizes)
+    workers = 1 if a.executor == "serial" and not a.scheduler else (a.workers or os.cpu_count() or 1)
+    wall = cpu / workers
+    what = (f"this survey simulates {motions:,} motions x {a.periods:,} forcing periods"
+            + (f" on {len(sizes)} meshes" if len(sizes) > 1 else "")
+            + f": about {duration(cpu)} of CPU, {duration(wall)} on {workers} worker{'s' if workers > 1 else ''}")
+    check_cost(wall, 0.0, what, "fewer periods (--num, --periods) or a coarser bar (-N)", a.yes)
+    if wall > NOTE_SECONDS and not (a.quiet or a.json):
+        message(f"plbar: note: {what}")
 
 
 def _lines(s, T) -> list[str]:
@@ -74,6 +99,7 @@ def _cmd_survey(a) -> int:
     if a.sizes and len(a.sizes) == 1:
         case = _with_n(case, a.sizes[0])
     T = _periods(a, case)
+    _cost(a, case, T)
     out = check_creatable(a.out)              # made by the study's claim (removed again if it fails)
     if a.positions is not None or a.per_element is not None:
         return _loads(a, case, T, out)
@@ -88,9 +114,7 @@ def _cmd_survey(a) -> int:
     with get_executor(kind, a.scheduler, a.workers) as ex:
         s = run_survey(case, T, a.periods, a.record, out, modes, ex, progress=progress(a), overwrite=a.overwrite,
                        plot=plot, chunks=a.chunks, paths=paths)
-    payload = {"summary": s.summary, "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v)
-                                               for k, v in s.files.items()}}
-    report(a, payload, "\n".join(_lines(s, T)))
+    report(a, s.summary, s.files, "\n".join(_lines(s, T)))
     return 0
 
 
@@ -117,8 +141,7 @@ def _loads(a, case, T, out) -> int:
                        f"{d['position_of_largest_mean_xi_eq']:g}")
     lines.append(f"  energy budget closes to {r.summary['energy_residual_max']:.1e} of the work")
     lines.append("  wrote " + ", ".join(str(f) for v in r.files.values() for f in (v if isinstance(v, list) else [v])))
-    report(a, {"summary": r.summary, "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v)
-                                               for k, v in r.files.items()}}, "\n".join(lines))
+    report(a, r.summary, r.files, "\n".join(lines))
     return 0
 
 
@@ -147,8 +170,7 @@ def _refine(a, case, T, out) -> int:
             lines.append(f"    {q:10s} {vals}  {rate}")
     lines.append("  wrote " + ", ".join(str(f) for v in r.files.values() for f in (v if isinstance(v, list)
                                                                                       else [v])))
-    report(a, {"rates": r.rates, "files": {k: [str(f) for f in v] if isinstance(v, list) else str(v)
-                                              for k, v in r.files.items()}}, "\n".join(lines))
+    report(a, r.summary, r.files, "\n".join(lines), rates=r.rates)
     return 0
 
 
@@ -167,7 +189,7 @@ def register(sub) -> None:
     g = s.add_argument_group("forcing periods")
     g.add_argument("--T", type=float, nargs=2, default=None, metavar=("LO", "HI"),
                    help="range of forcing periods [6 14 for the paper's case; 0.6-1.4 T0_I for a chain, "
-                        "0.75-2.25 T0_I for an FE bar]")
+                        "0.75 T0_I to the top of what 'plbar run' searches, (T0_I + T0_II)/2, for an FE bar]")
     g.add_argument("--num", type=int, default=161, metavar="K", help="forcing periods in the range [161]")
     g.add_argument("--T-list", dest="T_list", type=float, nargs="+", default=None, metavar="T",
                    help="explicit forcing periods (instead of --T/--num)")
@@ -189,6 +211,7 @@ def register(sub) -> None:
     s.add_argument("--no-paths", action="store_true", help="do not solve the exact branches under the figure")
     s.add_argument("--paths", action="store_true",
                    help="solve the exact branches under the figure even for a large model [only N <= 12]")
+    yes_arg(s)
     case_args(s, "the load", sizes=())
     for act in list(s._actions):
         if act.dest in _SEARCH:

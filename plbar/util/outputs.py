@@ -16,8 +16,13 @@ patterns).  :func:`claim_folder` is the one rule, for every command:
 * anything else (another command, another case) is refused with one line, unless ``overwrite``: then what
   the old owner owned is removed first, and nothing else in the folder is touched.
 
-:func:`check_folder` applies the rule without writing (call it before a long solve; ``Claim.take`` when the
-results are ready).  Used as a context manager, a claim is undone when the command fails or is interrupted
+:func:`check_folder` applies the rule without writing results (call it before a long solve; ``Claim.take`` when
+the results are ready).  A claim also holds the folder's lock, ``.plbar-lock`` (created with ``O_CREAT | O_EXCL``,
+holding the pid and host of its process), until the claim is released or the process exits: a second command
+on the same folder while the first runs, of another case or of the same one, is refused with one line (it would
+otherwise write over the first, or be lost).  Claims of one process on one folder share its lock.  A lock whose
+process is dead (killed) is stale and taken over; one of another host is respected (delete the file by hand if that
+host's command is gone).  Used as a context manager, a claim is undone when the command fails or is interrupted
 before writing any of its files: no marker and no empty folder are left behind; a resumable study calls
 ``Claim.abandon(finished)`` when it fails before finishing anything.
 
@@ -28,12 +33,14 @@ A new command needs one line (a resumable study resumes when the fingerprint is 
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import hashlib
 import importlib.util
 import json
 import os
 import shutil
+import socket
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -42,11 +49,13 @@ from ..errors import InputError, OutputExistsError
 from .files import write_json
 from .version import __version__
 
-__all__ = ["check_creatable", "MARKER", "Owner", "Claim", "fingerprint", "read_owner", "check_folder", "claim_folder",
-           "check_writable", "clear_owned", "require", "refuse_existing", "EXTRAS"]
+__all__ = ["check_creatable", "MARKER", "LOCK", "Owner", "Claim", "fingerprint", "read_owner", "check_folder",
+           "claim_folder", "check_writable", "clear_owned", "require", "refuse_existing", "EXTRAS"]
 
 #: the owner marker every command writes into its output folder
 MARKER = ".plbar-owner.json"
+#: the lock a claim holds on its folder while its command runs
+LOCK = ".plbar-lock"
 #: files by which plbar results were recognised before markers existed (a folder holding one has an unknown owner)
 LEGACY = ("summary.json", "study.json")
 
@@ -97,7 +106,8 @@ class Claim:
     """A command's claim on its output folder (see :func:`check_folder`); ``take`` makes it the owner.
 
     ``previous`` is the owner found (None: none), ``replace`` whether it is removed at ``take`` (``overwrite``),
-    ``created`` the folders made to prove the folder writable (removed again if the claim is undone empty).
+    ``created`` the folders made to prove the folder writable (removed again if the claim is undone empty),
+    ``lock`` the folder's lock if this claim took it (None: another claim of this process holds it).
     """
 
     folder: Path
@@ -106,6 +116,7 @@ class Claim:
     replace: bool
     created: list[Path] = field(default_factory=list)
     taken: bool = False
+    lock: Path | None = None
 
     def take(self) -> "Claim":
         """Remove what a replaced owner owned, then write the marker (with the owned patterns of a joined owner)."""
@@ -126,11 +137,19 @@ class Claim:
         """No file this command owns exists in the folder (only, perhaps, the marker)."""
         return not _matches(self.folder, self.owner.owned)
 
+    def unlock(self) -> None:
+        """Release the folder's lock (if this claim took it): the command is done with the folder."""
+        if self.lock is not None:
+            _unlock(self.lock)
+            self.lock = None
+
     def release(self) -> None:
-        """Undo the claim: remove the marker it wrote (never another owner's) and the folders it created, if empty."""
+        """Undo the claim: remove the marker it wrote (never another owner's), its lock and the folders it created,
+        if empty."""
         if self.taken and (self.previous is None or self.replace):
             with contextlib.suppress(OSError):
                 (self.folder / MARKER).unlink()
+        self.unlock()
         for d in reversed(self.created):
             with contextlib.suppress(OSError):
                 d.rmdir()              # only an empty folder goes
@@ -150,7 +169,79 @@ class Claim:
     def __exit__(self, kind, exc, tb) -> bool:
         if kind is not None and (not self.taken or self.wrote_nothing()):
             self.release()
+        self.unlock()
         return False
+
+
+#: the locks this process holds (released at its exit, if a command did not release them before)
+_HELD: set[Path] = set()
+
+
+def _lock_holder(lock: Path) -> dict | None:
+    """The ``{"pid", "host"}`` recorded in ``lock`` (None if it is gone; ``{}`` if unreadable: being written)."""
+    try:
+        return json.loads(lock.read_text())
+    except FileNotFoundError:
+        return None
+    except (OSError, ValueError):
+        return {}
+
+
+def _alive(holder: dict) -> bool:
+    """Whether the process recorded in a lock may still run (always True for another host's, or an unreadable one)."""
+    if holder.get("host") != socket.gethostname() or not isinstance(holder.get("pid"), int):
+        return True
+    try:
+        os.kill(holder["pid"], 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True
+    return True
+
+
+def _take_lock(folder: Path) -> Path | None:
+    """Take ``folder``'s lock (:data:`LOCK`, created atomically); None if this process holds it already.
+
+    Raises :class:`OutputExistsError` while another live process holds it; a dead process's lock is taken over.
+    """
+    lock = folder / LOCK
+    me = {"pid": os.getpid(), "host": socket.gethostname()}
+    for _ in range(3):
+        try:
+            fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+        except FileExistsError:
+            holder = _lock_holder(lock)
+            if holder == me:
+                return None
+            if holder is None or (holder and not _alive(holder)):
+                with contextlib.suppress(FileNotFoundError):
+                    lock.unlink()                         # gone meanwhile, or stale (its process was killed)
+                continue
+            who = f"pid {holder['pid']}" if holder.get("pid") else "a process starting"
+            raise OutputExistsError(f"output folder {str(folder)!r} is in use by another plbar command ({who}); "
+                                    "wait until it ends or choose another --out (a stale lock of a dead process "
+                                    f"is taken over; of another host, delete {str(lock)!r} by hand)") from None
+        with os.fdopen(fd, "w") as fh:
+            json.dump(me, fh)
+        _HELD.add(lock)
+        return lock
+    raise OutputExistsError(f"output folder {str(folder)!r}: its lock {str(lock)!r} keeps changing; choose another "
+                            "--out")
+
+
+def _unlock(lock: Path) -> None:
+    """Remove a lock this process holds."""
+    if lock in _HELD:
+        _HELD.discard(lock)
+        with contextlib.suppress(OSError):
+            lock.unlink()
+
+
+@atexit.register
+def _unlock_all() -> None:
+    for lock in list(_HELD):
+        _unlock(lock)
 
 
 def _refusal(folder: Path, command: str, prev: Owner | None) -> str:
@@ -199,15 +290,21 @@ def check_folder(folder, command: str, fingerprint: str, owned, overwrite: bool 
     folder = Path(folder)
     created = [p for p in (folder, *folder.parents) if not p.exists()][::-1]
     check_writable(folder)
-    prev = read_owner(folder)
-    me = Owner(command, fingerprint, tuple(owned))
-    if prev is None:
-        ok = not any((folder / n).exists() for n in LEGACY)
-    else:
-        ok = prev.fingerprint == fingerprint and (prev.command == command or prev.command in joins)
-    if not ok and not overwrite:
-        raise OutputExistsError(_refusal(folder, command, prev))
-    return Claim(folder, me, prev, not ok, created)
+    claim = Claim(folder, Owner(command, fingerprint, tuple(owned)), None, False, created)
+    try:
+        claim.lock = _take_lock(folder)
+        claim.previous = prev = read_owner(folder)
+        if prev is None:
+            ok = not any((folder / n).exists() for n in LEGACY)
+        else:
+            ok = prev.fingerprint == fingerprint and (prev.command == command or prev.command in joins)
+        if not ok and not overwrite:
+            raise OutputExistsError(_refusal(folder, command, prev))
+    except BaseException:
+        claim.release()
+        raise
+    claim.replace = not ok
+    return claim
 
 
 def claim_folder(folder, command: str, fingerprint: str, owned, overwrite: bool = False, joins=()) -> Claim:

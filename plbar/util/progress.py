@@ -4,7 +4,8 @@
   :func:`message` prints above the bars (``tqdm.write``), so a warning never lands on a bar's line.
 * Anywhere else (a file, a pipe, a batch job) there are no carriage returns: a phase that lasts longer
   than ``delay`` s prints whole lines, ``plbar: scanning: 12000/40000 points (30 %), 10 s``, at most
-  every :data:`EVERY` s, and one line when it ends.
+  every :data:`EVERY` s, and one line when it ends (``done in 12.3 s``; ``interrupted after 10.0 s`` when the
+  phase ends by an exception, a Ctrl-C: use the bar as a context manager).
 
 Every message of the command line (warnings, notes, errors) goes through :func:`message`.
 """
@@ -67,8 +68,10 @@ class _Lines(_Null):
         self.total, self.desc, self.unit, self.delay = total, desc, unit, delay
         self.n, self.t0, self.last, self.shown = initial, time.perf_counter(), None, False
 
-    def _line(self, end: bool = False) -> str:
+    def _line(self, end: bool = False, interrupted: bool = False) -> str:
         dt = time.perf_counter() - self.t0
+        if interrupted:
+            end = False
         units = self.unit if (self.total or self.n) == 1 else f"{self.unit}es" if self.unit.endswith(("ch", "sh")) \
             else f"{self.unit}s"
         if self.total == 1 and end:                  # a phase without parts: just its time
@@ -77,7 +80,8 @@ class _Lines(_Null):
             done = f"{self.n}/{self.total} {units} ({100 * self.n / self.total:.0f} %)"
         else:
             done = f"{self.n} {units}"
-        return f"plbar: {self.desc}: {done}, " + (f"done in {dt:.1f} s" if end else f"{dt:.0f} s")
+        last = f"interrupted after {dt:.1f} s" if interrupted else f"done in {dt:.1f} s" if end else f"{dt:.0f} s"
+        return f"plbar: {self.desc}: {done}, {last}"
 
     def update(self, n=1):
         self.n += n
@@ -91,11 +95,16 @@ class _Lines(_Null):
     def set_description(self, desc, *_):
         self.desc = desc
 
-    def close(self):
+    def close(self, interrupted: bool = False):
+        """The phase's last line: ``done in``, or ``interrupted after`` when it ends by an exception (Ctrl-C)."""
         if self.shown or time.perf_counter() - self.t0 >= self.delay:
-            message(self._line(end=True))
+            message(self._line(end=True, interrupted=interrupted))
         self.shown = False
         self.delay = float("inf")
+
+    def __exit__(self, kind, *exc):
+        self.close(interrupted=kind is not None)
+        return False
 
 
 class _Bar:

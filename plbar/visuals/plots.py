@@ -158,9 +158,11 @@ def frequency_response(res, out, name: str = "frequency_response", xi: str = "eq
     ev = _event_points(res.branches, None if xi == "eq" else [b.xi_w for b in res.branches])
     _draw_events(ax2, ev, (2, 3))
     _draw_signatures(ax1, ax2, getattr(res, "hybrid", ()), xi)
-    T0I, T0II = res.paths.prob.system.T0
-    _anchors(ax1, T0I, T0II)
-    _anchors(ax2, T0I, T0II, label=False)
+    found = bool(res.branches or getattr(res, "hybrid", ()))
+    if found:                       # (without a response, T0's labels would lie far outside the range asked)
+        T0I, T0II = res.paths.prob.system.T0
+        _anchors(ax1, T0I, T0II)
+        _anchors(ax2, T0I, T0II, label=False)
     ax1.set_ylabel(r"max $|x_c|$ (contact node)")
     ax2.set_ylabel(r"$\xi_{eq}$ (Eq. 22)" if xi == "eq" else r"$\xi_\omega$ (one frequency, the forcing's)")
     ax2.set_xlabel("forcing period $T$")
@@ -174,8 +176,13 @@ def frequency_response(res, out, name: str = "frequency_response", xi: str = "eq
         ax1.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
     if ev:
         ax2.legend(loc="best", framealpha=0.8, title="events")
-    ax1.set_yscale("log")
-    _plain_log_ticks(ax1)
+    if found:
+        ax1.set_yscale("log")
+        _plain_log_ticks(ax1)
+    else:                                   # nothing found: say so over the range asked (no log axis of nothing)
+        d = res.paths.domain
+        ax2.set_xlim(d.T1[0] + d.T2[0], d.T1[1] + d.T2[1])
+        ax1.text(0.5, 0.5, "no admissible periodic response in this range", transform=ax1.transAxes, ha="center")
     p = res.paths.prob
     fig.suptitle(f"{p.bar.describe() if p.bar else ''}; load {p.load.describe() if p.load else ''}", fontsize=8)
     return _save(fig, out, name)[0]
@@ -266,7 +273,7 @@ def _edges(v):
 
 
 def xi_load_map(path, T, branch, fam, s, xi, xi_worst, xi_best, fams) -> Path:
-    """``xi_eq`` over (period ``T``, load position ``s``) per family, with the worst-load curve above it.
+    """``xi_eq`` over (period ``T``, load position ``s``) per family, with the largest ``xi_eq`` of any load above it.
 
     ``T, branch, fam`` per path point (P,), ``xi`` (P, S) for unit forces at ``s`` (S,),
     ``xi_worst, xi_best`` (P,) the worst load distribution and the best single force.
@@ -281,7 +288,7 @@ def xi_load_map(path, T, branch, fam, s, xi, xi_worst, xi_best, fams) -> Path:
             ax[0, c].plot(T[k], xi_worst[k], "k-", lw=1)
             ax[0, c].plot(T[k], xi_best[k], "r--", lw=1)
         ax[0, c].set_title(f"family {f}")
-        ax[0, c].legend(["worst load", "best single force"], fontsize=7)
+        ax[0, c].legend(["largest $\\xi_{eq}$ of any load", "best single force"], fontsize=7)
         vmax = max(float(xi[m].max()), 1e-300)
         for bid in np.unique(branch[m]):
             k = np.flatnonzero(m & (branch == bid))

@@ -151,7 +151,8 @@ def survey_loads_plot(table: dict, out, name: str = "survey_loads", title: str =
             if ii.size:
                 a.plot(T[jj], s[ii], "x", ms=3, color="tab:red", label="failed (chattering contact)")
             worst = np.nanargmax(np.where(np.isfinite(g), g, -np.inf), axis=0)
-            a.plot(T, s[worst], "-", color="k", lw=0.9, drawstyle="steps-mid", label="worst position per T")
+            a.plot(T, s[worst], "-", color="k", lw=0.9, drawstyle="steps-mid",
+                   label="position of the largest value per T")
             a.set_ylabel(f"load position s (N = {int(n)})")
             if r == 0:
                 a.set_title(("what the bar does from rest, load at s" + (f": {title}" if title else ""))

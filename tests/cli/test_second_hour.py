@@ -205,7 +205,7 @@ def test_run_says_what_a_large_solve_costs_before_it_starts(tmp_path, capsys, mo
         raise KeyboardInterrupt                                     # the user's Ctrl-C, right at the start
 
     monkeypatch.setattr(cli_run, "solve", stop)
-    code, _, err = _run(capsys, ["run", *PAPER, "--model", "fe", "-N", "2000", "--out", tmp_path / "big"])
+    code, _, err = _run(capsys, ["run", *PAPER, "--model", "fe", "-N", "2000", "--out", tmp_path / "big", "--yes"])
     lines = err.splitlines()
     assert code == 130 and len(lines) == 2 and "days" in lines[0] and "GB" in lines[0]
     assert "'plbar refine'" in lines[0] and "--modes" in lines[0]

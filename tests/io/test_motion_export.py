@@ -94,7 +94,7 @@ def test_cli_export_and_render_of_a_survey_motion(folder, capsys):
     pytest.importorskip("pyvista")
     assert main(["export", "--from", str(folder), "--T", "7", "--periods", "4", "--steps", "8", "--json"]) == 0
     got = json.loads(capsys.readouterr().out)
-    assert got["info"]["T_forcing"] == 7.0 and got["info"]["survey_kind"] in ("irregular", "periodic")
+    assert got["summary"]["T_forcing"] == 7.0 and got["summary"]["survey_kind"] in ("irregular", "periodic")
     assert (folder / "vtk" / "response.pvd").is_file()
     assert main(["render", "--from", str(folder), "--T", "9.6", "--periods", "3", "--steps", "8", "--no-gif",
                  "-q"]) == 0

@@ -31,6 +31,12 @@ class Recorder:
     def close(self):
         pass
 
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
 
 def slow_task(task):
     """Ten units, one every 0.3 s."""
@@ -110,12 +116,6 @@ def test_refine_moves_within_a_mesh(monkeypatch):
     class Bar(Recorder):
         def set_description(self, desc, *_):
             said.append((desc, self.n))
-
-        def __enter__(self):
-            return self
-
-        def __exit__(self, *exc):
-            return False
 
     monkeypatch.setattr(refine_mod, "progress_bar", lambda total, *a, **k: Bar(total))
     task = refine_mod.refine_study([plbar.Case()], [3, 4, 5]).tasks[0]

@@ -178,11 +178,8 @@ def run_study(folder, study: Study, executor: cf.Executor | None = None, progres
     units = study.units or (lambda _task: 1)
     every = dict(zip(keys, study.tasks))
     total = sum(units(t) for t in every.values())
-    bar = progress_bar(total, progress, study.name, study.unit, initial=total - sum(units(t) for _, t in todo))
-    try:
+    with progress_bar(total, progress, study.name, study.unit, initial=total - sum(units(t) for _, t in todo)) as bar:
         failed = _collect(ex, study.func, todo, folder, bar, units)
-    finally:
-        bar.close()
     if failed:
         lines = "; ".join(f"{k}: {m}" for k, m in failed[:5])
         raise StudyError(f"{len(failed)} of {len(todo)} task(s) failed ({lines}); "

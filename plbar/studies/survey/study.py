@@ -169,12 +169,18 @@ def survey(case: Case | None = None, T=None, periods: int = 1000, record: int | 
 
 def default_periods(case: Case, num: int = 161) -> np.ndarray:
     """Default forcing periods: ``[6, 14]`` for the paper's case, ``[0.6, 1.4] T0^I`` for another chain and
-    ``[0.75, 2.25] T0^I`` for an FE bar (``T/L`` in ``[1.5, 4.5]`` for a uniform bar, ``T0^I = 2 L / c``)."""
+    ``[0.75, 2.25] T0^I`` for an FE bar (``T/L`` in ``[1.5, 4.5]`` for a uniform bar, ``T0^I = 2 L / c``), never
+    beyond the forcing periods ``plbar run`` searches by default (:func:`plbar.app.signatures.hybrid_window`:
+    ``(T0^I + T0^II) / 2``, ``T/L = 3`` for a uniform FE bar), so that the figure's exact branches cover it."""
+    from ...app.signatures import hybrid_window
+    from ...paths.branches import default_domain
+
     if case_fields(case) == case_fields(Case()):            # the bar and load decide, not the search options
         return np.linspace(6.0, 14.0, num)
-    T0 = case.problem().system.T0[0]
+    prob = case.problem()
+    T0 = prob.system.T0[0]
     lo, hi = (0.6, 1.4) if case.model == "chain" else (0.75, 2.25)
-    return np.linspace(lo, hi, num) * T0
+    return np.linspace(lo * T0, min(hi * T0, hybrid_window(prob, default_domain(prob))[1]), num)
 
 
 def _claim(folder: Path, study: Study, overwrite: bool):
