@@ -17,7 +17,7 @@ patterns).  :func:`claim_folder` is the one rule, for every command:
   the old owner owned is removed first, and nothing else in the folder is touched.
 
 :func:`check_folder` applies the rule without writing results (call it before a long solve; ``Claim.take`` when
-the results are ready).  A claim also holds the folder's lock, ``.plbar-lock`` (created with ``O_CREAT | O_EXCL``,
+the results are ready).  A claim also holds the folder's lock, ``.plbar-lock`` (written aside and hard-linked into place: atomic,
 holding the pid and host of its process), until the claim is released or the process exits: a second command
 on the same folder while the first runs, of another case or of the same one, is refused with one line (it would
 otherwise write over the first, or be lost).  Claims of one process on one folder share its lock.  A lock whose
@@ -178,7 +178,7 @@ _HELD: set[Path] = set()
 
 
 def _lock_holder(lock: Path) -> dict | None:
-    """The ``{"pid", "host"}`` recorded in ``lock`` (None if it is gone; ``{}`` if unreadable: being written)."""
+    """The ``{"pid", "host"}`` recorded in ``lock`` (None if it is gone; ``{}`` if unreadable: by hand)."""
     try:
         return json.loads(lock.read_text())
     except FileNotFoundError:
@@ -207,9 +207,25 @@ def _take_lock(folder: Path) -> Path | None:
     """
     lock = folder / LOCK
     me = {"pid": os.getpid(), "host": socket.gethostname()}
+    for old in folder.glob(f"{LOCK}.*"):              # records of commands killed while they took the lock
+        pid = old.suffix[1:]
+        if pid.isdigit() and not _alive({**me, "pid": int(pid)}):
+            with contextlib.suppress(OSError):
+                old.unlink()
+    tmp = folder / f"{LOCK}.{me['pid']}"              # the lock appears whole: written aside, then linked (atomic,
+    tmp.write_text(json.dumps(me))                    # and refused if it exists), so a kill never leaves it empty
+    try:
+        return _link_lock(folder, lock, tmp, me)
+    finally:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+
+
+def _link_lock(folder: Path, lock: Path, tmp: Path, me: dict) -> Path | None:
+    """:func:`_take_lock`'s attempts: link ``tmp`` (the holder's record) to ``lock``."""
     for _ in range(3):
         try:
-            fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+            os.link(tmp, lock)
         except FileExistsError:
             holder = _lock_holder(lock)
             if holder == me:
@@ -222,8 +238,6 @@ def _take_lock(folder: Path) -> Path | None:
             raise OutputExistsError(f"output folder {str(folder)!r} is in use by another plbar command ({who}); "
                                     "wait until it ends or choose another --out (a stale lock of a dead process "
                                     f"is taken over; of another host, delete {str(lock)!r} by hand)") from None
-        with os.fdopen(fd, "w") as fh:
-            json.dump(me, fh)
         _HELD.add(lock)
         return lock
     raise OutputExistsError(f"output folder {str(folder)!r}: its lock {str(lock)!r} keeps changing; choose another "
