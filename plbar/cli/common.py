@@ -33,7 +33,7 @@ CASE_OPTIONS = {"model": "--model", "elements": "-N/--elements", "element": "--e
                 "end_mass_absolute": "--end-mass-absolute", "modes": "--modes", "load_node": "--load-node",
                 "load_at": "--load-at", "grid": "--grid", "T1": "--T1", "T2": "--T2", "method": "--method",
                 "signatures": "--signatures", "rayleigh": "--rayleigh", "damping_ratio": "--damping-ratio",
-                "damping_at": "--damping-at"}
+                "damping_at": "--damping-at", "restitution": "--restitution"}
 
 
 def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None:
@@ -85,6 +85,9 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
                    help="take --end-mass as an absolute mass")
     g.add_argument("--modes", type=int, default=None, metavar="M",
                    help="keep the lowest M modes of each state (modal truncation: never for xi_eq, see README) [all]")
+    g.add_argument("--restitution", type=float, default=None, metavar="E",
+                   help="coefficient of restitution of the contact, 0 <= E <= 1 (the simulator and the survey; "
+                        "run's periodic responses are the paper's plastic impact, E = 0) [0]")
     _damping_args(p, at)
     g = p.add_argument_group(f"load ({load_help}; unit amplitude; default: DOF 1 of the chain, s = L/2 of an FE bar)")
     g.add_argument("--load-node", type=int, action="append", default=None, metavar="K",
@@ -148,7 +151,8 @@ def case_from_args(a):
               grading=a.grading, grid=tuple(a.grid) if a.grid else None, T1=tuple(a.T1) if a.T1 else None,
               T2=tuple(a.T2) if a.T2 else None, method=a.method,
               signatures=getattr(a, "signatures", None), modes=a.modes, end_mass=a.end_mass,
-              end_mass_absolute=a.end_mass_absolute, rayleigh=_rayleigh(a))
+              end_mass_absolute=a.end_mass_absolute, rayleigh=_rayleigh(a),
+              restitution=getattr(a, "restitution", None))
     return Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None}), None
 
 
