@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -169,8 +169,10 @@ def survey(case: Case | None = None, T=None, periods: int = 1000, record: int | 
 
 def default_periods(case: Case, num: int = 161) -> np.ndarray:
     """Default forcing periods: ``[6, 14]`` for the paper's case, ``[0.6, 1.4] T0^I`` for another chain and
-    ``[0.75, 2.25] T0^I`` for an FE bar (``T/L`` in ``[1.5, 4.5]`` for a uniform bar, ``T0^I = 2 L / c``)."""
-    if case_fields(case) == case_fields(Case()):            # the bar and load decide, not the search options
+    ``[0.75, 2.25] T0^I`` for an FE bar (``T/L`` in ``[1.5, 4.5]`` for a uniform bar, ``T0^I = 2 L / c``).
+    The bar and load decide, not the search options nor the contact's restitution (the natural periods are
+    those of the plastic contact whatever ``e``)."""
+    if case_fields(replace(case, restitution=0.0)) == case_fields(Case()):
         return np.linspace(6.0, 14.0, num)
     T0 = case.problem().system.T0[0]
     lo, hi = (0.6, 1.4) if case.model == "chain" else (0.75, 2.25)
