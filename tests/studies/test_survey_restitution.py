@@ -113,3 +113,19 @@ def test_the_table_summary_and_figure_are_written(small, tmp_path):
     assert all(f.stat().st_size > 10_000 for f in figs)
     one = survey_restitution_plot(small.table, tmp_path, "one")          # a single table
     assert all(f.stat().st_size > 10_000 for f in one)
+
+
+def test_a_case_file_with_a_restitution_runs_the_survey(tmp_path):
+    """``[bar] restitution = e`` in a TOML case: ``plbar survey --case`` simulates with it (no exact branches are
+    drawn under it: those are the plastic impact's)."""
+    from plbar.cli import main
+
+    f = tmp_path / "case.toml"
+    f.write_text('[bar]\nmodel = "chain"\nn = 5\nrestitution = 0.5\n\n[[load]]\nnode = 1\n')
+    assert main(["survey", "--case", str(f), "--T-list", "11.8", "12.4", "--periods", str(PERIODS), "--out",
+                 str(tmp_path / "s"), "-q"]) == 0
+    text = (tmp_path / "s" / "survey.csv").read_text().splitlines()
+    ref = survey(plbar.Case(restitution=0.5), [11.8, 12.4], periods=PERIODS).table
+    xi = [float(line.split(",")[7]) for line in text[1:]]
+    assert text[0].split(",")[7] == "xi_eq" and xi == list(ref["xi_eq"])
+    assert (tmp_path / "s" / "survey.png").is_file()
