@@ -69,6 +69,21 @@ def test_load_sweep_example(tmp_path):
     assert (tmp_path / "worst_load.csv").read_text().startswith("branch,point,T1,T2,phi,T,xi_worst,")
 
 
+def test_restitution_example(tmp_path):
+    """Issue 31: xi_eq of the real motion against the coefficient of restitution, chain and FE bar (quick)."""
+    out = _run("restitution.py", tmp_path, "--quick")
+    rows = [ln.split() for ln in out.splitlines() if ln.startswith("  ") and ln.split()[0] in ("0.00", "0.30",
+                                                                                                  "0.60", "1.00")]
+    assert len(rows) == 8, out
+    for r in rows:
+        ratio = float(r[5])
+        assert (ratio == 1.0) if r[0] == "0.00" else (ratio == 0.0 if r[0] == "1.00" else 0.0 < ratio < 1.0), r
+    assert out.count("energy budget closes to") == 2 and "of the plastic upper bound" in out
+    for name in ("restitution_chain.csv", "restitution_fe.csv", "restitution_chain.json", "restitution.png",
+                 "restitution.pdf"):
+        assert (tmp_path / name).stat().st_size > 1_000, name
+
+
 @pytest.mark.slow
 def test_refinement_example(tmp_path):
     env = dict(os.environ, MPLBACKEND="agg", PLBAR_NMAX="16")

@@ -107,8 +107,9 @@ def _cmd_survey(a) -> int:
         return _refine(a, case, T, out)
     plot = not a.no_plot and importlib.util.find_spec("matplotlib") is not None
     paths = None
-    if plot and not a.no_paths and (a.paths or case.n_eff <= 12):
-        paths = solve(replace(case, signatures="paper"), progress=False).paths     # the paper's class under it
+    # the paper's class under it (plastic: with a restitution e > 0 there are no exact branches to draw yet)
+    if plot and not a.no_paths and not case.restitution and (a.paths or case.n_eff <= 12):
+        paths = solve(replace(case, signatures="paper"), progress=False).paths
     kind = "dask" if a.scheduler else a.executor
     modes = ("rest",) + tuple(dict.fromkeys(a.cont or ()))
     with get_executor(kind, a.scheduler, a.workers) as ex:

@@ -18,7 +18,7 @@ import numpy as np
 
 from .plots import _edges, _plt, _save, contact_amplitude
 
-__all__ = ["survey_plot", "survey_damping_plot", "survey_loads_plot"]
+__all__ = ["survey_plot", "survey_damping_plot", "survey_loads_plot", "survey_restitution_plot"]
 
 #: colours of the periodic signatures, in order of appearance (blue and red are the exact branches')
 _PALETTE = ("tab:green", "tab:olive", "tab:orange", "tab:purple", "tab:cyan", "tab:brown", "tab:pink", "gold",
@@ -160,5 +160,108 @@ def survey_loads_plot(table: dict, out, name: str = "survey_loads", title: str =
     ax[-1, 0].legend(loc="upper left", bbox_to_anchor=(0.0, -0.18), fontsize=7, ncol=3, frameon=False)
     for a in ax[-1]:
         a.set_xlabel("forcing period T")
+    fig.tight_layout()
+    return _save(fig, out, name)
+
+
+#: colours and markers of the single forcing periods of :func:`survey_restitution_plot` (black and grey: the median)
+_LINES = (("tab:blue", "s"), ("tab:orange", "^"), ("tab:green", "D"), ("tab:purple", "v"), ("tab:brown", "P"),
+          ("tab:cyan", "X"))
+
+
+def _by_e(table: dict, column: str):
+    """``(e, T, grid)`` of ``column`` over (restitution, forcing period)."""
+    e, T = np.unique(table["e"]), np.unique(table["T"])
+    g = np.full((e.size, T.size), np.nan, dtype=object if column == "kind" else float)
+    g[np.searchsorted(e, table["e"]), np.searchsorted(T, table["T"])] = table[column]
+    return e, T, g
+
+
+def _picked(T: np.ndarray, want) -> np.ndarray:
+    """The forcing periods of the table nearest to ``want`` (default: four spread over the range)."""
+    want = np.quantile(T, (0.125, 0.375, 0.625, 0.875)) if want is None else np.atleast_1d(np.asarray(want, float))
+    return np.unique(np.abs(T[:, None] - want[None, :]).argmin(axis=0))[:len(_LINES)]
+
+
+def _against_e(ax, table: dict, column: str, picks, plastic: bool) -> None:
+    """Median over ``T`` with the 10-90 % band, the plastic bound, single forcing periods, against ``e``."""
+    e, T, g = _by_e(table, column)
+    lo, med, hi = (np.nanquantile(g, q, axis=1) for q in (0.1, 0.5, 0.9))
+    ax.fill_between(e, lo, hi, color="0.85", lw=0, zorder=0, label="10-90 % of the forcing periods")
+    for (col, mark), j in zip(_LINES, picks):
+        ax.plot(e, g[:, j], "-", marker=mark, ms=3.5, lw=0.8, color=col, zorder=2, label=f"T = {T[j]:.4g}")
+    ax.plot(e, med, "-o", color="k", lw=1.6, ms=4, zorder=3, label="median over the forcing periods")
+    if e[0] == 0.0:
+        ax.axhline(med[0], color="tab:red", ls="--", lw=0.9, zorder=1)
+        ax.plot([0.0], [med[0]], "*", ms=12, color="tab:red", zorder=4,
+                label=f"plastic impact e = 0 (the paper's upper limit): {med[0]:.3g}")
+        if plastic:
+            ee = np.linspace(0.0, 1.0, 101)
+            ax.plot(ee, med[0] * (1 - ee ** 2), ":", color="tab:red", lw=1.0, zorder=1,
+                    label=r"$(1 - e^2)\times$ plastic median (same motion, Eq. 14 $\times (1 - e^2)$)")
+    ax.set_xlim(-0.02, 1.02)
+    top = np.nanmax(np.r_[hi, g[:, picks].ravel()])
+    ax.set_ylim(0, 1.45 * top if np.isfinite(top) and top > 0 else 1.0)      # room for the legend above the data
+    handles, labels = ax.get_legend_handles_labels()
+    mine = [i for i, lb in enumerate(labels) if lb.startswith("T = ") != plastic]     # (a): the summary, (b): the T
+    ax.legend([handles[i] for i in mine], [labels[i] for i in mine], loc="upper right", fontsize=7,
+              ncol=1 if plastic else 2)
+
+
+def _e_map(fig, ax, table: dict, picks, units: str) -> None:
+    e, T, g = _by_e(table, "xi_eq")
+    _, _, kind = _by_e(table, "kind")
+    vmax = float(np.nanquantile(g, 0.99)) if np.isfinite(g).any() else 1.0
+    mesh = ax.pcolormesh(_edges(T), _edges(e), g, cmap="viridis", vmin=0.0, vmax=max(vmax, 1e-12), shading="flat",
+                         rasterized=True)
+    fig.colorbar(mesh, ax=ax, label=r"$\xi_{eq}$ of the motion (Eq. 22, dimensionless)", extend="max")
+    ii, jj = np.nonzero(kind == "periodic")
+    ax.plot(T[jj], e[ii], ".", ms=2.0, color="w", alpha=0.9)
+    for (col, _), j in zip(_LINES, picks):
+        ax.axvline(T[j], color=col, lw=0.9, ls="--")
+    ax.set_xlabel(f"forcing period T{' (' + units + ')' if units else ''}")
+    ax.set_ylabel("coefficient of restitution e")
+    ax.set_title(r"(c) $\xi_{eq}$ over (T, e); white dots: periodic motions, dashed: the single T of (a), (b)",
+                 loc="left", fontsize=8)
+
+
+def survey_restitution_plot(tables, out, name: str = "restitution", periods=None, units=None) -> list[Path]:
+    """``xi_eq`` and the loss per period of the real motion against the coefficient of restitution ``e``.
+
+    One row per case: (a) ``xi_eq`` (Eq. 22) against ``e``: the median over the forcing periods with their
+    10-90 % band, the plastic impact's median (``e = 0``, the paper's upper limit: red star and dashed line),
+    ``1 - e^2`` times it (what the same motion with each impact losing ``1 - e^2`` of Eq. (14) would give),
+    and a few single forcing periods; (b) the impact loss per forcing period, the same way; (c) ``xi_eq`` over
+    ``(T, e)``, periodic cells dotted, the single periods dashed.
+
+    Parameters
+    ----------
+    tables : dict or mapping
+        A restitution table (the columns of :data:`plbar.studies.survey.RESTITUTION_COLUMNS`), or a mapping
+        ``title -> table`` (one row of panels each).
+    out, name : path, str
+        Writes ``out/name.png`` and ``.pdf``.
+    periods : array_like or mapping, optional
+        The single forcing periods drawn (the nearest of each table's); a mapping ``title -> periods`` per case.
+        Default: four spread over each table's range.
+    units : str or mapping, optional
+        The units of ``T`` and of the loss (``"m = k = 1"``), per title as a mapping.
+    """
+    plt = _plt()
+    tables = {"": tables} if "e" in tables else dict(tables)
+    pick = lambda v, t: v.get(t) if isinstance(v, dict) else v
+    fig, ax = plt.subplots(len(tables), 3, figsize=(16.0, 4.2 * len(tables) + 0.8), squeeze=False,
+                           gridspec_kw={"width_ratios": (1.0, 1.0, 1.25)})
+    for r, (title, table) in enumerate(tables.items()):
+        picks, u = _picked(np.unique(table["T"]), pick(periods, title)), pick(units, title) or ""
+        _against_e(ax[r, 0], table, "xi_eq", picks, True)
+        _against_e(ax[r, 1], table, "loss_per_T", picks, False)
+        _e_map(fig, ax[r, 2], table, picks, u)
+        ax[r, 0].set_ylabel(r"$\xi_{eq}$ of the motion (Eq. 22, dimensionless)")
+        ax[r, 1].set_ylabel(f"impact loss per forcing period{' (' + u + ')' if u else ''}")
+        for a in ax[r, :2]:
+            a.set_xlabel("coefficient of restitution e (0: plastic, 1: elastic)")
+        ax[r, 0].set_title(f"(a) {title or 'the motion from rest against e'}", loc="left")
+        ax[r, 1].set_title("(b) the loss per forcing period against e", loc="left")
     fig.tight_layout()
     return _save(fig, out, name)

@@ -5,6 +5,8 @@
 * :mod:`.settle` -- motions still approaching a stable orbit, told apart from irregular ones;
 * :mod:`.loads` -- the survey at every load position (and size): :func:`survey_loads`, :class:`SurveyLoads`;
 * :mod:`.motion` -- one motion of a survey folder simulated again (export, render): :func:`survey_motion`;
+* :mod:`.restitution` -- the survey at every coefficient of restitution ``e`` (Newton's impact law; ``e = 0`` the
+  paper's plastic impact, its upper limit): :func:`survey_restitution`, :class:`SurveyRestitution`;
 * :mod:`.refine` -- the survey at several sizes N and the convergence of its means
   (:class:`SurveyRefinement`);
 * :mod:`.study` -- :func:`survey` (in memory), :func:`run_survey` (a resumable study folder with
@@ -15,6 +17,8 @@ from .points import COLUMNS, survey_chunk
 from .loads import LOADS_COLUMNS, SurveyLoads, load_positions, run_survey_loads, survey_loads
 from .motion import SurveyMotion, is_survey, survey_motion
 from .refine import REFINE_COLUMNS, SurveyRefinement, run_survey_refine
+from .restitution import (QUANTILES, RESTITUTION_COLUMNS, RESTITUTIONS, SurveyRestitution, check_restitutions,
+                          survey_restitution, write_restitution)
 from .study import (SURVEY_OWNED, Survey, default_periods, default_record, run_survey, survey, survey_study,
                     write_survey)
 from .tasks import MODES, case_fields, case_of, make_tasks, survey_task
@@ -22,4 +26,6 @@ from .tasks import MODES, case_fields, case_of, make_tasks, survey_task
 __all__ = ["COLUMNS", "survey_chunk", "SURVEY_OWNED", "Survey", "default_periods", "default_record", "run_survey",
            "survey", "survey_study", "write_survey", "REFINE_COLUMNS", "SurveyRefinement", "run_survey_refine", "MODES",
            "case_fields", "case_of", "make_tasks", "survey_task", "LOADS_COLUMNS", "SurveyLoads", "load_positions",
-           "run_survey_loads", "survey_loads", "SurveyMotion", "is_survey", "survey_motion"]
+           "run_survey_loads", "survey_loads", "SurveyMotion", "is_survey", "survey_motion", "QUANTILES",
+           "RESTITUTION_COLUMNS", "RESTITUTIONS", "SurveyRestitution", "check_restitutions", "survey_restitution",
+           "write_restitution"]

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -171,11 +171,13 @@ def default_periods(case: Case, num: int = 161) -> np.ndarray:
     """Default forcing periods: ``[6, 14]`` for the paper's case, ``[0.6, 1.4] T0^I`` for another chain and
     ``[0.75, 2.25] T0^I`` for an FE bar (``T/L`` in ``[1.5, 4.5]`` for a uniform bar, ``T0^I = 2 L / c``), never
     beyond the forcing periods ``plbar run`` searches by default (:func:`plbar.app.signatures.hybrid_window`:
-    ``(T0^I + T0^II) / 2``, ``T/L = 3`` for a uniform FE bar), so that the figure's exact branches cover it."""
+    ``(T0^I + T0^II) / 2``, ``T/L = 3`` for a uniform FE bar), so that the figure's exact branches cover it.
+    The bar and load decide, not the search options nor the contact's restitution (the natural periods are
+    those of the plastic contact whatever ``e``)."""
     from ...app.signatures import hybrid_window
     from ...paths.branches import default_domain
 
-    if case_fields(case) == case_fields(Case()):            # the bar and load decide, not the search options
+    if case_fields(replace(case, restitution=0.0)) == case_fields(Case()):
         return np.linspace(6.0, 14.0, num)
     prob = case.problem()
     T0 = prob.system.T0[0]
