@@ -122,3 +122,19 @@ def test_the_site_builds_with_warnings_as_errors(tmp_path):
     index = (tmp_path / "html" / "api" / "index.html").read_text()
     rows = index.split('class="api-index', 1)[1].split("</table>", 1)[0].count("<tr")
     assert rows == len(list((DOCS / "api").glob("plbar*.md"))), rows
+
+
+def test_quoted_times_are_ranges_or_say_idle_or_busy():
+    """A time the README quotes is what a benchmark measured on a machine whose load varies (issue 30, item 8:
+    quotes 1.5-3x low on a busy machine): each is a range (``4–8 s``) or its paragraph says idle or busy."""
+    text = (ROOT / "README.md").read_text()
+    quote = re.compile(r"(?<![\d.,–-])(\d+(?:[.,]\d+)?)(?:[–-]\d+(?:[.,]\d+)?)? ?(ms|s|seconds|minutes)\b")
+    bad = []
+    for para in re.split(r"\n\s*\n", text):
+        if para.lstrip().startswith("```bash\npython3 -m venv"):
+            continue                                        # the two commands
+        said = "idle" in para or "busy" in para
+        for m in quote.finditer(para):
+            if not (said or re.search(r"[–-]", m.group(0))):
+                bad.append(para[max(0, m.start() - 50):m.end()].replace("\n", " "))
+    assert not bad, bad
