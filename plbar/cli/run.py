@@ -10,6 +10,7 @@ from ..errors import InputError
 from ..io import SHIPPED, write_shipped
 from ..util.outputs import claim_folder, fingerprint
 from ..util.progress import message
+from ..visuals.style import PAPER_SIGNATURE
 from .common import case_args, case_from_args, output_args, plural, progress, report
 
 __all__ = ["register"]
@@ -29,7 +30,7 @@ def _human(summary: dict, files: dict, verbose: bool) -> str:
     lines = [f"plbar: {summary['bar']}; load {summary['load']}",
              f"  fundamental periods T0_I = {summary['T0_I']:.6g}, T0_II = {summary['T0_II']:.6g}",
              f"  {plural(summary['n_branches'], 'branch')}, {plural(summary['n_points'], 'admissible path point')} "
-             f"in {summary['run_time']:.3g} s"]
+             f"of the paper's class in {summary['paper_time']:.3g} s"]
     shown = brs if verbose else sorted(brs, key=lambda b: -b["xi_range"][1])[:TOP]
     if not verbose and len(brs) > TOP:
         lines.append(f"  the {TOP} branches with the largest xi_eq (--verbose lists all {len(brs)}):")
@@ -42,13 +43,19 @@ def _human(summary: dict, files: dict, verbose: bool) -> str:
         lines.append(f"  ... {plural(len(rest), 'more branch')} with {plural(sum(b['points'] for b in rest), 'point')} "
                      f"(max xi_eq {max(b['xi_range'][1] for b in rest):.4g}; {short} with fewer than 3 points): "
                      "all in paths.csv and summary.json")
-    other = summary.get("other_signatures", [])
-    if other:
+    found = summary.get("other_signatures", [])
+    if found:
         by = {}
-        for b in other:
+        for b in found:
             by.setdefault(b["signature"], []).append(b)
+        paper = by.pop(PAPER_SIGNATURE, [])
+        other = [b for bs in by.values() for b in bs]
+        if paper:
+            lines.append(f"  and {plural(len(paper), 'branch')} of the paper's class ({PAPER_SIGNATURE}) beyond its "
+                         f"scan, {plural(sum(b['points'] for b in paper), 'point')}, found by the signature search")
         lines.append(f"  other signatures ({summary['signatures']}): {len(other)} branch(es), "
-                     f"{sum(b['points'] for b in other)} admissible points:")
+                     f"{sum(b['points'] for b in other)} admissible points, in {summary['signatures_time']:.3g} s "
+                     "more (its simulation from rest ran beside the paper's class):")
         for lab, bs in by.items():
             lo, hi = min(b["T_range"][0] for b in bs), max(b["T_range"][1] for b in bs)
             lines.append(f"    {lab:8s} {len(bs):3d} branch(es), T in [{lo:.5g}, {hi:.5g}], xi_eq up to "
@@ -56,6 +63,7 @@ def _human(summary: dict, files: dict, verbose: bool) -> str:
     elif summary.get("signatures", "default") == "paper":
         lines.append("  (the paper's class only: without --signatures paper, plbar run adds zero-dwell impacts, "
                      "subharmonics and several impacts per period)")
+    lines.append(f"  total {summary['run_time']:.3g} s")
     lines.append("  wrote " + ", ".join(str(p) for p in files.values() if not isinstance(p, (list, tuple))))
     return "\n".join(lines)
 
