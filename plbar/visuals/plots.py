@@ -269,11 +269,12 @@ def _edges(v):
     return np.r_[2 * v[0] - mid[0], mid, 2 * v[-1] - mid[-1]]
 
 
-def xi_load_map(path, T, branch, fam, s, xi, xi_worst, xi_best, fams) -> Path:
+def xi_load_map(path, T, branch, fam, s, xi, xi_worst, xi_best, fams, units: str = "") -> Path:
     """``xi_eq`` over (period ``T``, load position ``s``) per family, with the worst-load curve above it.
 
     ``T, branch, fam`` per path point (P,), ``xi`` (P, S) for unit forces at ``s`` (S,),
-    ``xi_worst, xi_best`` (P,) the worst load distribution and the best single force.
+    ``xi_worst, xi_best`` (P,) the worst load distribution and the best single force; ``units`` the bar's
+    (:func:`plbar.visuals.style.unit_note`), said on the axes.
     """
     plt = _plt()
     fig, ax = plt.subplots(2, len(fams), figsize=(4.5 * len(fams), 6), sharex="col", squeeze=False,
@@ -291,10 +292,10 @@ def xi_load_map(path, T, branch, fam, s, xi, xi_worst, xi_best, fams) -> Path:
             k = np.flatnonzero(m & (branch == bid))
             sc = ax[1, c].pcolormesh(_edges(T[k]), _edges(s), xi[k].T, cmap="viridis", vmin=0.0,
                                      vmax=vmax, shading="flat")
-        fig.colorbar(sc, ax=ax[1, c], label="xi_eq (unit force at s)")
-        ax[1, c].set_xlabel("T")
-    ax[0, 0].set_ylabel("xi_eq")
-    ax[1, 0].set_ylabel("load position s")
+        fig.colorbar(sc, ax=ax[1, c], label=with_units(r"$\xi_{eq}$ (unit force at s)", "dimensionless"))
+        ax[1, c].set_xlabel(with_units("forcing period T", units))
+    ax[0, 0].set_ylabel(with_units(r"$\xi_{eq}$", "dimensionless"))
+    ax[1, 0].set_ylabel(with_units("load position s", units))
     fig.tight_layout()
     path = Path(path)
     with atomic_path(path) as tmp:

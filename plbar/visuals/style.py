@@ -93,5 +93,8 @@ def unit_note(bar) -> str:
 
 
 def with_units(label: str, note: str) -> str:
-    """An axis label with its units: ``"forcing period T (m = k = 1)"``; ``note`` empty: the label itself."""
-    return f"{label} ({note})" if note else label
+    """An axis label with its units: ``"forcing period T (m = k = 1)"``, ``"xi_eq (Eq. 22; dimensionless)"``
+    (a label ending in a parenthesis gets the note inside it); ``note`` empty: the label itself."""
+    if not note:
+        return label
+    return f"{label[:-1]}; {note})" if label.endswith(")") else f"{label} ({note})"
