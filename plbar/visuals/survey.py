@@ -79,10 +79,10 @@ def survey_plot(table: dict, out, name: str = "survey", paths=None, title: str =
         axes[2].plot(T[sel], table["amp_c_max"][sel], "_", ms=5, color=col, zorder=2)
     axes[1].plot(Tr, table["xi_w"][rest][order], "-", color="k", lw=0.7, alpha=0.6, zorder=2,
                  label=r"$\xi_\omega$ (one frequency, the forcing's)")
-    axes[0].set_ylabel(with_units("impact loss per forcing period", units))
-    axes[1].set_ylabel(with_units(r"$\xi_{eq}$ of the motion (Eq. 22)", "dimensionless"))
-    axes[2].set_ylabel(with_units(r"contact amplitude $\max|x_c|$ per period", units) +
-                       "\n(marker: mean, bar: largest)")
+    axes[0].set_ylabel("impact loss per forcing period" + (f"\n({units})" if units else ""))
+    axes[1].set_ylabel(r"$\xi_{eq}$ of the motion" + "\n(Eq. 22; dimensionless)")
+    axes[2].set_ylabel(r"contact amplitude $\max|x_c|$ per period" + "\n" +
+                       with_units("(marker: mean, bar: largest)", units))
     axes[2].set_xlabel(with_units("forcing period T", units))
     axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
     axes[1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
