@@ -34,6 +34,8 @@ if __name__ == "__main__":
             print(f"  {100 * r['ratio']:4.1f} %  {r['points']:6d}  {r['branches']:8d}  {r['xi_max']:.5f}    "
                   f"{r['T_at_max']:8.4f}  {r['xi_total_at_max']:.5f}                {r['xi_mean']:.5f}")
     from plbar.visuals import xi_rayleigh_plot
+    from plbar.visuals.style import unit_note
 
-    for f in xi_rayleigh_plot(list(runs.items()), out, "xi_rayleigh"):
+    units = {title: unit_note(case.bar()) for title, (case, _) in CASES.items()}
+    for f in xi_rayleigh_plot(list(runs.items()), out, "xi_rayleigh", units=units):
         print(f)

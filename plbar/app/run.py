@@ -46,12 +46,19 @@ CSV_FORMATS = [f for _, f in PATHS_COLUMNS]
 
 @dataclass(frozen=True)
 class Result:
-    """A solved case: the paths of the paper's class, the branches of other signatures, the solver time (s)."""
+    """A solved case: the paths of the paper's class, the branches of other signatures, the times (s).
+
+    ``solver_time`` is the whole solve; ``paper_time`` the paper's class (:func:`plbar.find_paths`);
+    ``signatures_time`` what the signature search added after it (:meth:`Search.finish`: its seeding simulation
+    began beside the paper's class and is not counted twice).
+    """
 
     case: Case
     paths: Paths
     solver_time: float
     hybrid: tuple = ()
+    paper_time: float = 0.0
+    signatures_time: float = 0.0
 
     @property
     def branches(self):
@@ -100,6 +107,8 @@ class Result:
             "other_signatures": hybrid_summary(self.hybrid, _first_hybrid_id(self)),
             "scan": stats,
             "run_time": round(self.solver_time, 6),
+            "paper_time": round(self.paper_time, 6),
+            "signatures_time": round(self.signatures_time, 6),
             "plbar_version": __version__,
         }
 
@@ -126,8 +135,11 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
     with contextlib.ExitStack() as stack:        # the other signatures begin beside the paper's class
         search = None if case.signatures == "paper" else stack.enter_context(
             Search(prob, domain, case.signatures, progress))
+        t_paper = time.perf_counter()
         paths = find_paths(prob, domain, case.grid, method=case.method, progress=progress)
+        t_search = time.perf_counter()
         hybrid = () if search is None else tuple(search.finish(paths))
+        t_end = time.perf_counter()
     short = [b.id for b in paths.branches if len(b) < MIN_BRANCH_POINTS]
     if short:
         ids = ", ".join(str(i) for i in short[:8]) + (f" and {len(short) - 8} more" if len(short) > 8 else "")
@@ -141,7 +153,7 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
                       f"(forcing periods T in {_interval((domain.T1[0] + domain.T2[0], domain.T1[1] + domain.T2[1]))})"
                       f" on grid = {case.grid}; widen T1/T2 (default (0, T0/2] each) or refine the grid",
                       CoarseGridWarning, stacklevel=2)
-    return Result(case, paths, time.perf_counter() - t0, hybrid)
+    return Result(case, paths, time.perf_counter() - t0, hybrid, t_search - t_paper, t_end - t_search)
 
 
 def _interval(r) -> str:

@@ -11,6 +11,7 @@ from ..io import SHIPPED, write_shipped
 from ..util.check import MIN_BRANCH_POINTS
 from ..util.outputs import claim_folder, fingerprint
 from ..util.progress import message
+from ..visuals.style import PAPER_SIGNATURE
 from .common import case_args, case_flags, case_from_args, output_args, plural, progress, report, yes_arg
 
 __all__ = ["register"]
@@ -46,7 +47,7 @@ def _human(summary: dict, files: dict, verbose: bool, survey: str = "") -> str:
     lines = [f"plbar: {summary['bar']}; load {summary['load']}",
              f"  fundamental periods T0_I = {summary['T0_I']:.6g}, T0_II = {summary['T0_II']:.6g}",
              f"  {plural(summary['n_branches'], 'branch')}, {plural(summary['n_points'], 'admissible path point')} "
-             f"in {summary['run_time']:.3g} s", *_stable_lines(summary, survey)]
+             f"of the paper's class in {summary['paper_time']:.3g} s", *_stable_lines(summary, survey)]
     if summary.get("rayleigh"):
         lines.insert(2, f"  Rayleigh damping alpha = {summary['rayleigh'][0]:.6g}, beta = {summary['rayleigh'][1]:.6g}")
     order = sorted(brs, key=lambda b: (b["stable_points"] == 0, -b["xi_range"][1]))
@@ -62,13 +63,19 @@ def _human(summary: dict, files: dict, verbose: bool, survey: str = "") -> str:
         lines.append(f"  ... {plural(len(rest), 'more branch')} with {plural(sum(b['points'] for b in rest), 'point')} "
                      f"(max xi_eq {max(b['xi_range'][1] for b in rest):.4g}; {short} with fewer than "
                      f"{MIN_BRANCH_POINTS} points): all in paths.csv and summary.json")
-    other = summary.get("other_signatures", [])
-    if other:
+    found = summary.get("other_signatures", [])
+    if found:
         by = {}
-        for b in other:
+        for b in found:
             by.setdefault(b["signature"], []).append(b)
+        paper = by.pop(PAPER_SIGNATURE, [])
+        other = [b for bs in by.values() for b in bs]
+        if paper:
+            lines.append(f"  and {plural(len(paper), 'branch')} of the paper's class ({PAPER_SIGNATURE}) beyond its "
+                         f"scan, {plural(sum(b['points'] for b in paper), 'point')}, found by the signature search")
         lines.append(f"  other signatures ({summary['signatures']}): {len(other)} branch(es), "
-                     f"{sum(b['points'] for b in other)} admissible points:")
+                     f"{sum(b['points'] for b in other)} admissible points, in {summary['signatures_time']:.3g} s "
+                     "more (its simulation from rest ran beside the paper's class):")
         for lab, bs in by.items():
             lo, hi = min(b["T_range"][0] for b in bs), max(b["T_range"][1] for b in bs)
             lines.append(f"    {lab:8s} {len(bs):3d} branch(es), T in [{lo:.5g}, {hi:.5g}], xi_eq up to "
@@ -76,6 +83,7 @@ def _human(summary: dict, files: dict, verbose: bool, survey: str = "") -> str:
     elif summary.get("signatures", "default") == "paper":
         lines.append("  (the paper's class only: without --signatures paper, plbar run adds zero-dwell impacts, "
                      "subharmonics and several impacts per period)")
+    lines.append(f"  total {summary['run_time']:.3g} s")
     lines.append("  wrote " + ", ".join(str(p) for p in files.values() if not isinstance(p, (list, tuple))))
     return "\n".join(lines)
 

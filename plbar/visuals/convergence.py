@@ -95,7 +95,7 @@ def _panel(ax, item, always: bool = False) -> None:
     else:
         ax.plot([], [], " ", label=f"final observed rate {rate:.3g}" if rate is not None else "final rate: none")
     ax.legend(loc="best", framealpha=0.8, fontsize=7)
-    ax.set_xlabel("mesh size $h$" if against_limit else "mesh size $h_{i+1}$")
+    ax.set_xlabel(("mesh size $h$" if against_limit else "mesh size $h_{i+1}$") + " (in units of L)")
     title = str(item.name)
     if against_limit:
         ax.set_title(f"{title}\n|q(h) - {_number(item.limit):.6g}|", fontsize=8)

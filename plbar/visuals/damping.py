@@ -9,13 +9,14 @@ from __future__ import annotations
 import numpy as np
 
 from .plots import _plt, _save
+from .style import with_units
 
 __all__ = ["xi_rayleigh_plot", "RATIO_COLORS"]
 
 RATIO_COLORS = ("0.35", "tab:blue", "tab:orange", "tab:red", "tab:green", "tab:purple")
 
 
-def _panel(ax, runs, title: str) -> None:
+def _panel(ax, runs, title: str, units: str = "") -> None:
     """One case: ``xi_eq(T)`` per ratio (stable points filled, unstable hollow), the ratio itself dotted."""
     for k, r in enumerate(runs):
         col = RATIO_COLORS[k % len(RATIO_COLORS)]
@@ -34,14 +35,14 @@ def _panel(ax, runs, title: str) -> None:
             W = 2 * np.pi / T
             a, bb = r.rayleigh
             ax.plot(T, a / (2 * W) + bb * W / 2, ":", color=col, lw=1.0)
-    ax.set_xlabel("forcing period $T$")
-    ax.set_ylabel(r"$\xi_{eq}$ of the impact (Eq. 22, damped velocities)")
+    ax.set_xlabel(with_units("forcing period $T$", units))
+    ax.set_ylabel(with_units(r"$\xi_{eq}$ of the impact (Eq. 22, damped velocities)", "dimensionless"))
     ax.set_title(title)
     ax.set_ylim(bottom=0)
     ax.legend(loc="upper left")
 
 
-def xi_rayleigh_plot(panels, out, name: str = "xi_rayleigh") -> list:
+def xi_rayleigh_plot(panels, out, name: str = "xi_rayleigh", units: dict | None = None) -> list:
     """Draw ``xi_eq`` against ``T`` for each Rayleigh ratio, one panel per case; PNG and PDF.
 
     Parameters
@@ -53,6 +54,8 @@ def xi_rayleigh_plot(panels, out, name: str = "xi_rayleigh") -> list:
         Output folder.
     name : str
         File stem.
+    units : dict, optional
+        Title -> the case's units (:func:`plbar.visuals.style.unit_note`), said on the axes.
 
     Returns
     -------
@@ -69,6 +72,6 @@ def xi_rayleigh_plot(panels, out, name: str = "xi_rayleigh") -> list:
     panels = list(panels)
     fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 3.9), squeeze=False)
     for ax, (title, runs) in zip(axes[0], panels):
-        _panel(ax, runs, title)
+        _panel(ax, runs, title, (units or {}).get(title, ""))
     fig.tight_layout()
     return _save(fig, out, name)

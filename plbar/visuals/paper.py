@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from .plots import DOF_COLORS, FAM_STYLE, FAMILIES, _plt, _save
+from .style import with_units
 
 __all__ = ["RED", "GREEN", "nearest_point", "draw_fig2", "draw_fig3", "draw_fig4", "draw_fig5", "draw_fig6",
            "draw_fig7", "draw_fig8", "draw_fig9"]
@@ -22,6 +23,11 @@ __all__ = ["RED", "GREEN", "nearest_point", "draw_fig2", "draw_fig3", "draw_fig4
 #: The paper's sample points (T1, T2, phi): red on path 1, green on path 2 (Fig. 2b).
 RED = (1.7748, 8.1525, 3.5495)
 GREEN = (2.3876, 9.8894, 4.8050)
+#: the units of the paper's chain (masses and springs of one: time in units of sqrt(m/k))
+UNITS = "m = k = 1"
+#: axis labels of the paper's figures, with their units
+TI, TII, T_, t_ = (with_units(x, UNITS) for x in ("$T^I$", "$T^{II}$", "T", "t"))
+XI = with_units(r"$\xi_{eq}$", "dimensionless")
 
 
 def nearest_point(res, fams, target, family: str | None = None):
@@ -64,8 +70,8 @@ def draw_fig2(out, res, fams) -> list[Path]:
         ax3.scatter(o.T1, o.T2, np.mod(o.phi, 2 * np.pi), color=col, s=40, depthshade=False, zorder=5)
         ax2.plot(o.T1, o.T2, "o", color=col, ms=7, mec="k",
                  label=f"{nm}: $T^I$={o.T1[0]:.4f}, $T^{{II}}$={o.T2[0]:.4f}")
-    ax3.set(xlabel="$T^I$", ylabel="$T^{II}$", zlabel=r"$\phi$ [rad]", title="a) parameter space")
-    ax2.set(xlabel="$T^I$", ylabel="$T^{II}$", title="b) $T^I$-$T^{II}$ plane")
+    ax3.set(xlabel=TI, ylabel=TII, zlabel=r"$\phi$ [rad]", title="a) parameter space")
+    ax2.set(xlabel=TI, ylabel=TII, title="b) $T^I$-$T^{II}$ plane")
     ax2.legend(loc="best")
     s = res.paths.prob.system
     fig.suptitle(f"Periodic paths, chain N = {s.n}, unit force on DOF 1 "
@@ -94,10 +100,10 @@ def draw_fig3(out, res, fams) -> list[Path]:
             for m in (1, 2):
                 ax.axvline(m * T, color="red", ls="--", lw=0.8)
             ax.axvline(float(o.T1[0]), color="0.5", ls=":", lw=0.8)
-            ax.set_ylabel(f"$x_{k + 1}$")
+            ax.set_ylabel(with_units(f"$x_{k + 1}$", UNITS))
         axes[0, col].set_title(f"{'ab'[col]}) {nm} point: $T^I$={o.T1[0]:.4f}, $T^{{II}}$={o.T2[0]:.4f}, "
                                rf"$\phi$={np.mod(o.phi[0], 2 * np.pi):.4f}, T={T:.4f}")
-        axes[-1, col].set_xlabel("t")
+        axes[-1, col].set_xlabel(t_)
     fig.suptitle("Periodic responses of every DOF (dashed: period ends, dotted: gap opens at $T^I$)")
     fig.tight_layout()
     return _save(fig, out, "fig3_time_histories")
@@ -116,7 +122,7 @@ def draw_fig4(out, res, fams) -> list[Path]:
         ax.plot(t, ek[0] + ep[0], label="total", color="k", lw=1.5)
         for m in (1, 2):
             ax.axvline(m * T, color="red", ls="--", lw=0.8)
-        ax.set(xlabel="t", ylabel="energy", title=f"{lab}) {nm} point, T = {T:.4f}: "
+        ax.set(xlabel=t_, ylabel=with_units("energy", UNITS), title=f"{lab}) {nm} point, T = {T:.4f}: "
                                                  rf"$\Delta_{{PL}}$ = {b.dPL[i]:.4f}, $\xi_{{eq}}$ = {b.xi[i]:.4f}")
         ax.legend(loc="upper left")
     fig.suptitle("Mechanical energy over two periods (drop of $E_K$ at the plastic impact, t = T)")
@@ -137,7 +143,8 @@ def draw_fig5(out, res, fams) -> list[Path]:
             ax.plot(b.T, np.mod(b.phi, 2 * np.pi), getattr(b, attr), ".-", color=c, ms=2, lw=0.8,
                     label=lab if f not in seen else None)
             seen.add(f)
-        ax.set(xlabel="T", ylabel=r"$\phi$ [rad]", zlabel=zl, title=title)
+        ax.set(xlabel=T_, ylabel=r"$\phi$ [rad]", zlabel=with_units(zl, UNITS if attr == "dPL" else "dimensionless"),
+               title=title)
         if k == 0:
             ax.legend(loc="upper left")
     fig.suptitle("Impact loss and $\\xi_{eq}$ (Eq. 22) along the periodic paths, chain N = 5, DOF 1 forced")
@@ -152,7 +159,7 @@ def draw_fig6(out, res, fams) -> list[Path]:
         for b, f in zip(res.branches, fams):
             if f == fam:
                 ax.plot(b.T, b.xi, ".-", color=FAM_STYLE[fam][0], ms=3, lw=1)
-        ax.set(xlabel="T", ylabel=r"$\xi_{eq}$", title=f"{lab}) {FAM_STYLE[fam][1]}")
+        ax.set(xlabel=T_, ylabel=XI, title=f"{lab}) {FAM_STYLE[fam][1]}")
     for tgt, col in ((RED, "red"), (GREEN, "green")):
         o, b, i, _ = nearest_point(res, fams, tgt)
         ax = axes[0] if col == "red" else axes[1]
@@ -180,9 +187,9 @@ def draw_fig7(out, cases, fams_list) -> list[Path]:
                 axes[k, col].plot(t, x[0, :, k], color=DOF_COLORS[li], lw=2.4 if k == li else 1.0,
                                   label=f"$q_{{0{li + 1}}}$ = 1" if k == 0 else None)
         for k in range(n):
-            axes[k, col].set_ylabel(f"$x_{k + 1}$")
+            axes[k, col].set_ylabel(with_units(f"$x_{k + 1}$", UNITS))
         axes[0, col].set_title(f"{'ab'[col]}) {nm} point, T = {T:.4f}")
-        axes[-1, col].set_xlabel("t")
+        axes[-1, col].set_xlabel(t_)
     fig.suptitle("Responses over one period for different loaded DOFs (thick: the loaded DOF)")
     fig.tight_layout(rect=(0, 0, 1, 0.95))
     h, lab = axes[0, 0].get_legend_handles_labels()
@@ -204,7 +211,7 @@ def draw_fig8(out, cases, fams_list) -> list[Path]:
                             if first else None)
                     first = False
     for ax, fam, lab in zip(axes, FAMILIES, "ab"):
-        ax.set(xlabel="T", ylabel=r"$\xi_{eq}$", title=f"{lab}) {FAM_STYLE[fam][1]}")
+        ax.set(xlabel=T_, ylabel=XI, title=f"{lab}) {FAM_STYLE[fam][1]}")
         ax.legend()
     fig.suptitle("Equivalent viscous damping ratio for unit forces on different DOFs, chain N = 5")
     fig.tight_layout()
@@ -243,9 +250,9 @@ def draw_fig9(out, allres, families) -> list[Path]:
             ax.plot(P[j, 0], P[j, 1], "*", color="red", ms=12, mec="k")
             best = f"\n(star) max $\\xi_{{eq}}$ = {P[j, 2]:.4f} at s = {P[j, 1]:.3g}"    # no legend on the data
         ax.axvline(T0II / 2, color="k", ls=":", lw=0.8)
-        ax.set(xlabel="T")
+        ax.set(xlabel=T_)
         ax.set_title(f"{lab}) N = {n}{best}", fontsize=9)
-    axes[0].set_ylabel("load position s (0 = clamp, DOF k at s = k)")
+    axes[0].set_ylabel("load position s (0 = clamp, DOF k at s = k; m = k = 1)")
     if sc is not None:
         fig.colorbar(sc, ax=list(axes), label=r"$\xi_{eq}$", shrink=0.9)
     fig.suptitle(r"$\xi_{eq}$ on the path near $T_0^{II}/2$ against T and load position (dotted: $T_0^{II}/2$)")

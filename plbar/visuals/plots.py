@@ -12,6 +12,7 @@ import numpy as np
 
 from ..paths import FOLD_MU, FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING
 from ..util.files import atomic_path
+from .style import PAPER_SIGNATURE, signature_styles, unit_note, with_units
 
 __all__ = ["frequency_response", "paths_plane", "contact_amplitude", "xi_load_map", "FAM_STYLE", "DOF_COLORS", "FAMILIES"]
 
@@ -163,11 +164,15 @@ def frequency_response(res, out, name: str = "frequency_response", xi: str = "eq
         T0I, T0II = res.paths.prob.system.T0
         _anchors(ax1, T0I, T0II)
         _anchors(ax2, T0I, T0II, label=False)
-    ax1.set_ylabel(r"max $|x_c|$ (contact node)")
-    ax2.set_ylabel(r"$\xi_{eq}$ (Eq. 22)" if xi == "eq" else r"$\xi_\omega$ (one frequency, the forcing's)")
-    ax2.set_xlabel("forcing period $T$")
-    kinds = [(b.stable.any(), (~b.stable).any()) for b in res.branches]
-    hollow = " (other signatures: hollow)" if getattr(res, "hybrid", ()) else ""
+    units = unit_note(res.paths.prob.bar)
+    ax1.set_ylabel(with_units(r"max $|x_c|$ (contact node)", units))
+    ax2.set_ylabel(with_units(r"$\xi_{eq}$ (Eq. 22)" if xi == "eq" else r"$\xi_\omega$ (one frequency, the forcing's)",
+                              "dimensionless"))
+    ax2.set_xlabel(with_units("forcing period $T$", units))
+    paper = list(res.branches) + [b for b in getattr(res, "hybrid", ()) if b.label == PAPER_SIGNATURE]
+    kinds = [(np.any(b.stable), np.any(~np.asarray(b.stable, bool))) for b in paper]
+    hollow = " (other signatures: hollow)" if any(b.label != PAPER_SIGNATURE for b in getattr(res, "hybrid", ())) \
+        else ""
     if any(k[0] for k in kinds):                                   # only the kinds present
         ax1.plot([], [], "o", color="tab:blue", label="1P (paper's class), stable")
     if any(k[1] for k in kinds):
@@ -188,28 +193,26 @@ def frequency_response(res, out, name: str = "frequency_response", xi: str = "eq
     return _save(fig, out, name)[0]
 
 
-#: markers of the other signatures (in order of first appearance), one legend entry each; 13 markers against 12
-#: colours: the first 156 signatures differ in marker or colour
-SIG_MARKS = ("s", "D", "^", "v", "P", "*", "h", "<", ">", "p", "X", "d", "H")
-SIG_COLORS = ("tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:cyan", "tab:olive", "tab:pink", "gold",
-              "teal", "darkslateblue", "peru", "olive")
-
-
 def _draw_signatures(ax1, ax2, branches, xi: str = "eq") -> None:
-    """The branches of other signatures: one marker and colour per signature (filled stable, hollow unstable)."""
-    labels = list(dict.fromkeys(b.label for b in branches))
-    for j, lab in enumerate(labels):                 # one artist per signature and stability: a fast savefig
-        mk, col = SIG_MARKS[j % len(SIG_MARKS)], SIG_COLORS[j % len(SIG_COLORS)]
+    """The branches the signature search found, one colour and marker per signature (:func:`signature_styles`):
+    filled stable, hollow unstable; those of the paper's class (``1P``) as the paper's (blue, red crosses)."""
+    styles = signature_styles(b.label for b in branches)
+    for lab, (col, mk) in styles.items():            # one artist per signature and stability: a fast savefig
         bs = [b for b in branches if b.label == lab]
         Ts, st = [b.T for b in bs], [np.asarray(b.stable, bool) for b in bs]
         amps = [np.array([o.amplitude for o in b.orbits]) for b in bs]
         for ax, ys in ((ax1, amps), (ax2, [b.xi if xi == "eq" else b.xi_w for b in bs])):
+            if lab == PAPER_SIGNATURE:
+                ax.plot(*_picked(Ts, ys, st), mk, ms=2.6, color=col, ls="none", zorder=3)
+                ax.plot(*_picked(Ts, ys, [~s for s in st]), "x", ms=2.6, color="tab:red", alpha=0.6, ls="none",
+                        zorder=2)
+                continue
             ax.plot(*_picked(Ts, ys, st), mk, ms=3.2, color=col, ls="none", zorder=3)
             ax.plot(*_picked(Ts, ys, [~s for s in st]), mk, ms=3.2, color=col, mfc="none", alpha=0.5, ls="none",
                     zorder=2)
-    for j, lab in enumerate(labels):
-        ax1.plot([], [], SIG_MARKS[j % len(SIG_MARKS)], color=SIG_COLORS[j % len(SIG_COLORS)], ls="none",
-                 label=f"signature {lab}")
+    for lab, (col, mk) in styles.items():
+        if lab != PAPER_SIGNATURE:
+            ax1.plot([], [], mk, color=col, ls="none", label=f"signature {lab}")
 
 
 #: at most this many branches (those with the largest ``xi_eq``) get their id written in :func:`paths_plane`
@@ -229,8 +232,9 @@ def paths_plane(res, out, name: str = "paths_T1_T2") -> Path:
         ax.plot(b.T1, b.T2, "-", lw=1.2)
     ev = _event_points(res.branches)
     _draw_events(ax, ev, (0, 1))
-    ax.set_xlabel("$T^I$")
-    ax.set_ylabel("$T^{II}$")
+    units = unit_note(res.paths.prob.bar)
+    ax.set_xlabel(with_units("$T^I$", units))
+    ax.set_ylabel(with_units("$T^{II}$", units))
     d = res.paths.domain
     ax.set_xlim(*d.T1)
     ax.set_ylim(*d.T2)
@@ -272,11 +276,12 @@ def _edges(v):
     return np.r_[2 * v[0] - mid[0], mid, 2 * v[-1] - mid[-1]]
 
 
-def xi_load_map(path, T, branch, fam, s, xi, xi_worst, xi_best, fams) -> Path:
+def xi_load_map(path, T, branch, fam, s, xi, xi_worst, xi_best, fams, units: str = "") -> Path:
     """``xi_eq`` over (period ``T``, load position ``s``) per family, with the largest ``xi_eq`` of any load above it.
 
     ``T, branch, fam`` per path point (P,), ``xi`` (P, S) for unit forces at ``s`` (S,),
-    ``xi_worst, xi_best`` (P,) the worst load distribution and the best single force.
+    ``xi_worst, xi_best`` (P,) the worst load distribution and the best single force; ``units`` the bar's
+    (:func:`plbar.visuals.style.unit_note`), said on the axes.
     """
     plt = _plt()
     fig, ax = plt.subplots(2, len(fams), figsize=(4.5 * len(fams), 6), sharex="col", squeeze=False,
@@ -294,10 +299,10 @@ def xi_load_map(path, T, branch, fam, s, xi, xi_worst, xi_best, fams) -> Path:
             k = np.flatnonzero(m & (branch == bid))
             sc = ax[1, c].pcolormesh(_edges(T[k]), _edges(s), xi[k].T, cmap="viridis", vmin=0.0,
                                      vmax=vmax, shading="flat")
-        fig.colorbar(sc, ax=ax[1, c], label="xi_eq (unit force at s)")
-        ax[1, c].set_xlabel("T")
-    ax[0, 0].set_ylabel("xi_eq")
-    ax[1, 0].set_ylabel("load position s")
+        fig.colorbar(sc, ax=ax[1, c], label=with_units(r"$\xi_{eq}$ (unit force at s)", "dimensionless"))
+        ax[1, c].set_xlabel(with_units("forcing period T", units))
+    ax[0, 0].set_ylabel(with_units(r"$\xi_{eq}$", "dimensionless"))
+    ax[1, 0].set_ylabel(with_units("load position s", units))
     fig.tight_layout()
     path = Path(path)
     with atomic_path(path) as tmp:

@@ -34,8 +34,8 @@ def _responses(ax, label: str, levels: list[dict], cmap) -> None:
         T, xi = _points(lv)
         col = cmap(k / max(len(levels) - 1, 1))
         ax.plot(T, xi, ".", ms=3, color=col, label=f"N = {lv['n']}" if len(ns) <= 8 or k in (0, len(ns) - 1) else None)
-    ax.set_xlabel("$T / T_0^I$")
-    ax.set_ylabel(r"$\xi_{eq}$")
+    ax.set_xlabel("$T / T_0^I$ (dimensionless)")
+    ax.set_ylabel(r"$\xi_{eq}$ (dimensionless)")
     ax.set_title(f"{label}: admissible responses")
     ax.legend(loc="best", ncol=2)
 
@@ -50,8 +50,8 @@ def _ranges(ax, label: str, levels: list[dict], cmap) -> None:
             ax.plot(lv["n"], 1.0, "x", color="0.5")
         ax.plot(lv["n"], lv["A"] / lv["T0_I"], "_", ms=12, color="k")
     ax.set_xscale("log", base=2)
-    ax.set_xlabel("N")
-    ax.set_ylabel("$T / T_0^I$ (bar: admissible range; dash: anchor)")
+    ax.set_xlabel("N (elements)")
+    ax.set_ylabel("$T / T_0^I$ (dimensionless; bar: admissible range, dash: anchor)")
     ax.set_title(f"{label}: period range")
 
 
@@ -65,8 +65,8 @@ def _largest(ax, label: str, levels: list[dict]) -> None:
     if n:
         ax.loglog(n, xi, "o-", color="tab:red")
     ax.set_xscale("log", base=2)
-    ax.set_xlabel("N")
-    ax.set_ylabel(r"largest $\xi_{eq}$ of the family")
+    ax.set_xlabel("N (elements)")
+    ax.set_ylabel(r"largest $\xi_{eq}$ of the family (dimensionless)")
     ax.set_title(f"{label}: largest " + r"$\xi_{eq}$")
 
 

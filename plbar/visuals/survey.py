@@ -3,9 +3,9 @@
 Three panels against ``T``: the impact loss per forcing period, ``xi_eq`` (with
 ``xi_w``) and the contact amplitude.  Each survey point is the mean over the
 recorded periods, with a band from the smallest to the largest period (the
-spread of an irregular motion or of a subharmonic); its marker tells the kind:
-periodic with ``m = 1`` (circle), periodic with ``m >= 2`` (square), each with its
-number of impacts in ``m`` periods in the legend; irregular (grey cross).  Loss and
+spread of an irregular motion or of a subharmonic); its colour and marker tell the kind:
+periodic, each signature its own (:func:`plbar.visuals.style.signature_styles`, as in ``plbar run``'s
+figure); irregular (grey cross).  Loss and
 amplitude axes end above the largest mean (a wild transient's band may go off the top).  Under them, the exact periodic
 responses of the paper's class (``plbar run``): stable (blue) and unstable (red).
 """
@@ -17,31 +17,27 @@ from pathlib import Path
 import numpy as np
 
 from .plots import _edges, _plt, _save, contact_amplitude
+from .style import signature_styles, with_units
 
 __all__ = ["survey_plot", "survey_damping_plot", "survey_loads_plot", "survey_restitution_plot"]
 
-#: colours of the periodic signatures, in order of appearance (blue and red are the exact branches')
-_PALETTE = ("tab:green", "tab:olive", "tab:orange", "tab:purple", "tab:cyan", "tab:brown", "tab:pink", "gold",
-            "darkslateblue", "teal", "peru", "olive")
-_START = {"rest": "o", "up": "^", "down": "v"}
+_START = {"up": "^", "down": "v"}       #: markers of the sweeps up and down (from rest: the signature's own)
 
 
 def _groups(table: dict):
-    """``(label, mask, marker, colour)`` of each kind and stroboscopic period present."""
-    kind, m, start = table["kind"], table["m"], table["start"]
+    """``(label, mask, marker, colour)`` of each kind and signature present (:func:`signature_styles`)."""
+    kind, start, sig = table["kind"], table["start"], table["signature"]
+    styles = signature_styles(sorted(set(sig[kind == "periodic"].tolist())))
     out = []
     for s in dict.fromkeys(start):
         tag = "" if s == "rest" else f" ({s} sweep)"
         sel = start == s
-        k = np.rint(table["impacts_per_T"] * m).astype(int)
         per = sel & (kind == "periodic")
-        for mm, kk in sorted(set(zip(m[per].tolist(), k[per].tolist()))):
-            mark = _START.get(s, "o") if mm == 1 else ("s" if s == "rest" else _START.get(s, "s"))
-            col = _PALETTE[len(out) % len(_PALETTE)]
-            out.append((f"periodic, m = {mm}, {kk} impact{'s' if kk != 1 else ''}{tag}", per & (m == mm) & (k == kk),
-                        mark, col))
+        for lab in sorted(set(sig[per].tolist())):
+            col, mark = styles[lab]
+            out.append((f"periodic, signature {lab}{tag}", per & (sig == lab), _START.get(s, mark), col))
         if np.any(sel & (kind == "irregular")):
-            out.append((f"irregular{tag}", sel & (kind == "irregular"), "x" if s == "rest" else _START[s], "0.35"))
+            out.append((f"irregular{tag}", sel & (kind == "irregular"), _START.get(s, "x"), "0.35"))
         if np.any(sel & (kind == "failed")):
             out.append((f"failed (chattering contact){tag}", sel & (kind == "failed"), "X", "tab:red"))
     return out
@@ -58,8 +54,11 @@ def _branches(axes, paths) -> None:
     axes[0].plot([], [], ".", color="tab:red", alpha=0.5, label="unstable")
 
 
-def survey_plot(table: dict, out, name: str = "survey", paths=None, title: str = "") -> list[Path]:
-    """Draw the survey (``table``: the columns of ``survey.csv``) into ``out/name.png`` and ``.pdf``."""
+def survey_plot(table: dict, out, name: str = "survey", paths=None, title: str = "", units: str = "") -> list[Path]:
+    """Draw the survey (``table``: the columns of ``survey.csv``) into ``out/name.png`` and ``.pdf``.
+
+    ``units``: the bar's units (:func:`plbar.visuals.style.unit_note`), said on the axes.
+    """
     plt = _plt()
     fig, axes = plt.subplots(3, 1, figsize=(10.0, 8.6), sharex=True)
     if paths is not None:
@@ -80,10 +79,11 @@ def survey_plot(table: dict, out, name: str = "survey", paths=None, title: str =
         axes[2].plot(T[sel], table["amp_c_max"][sel], "_", ms=5, color=col, zorder=2)
     axes[1].plot(Tr, table["xi_w"][rest][order], "-", color="k", lw=0.7, alpha=0.6, zorder=2,
                  label=r"$\xi_\omega$ (one frequency, the forcing's)")
-    axes[0].set_ylabel("impact loss per forcing period")
-    axes[1].set_ylabel(r"$\xi_{eq}$ of the motion (Eq. 22)")
-    axes[2].set_ylabel(r"contact amplitude $\max|x_c|$ per period" + "\n(marker: mean, bar: largest)")
-    axes[2].set_xlabel("forcing period T")
+    axes[0].set_ylabel("impact loss per forcing period" + (f"\n({units})" if units else ""))
+    axes[1].set_ylabel(r"$\xi_{eq}$ of the motion" + "\n(Eq. 22; dimensionless)")
+    axes[2].set_ylabel(r"contact amplitude $\max|x_c|$ per period" + "\n" +
+                       with_units("(marker: mean, bar: largest)", units))
+    axes[2].set_xlabel(with_units("forcing period T", units))
     axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
     axes[1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
     axes[0].set_title(f"what the bar does from rest{': ' + title if title else ''}")
@@ -96,11 +96,13 @@ def survey_plot(table: dict, out, name: str = "survey", paths=None, title: str =
     return _save(fig, out, name)
 
 
-def survey_damping_plot(levels: dict, out, name: str = "survey_damping") -> list[Path]:
+def survey_damping_plot(levels: dict, out, name: str = "survey_damping", units: dict | None = None) -> list[Path]:
     """``xi_eq`` of the real motion against ``T`` for several inherent damping ratios, one panel per case.
 
-    ``levels``: case title -> list of ``(ratio, T, xi_eq, settled fraction)``.
+    ``levels``: case title -> list of ``(ratio, T, xi_eq, settled fraction)``; ``units``: case title -> the
+    bar's units (:func:`plbar.visuals.style.unit_note`).
     """
+    units = units or {}
     plt = _plt()
     fig, axes = plt.subplots(1, len(levels), figsize=(5.2 * len(levels), 4.0), squeeze=False)
     for ax, (title, rows) in zip(axes[0], levels.items()):
@@ -109,8 +111,8 @@ def survey_damping_plot(levels: dict, out, name: str = "survey_damping") -> list
             ax.plot(np.asarray(T)[o], np.asarray(xi)[o], "-", lw=1.0,
                     label=f"Rayleigh {100 * ratio:g} % ({100 * settled:.0f} % of the periods settle)")
         ax.set_title(title)
-        ax.set_xlabel("forcing period T")
-        ax.set_ylabel(r"$\xi_{eq}$ of the impact (the motion from rest)")
+        ax.set_xlabel(with_units("forcing period T", units.get(title, "")))
+        ax.set_ylabel(with_units(r"$\xi_{eq}$ of the impact (the motion from rest)", "dimensionless"))
         ax.set_ylim(bottom=0)
         ax.legend(fontsize=7, loc="upper left")
     fig.tight_layout()
@@ -125,19 +127,20 @@ def _cells(table: dict, N, column: str):
     return s, T, g
 
 
-def survey_loads_plot(table: dict, out, name: str = "survey_loads", title: str = "") -> list[Path]:
+def survey_loads_plot(table: dict, out, name: str = "survey_loads", title: str = "", units: str = "") -> list[Path]:
     """``xi_eq`` and ``xi_w`` of the real motion over (forcing period, load position), one row per size ``N``.
 
     ``table``: the columns of ``survey_loads.csv``.  Colour: the value of the cell (the motion from rest under a
     unit force at ``s``); white dots: the periodic cells; red crosses: failed ones (a chattering contact); the
-    black line: the worst position of each forcing period (the largest value over ``s``).
+    black line: the worst position of each forcing period (the largest value over ``s``).  ``units``: the bar's
+    units (:func:`plbar.visuals.style.unit_note`), said on the axes.
     """
     plt = _plt()
     sizes = np.unique(table["N"])
     fig, ax = plt.subplots(len(sizes), 2, figsize=(12.0, 3.6 * len(sizes) + 0.6), squeeze=False, sharex=True)
     for r, n in enumerate(sizes):
-        for c, (col, label) in enumerate((("xi_eq", r"$\xi_{eq}$ of the motion (Eq. 22)"),
-                                          ("xi_w", r"$\xi_\omega$ (one frequency, the forcing's)"))):
+        for c, (col, label) in enumerate((("xi_eq", r"$\xi_{eq}$ of the motion (Eq. 22, dimensionless)"),
+                                          ("xi_w", r"$\xi_\omega$ (the forcing's frequency, dimensionless)"))):
             s, T, g = _cells(table, n, col)
             _, _, kind = _cells(table, n, "kind")
             a = ax[r, c]
@@ -153,13 +156,13 @@ def survey_loads_plot(table: dict, out, name: str = "survey_loads", title: str =
             worst = np.nanargmax(np.where(np.isfinite(g), g, -np.inf), axis=0)
             a.plot(T, s[worst], "-", color="k", lw=0.9, drawstyle="steps-mid",
                    label="position of the largest value per T")
-            a.set_ylabel(f"load position s (N = {int(n)})")
+            a.set_ylabel(with_units(f"load position s (N = {int(n)})", units))
             if r == 0:
                 a.set_title(("what the bar does from rest, load at s" + (f": {title}" if title else ""))
                             if c == 0 else "")
     ax[-1, 0].legend(loc="upper left", bbox_to_anchor=(0.0, -0.18), fontsize=7, ncol=3, frameon=False)
     for a in ax[-1]:
-        a.set_xlabel("forcing period T")
+        a.set_xlabel(with_units("forcing period T", units))
     fig.tight_layout()
     return _save(fig, out, name)
 

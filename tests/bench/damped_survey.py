@@ -51,12 +51,14 @@ def level(base: dict, T, at, ratio: float, periods: int) -> dict:
 def plot(path=None, out="docs/img") -> None:
     """Draw ``survey_damping.png`` from the results file."""
     from plbar.visuals import survey_damping_plot
+    from plbar.visuals.style import unit_note
 
     d = json.loads((path or Path(__file__).with_name("results_damped_survey.json")).read_text())
+    titles = (("chain", "chain N = 5 (the paper's case)", plbar.Case()),
+              ("fe16", "FE P1 lumped N = 16, end mass 0.5", plbar.Case(model="fe", n=16, end_mass=0.5)))
     levels = {title: [(r["ratio"], [p[0] for p in r["xi_eq_by_T"]], [p[1] for p in r["xi_eq_by_T"]], r["settled"])
-                      for r in d[key]] for key, title in (("chain", "chain N = 5 (the paper's case)"),
-                                                          ("fe16", "FE P1 lumped N = 16, end mass 0.5"))}
-    print(survey_damping_plot(levels, out))
+                      for r in d[key]] for key, title, _ in titles}
+    print(survey_damping_plot(levels, out, units={title: unit_note(case.bar()) for _, title, case in titles}))
 
 
 def main(argv):

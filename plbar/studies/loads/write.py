@@ -82,11 +82,11 @@ def _write_mesh(out: Path, lf, fam, bar) -> Path:
     return write_xi_along_mesh(bar, lf.x, fields, out / "xi_along_mesh.vtu")
 
 
-def _plot(out: Path, lf, fam, pos, wcols) -> Path:
+def _plot(out: Path, lf, fam, pos, wcols, units: str) -> Path:
     from ...visuals import xi_load_map
 
     return xi_load_map(out / "xi_T_s.png", lf.T, lf.branch, fam, pos["s"], pos["xi"], wcols["xi_worst"],
-                       wcols["xi_best_single"], [f for f in FAMILIES + (OTHER,) if np.any(fam == f)])
+                       wcols["xi_best_single"], [f for f in FAMILIES + (OTHER,) if np.any(fam == f)], units)
 
 
 def write_all(out: Path, r: dict, res, plot: bool, csv: bool) -> dict:
@@ -94,6 +94,8 @@ def write_all(out: Path, r: dict, res, plot: bool, csv: bool) -> dict:
     files = _write_tables(out, r["positions"], r["worst_load"], r["worst"], fam, r["pairs"], lf, csv)
     files["xi_along_mesh"] = _write_mesh(out, lf, fam, res.paths.prob.bar)
     if plot:
-        files["plot"] = _plot(out, lf, fam, r["positions"], r["worst_load"])
+        from ...visuals.style import unit_note
+
+        files["plot"] = _plot(out, lf, fam, r["positions"], r["worst_load"], unit_note(res.paths.prob.bar))
     files["summary"] = write_json(out / "summary.json", r["summary"])
     return files

@@ -270,6 +270,8 @@ def run_survey_loads(case: Case, T=None, positions=None, per_element: int | None
     files = _write(folder, table, summary)
     if plot:
         from ...visuals import survey_loads_plot
+        from ...visuals.style import unit_note
 
-        files["figure"] = survey_loads_plot(table, folder, "survey_loads", title=case_title(case))
+        files["figure"] = survey_loads_plot(table, folder, "survey_loads", title=case_title(case),
+                                            units=unit_note(case.bar()))
     return SurveyLoads(case, table, summary, files)

@@ -217,8 +217,10 @@ def run_survey(case: Case, T, periods: int = 1000, record: int | None = None, ou
     files = write_survey(folder, table, summary)
     if plot:
         from ...visuals import survey_plot
+        from ...visuals.style import unit_note
 
-        files["figure"] = survey_plot(table, folder, "survey", paths=paths, title=case_title(case))
+        files["figure"] = survey_plot(table, folder, "survey", paths=paths, title=case_title(case),
+                                      units=unit_note(case.bar()))
     return Survey(case, table, summary, files)
 
 
