@@ -28,8 +28,8 @@ def test_ctrl_c_in_a_survey_exits_130_keeps_the_finished_tasks_and_resumes(tmp_p
     out = tmp_path / "sv"
     p = _plbar(SURVEY + ["--out", str(out)])
     t0 = time.time()
-    while p.poll() is None and time.time() - t0 < 120 and not any((out / "tasks").glob("*.json")):
-        time.sleep(0.05)
+    while p.poll() is None and time.time() - t0 < 120 and not any((out / "tasks").glob("[!.]*.json")):
+        time.sleep(0.05)                       # (a finished task's file, not its temporary .KEY.*.part.json)
     p.send_signal(signal.SIGINT)
     _, err = p.communicate(timeout=120)
     if p.returncode == 0:
