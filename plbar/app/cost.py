@@ -41,10 +41,11 @@ NOTE_SECONDS = 60.0      #: above this estimate ``plbar run`` says so before it 
 LIMIT_SECONDS = 3600.0   #: above this estimate a command starts only with ``--yes``
 RAM_SHARE = 0.5          #: ... or above this share of the machine's memory
 DENSE_COPIES = 3         #: dense n x n arrays of the eigenproblem (K, M, the modes): the memory floor
-#: (degrees of freedom, seconds to simulate one forcing period of one motion), measured on 1 core (busy): the
-#: paper's chain N = 5 (20000 periods, periodic motions) and FE P1 lumped N = 16 (2000 periods, irregular)
-SURVEY_PERIOD = ((5, 2.0e-4), (16, 3.5e-3))
-SURVEY_EXPONENT = 2.5    #: beyond the largest size measured (the slope between the two)
+#: (degrees of freedom, CPU seconds to simulate one forcing period of one motion), measured on 1 core (busy,
+#: ``PLBAR_THREADS=1``, 1,000 periods from rest over the survey's default range): the paper's chain N = 5, FE P1
+#: lumped N = 16 and 64 with an end mass 0.5 (the load studies agree: 5,152 x 1,000 FE N = 16 in 130-320 s on 2)
+SURVEY_PERIOD = ((5, 1.7e-5), (16, 4.9e-5), (64, 3.3e-4))
+SURVEY_EXPONENT = 1.4    #: beyond the largest size measured (the slope between the last two)
 GRID = 200 * 200         #: the grid of the measurements
 
 

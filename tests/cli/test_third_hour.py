@@ -153,8 +153,8 @@ def _stop(*a, **k):
 @pytest.mark.parametrize("args, says", [
     (["run", "--model", "fe", "-N", "2000", "--no-plot"], ["days", "12.3 GB", "'plbar refine'", "--yes to start"]),
     (["sweep-loads", "--model", "fe", "-N", "2000", "--no-plot"], ["days", "GB", "--yes to start"]),
-    (["survey", "--num", "100000", "--no-plot"], ["100,000 motions x 1,000 forcing periods", "hours", "--num",
-                                                  "--yes to start"]),
+    (["survey", "--num", "100000", "--periods", "20000", "--no-plot"],
+     ["100,000 motions x 20,000 forcing periods", "hours", "--num", "--yes to start"]),
     (["run", "--model", "fe", "-N", "99999", "--no-plot", "--yes"], ["240.0 GB", "memory", "not started"])],
     ids=["run", "sweep-loads", "survey", "beyond-memory"])
 def test_a_costly_job_is_refused_before_anything_is_made(tmp_path, capsys, args, says):
@@ -179,6 +179,9 @@ def test_yes_starts_a_costly_job_and_the_default_jobs_start_without_it(tmp_path,
         assert main([*args, "--out", str(tmp_path / "b")]) == 130
         err = capsys.readouterr().err
         assert "error" not in err and "note" not in err and err.startswith("plbar: interrupted"), err
+    assert main(["survey", "--num", "100000", "--no-plot", "--out", str(tmp_path / "c")]) == 130   # a note, then it
+    err = capsys.readouterr().err                                                               # starts (14 min)
+    assert "note: this survey simulates 100,000 motions x 1,000 forcing periods" in err and "error" not in err, err
 
 
 def test_an_interrupted_progress_line_says_interrupted(capsys, monkeypatch):
