@@ -19,7 +19,7 @@ from ..app import (OutputSettings, case_of_run, check_output, cost_note, files_o
                    render_response, select, solve, write_response, write_response_data, write_results)
 from ..errors import InputError
 from ..io import CELL_FIELDS, POINT_FIELDS, response_data
-from ..util.outputs import require
+from ..util.outputs import check_creatable, require
 from ..util.progress import message
 from .common import hidden, progress, report, yes_arg
 
@@ -136,6 +136,7 @@ def _cmd_export(a) -> int:
     if fmt in ("xdmf", "both"):
         require("h5py", "plbar export --format xdmf")
     dest = Path(a.out) if a.out else run / "vtk"
+    check_creatable(dest)                            # an unusable destination is refused before the solve
     if case is not None:
         res = _solved(a, st, run, case)
         f = write_response(res, dest, branch=_pick(a.branch, st.branch), index=_pick(a.index, st.index),
@@ -165,6 +166,7 @@ def _cmd_render(a) -> int:
                          "period")
     st, run, case = _source(a, "render")
     dest = Path(a.out) if a.out else run / "render"
+    check_creatable(dest)
     if case is not None:
         source = _solved(a, st, run, case)
     else:

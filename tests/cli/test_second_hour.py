@@ -363,8 +363,8 @@ def test_case_file_types_are_checked_before_what_is_missing():
 
 def test_docs_state_the_jump_law_with_two_over_pi():
     text = " ".join((ROOT / "docs" / "refinement.md").read_text().split())
-    assert "(2/π) ρA c v_c² ln N" in text and "(4/π) ρA c v_c² ln N" not in text
-    assert "≲ π S / (4 ρA c T ln(N/N₀))" in text and "π S / (8" not in text
+    assert r"\frac{2}{\pi} \rho A c \, v_c^2 \ln N" in text and r"\frac{4}{\pi} \rho A c \, v_c^2 \ln N" not in text
+    assert r"\lesssim \frac{\pi S}{4 \rho A c \, T \ln(N/N_0)}" in text and r"\frac{\pi S}{8" not in text
 
 
 def test_impact_loss_is_exact_near_grazing(fe_p2_coarse):
