@@ -250,15 +250,15 @@ def write_results(res: Result, out, overwrite: bool = False) -> dict[str, Path]:
     if not isinstance(res, Result):
         raise InputError(f"res = {show(res)} is not a plbar.Result; get one from plbar.solve(case)")
     out = Path(out)
-    claim = check_output(res.case, out, overwrite)
-    rows = _rows(res)
-    summary = res.summary()
-    check_finite("paths.csv", dict(zip(CSV_HEADER, rows)))
-    check_finite("summary.json", summary)
-    claim.take()                                         # another owner's files go only now (with overwrite)
-    clear_owned(out, RUN_OWNED + RUN_TEMPS)              # derived outputs of an earlier run: never stale
-    files = {
-        "paths": write_csv(out / "paths.csv", CSV_HEADER, rows, CSV_FORMATS, allow_nan=False),
-    }
-    files["summary"] = write_json(out / "summary.json", summary)
+    with check_output(res.case, out, overwrite) as claim:     # undone on a failure; its lock released after
+        rows = _rows(res)
+        summary = res.summary()
+        check_finite("paths.csv", dict(zip(CSV_HEADER, rows)))
+        check_finite("summary.json", summary)
+        claim.take()                                     # another owner's files go only now (with overwrite)
+        clear_owned(out, RUN_OWNED + RUN_TEMPS)          # derived outputs of an earlier run: never stale
+        files = {
+            "paths": write_csv(out / "paths.csv", CSV_HEADER, rows, CSV_FORMATS, allow_nan=False),
+        }
+        files["summary"] = write_json(out / "summary.json", summary)
     return files
