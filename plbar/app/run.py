@@ -124,10 +124,10 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
     if not isinstance(case, Case):
         raise InputError(f"case = {show(case)} is not a plbar.Case ({type(case).__name__}); "
                          "build one with plbar.Case(...) or read a file with plbar.casefile.load_case")
-    if case.restitution:
-        raise InputError(f"restitution = {case.restitution:g}: the periodic responses are those of the paper's "
-                         "plastic impact (the ones with rebounds are not built yet); the simulator and the survey "
-                         "take any restitution: plbar survey --restitution E")
+    if case.restitution and case.signatures == "paper":
+        raise InputError(f"restitution = {case.restitution:g} with signatures = 'paper': the paper's class (one "
+                         "plastic impact and a stuck phase per period, Eq. (10)) needs e = 0; with rebounds every "
+                         "response is found by the signature search: signatures = 'default' or 'all'")
     check_grid(case.grid, stacklevel=3)
     t0 = time.perf_counter()
     prob = case.problem()
@@ -136,7 +136,8 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
         search = None if case.signatures == "paper" else stack.enter_context(
             Search(prob, domain, case.signatures, progress))
         t_paper = time.perf_counter()
-        paths = find_paths(prob, domain, case.grid, method=case.method, progress=progress)
+        paths = _no_paths(prob, domain, case) if case.restitution else \
+            find_paths(prob, domain, case.grid, method=case.method, progress=progress)
         t_search = time.perf_counter()
         hybrid = () if search is None else tuple(search.finish(paths))
         t_end = time.perf_counter()
@@ -154,6 +155,13 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
                       f" on grid = {case.grid}; widen T1/T2 (default (0, T0/2] each) or refine the grid",
                       CoarseGridWarning, stacklevel=2)
     return Result(case, paths, time.perf_counter() - t0, hybrid, t_search - t_paper, t_end - t_search)
+
+
+def _no_paths(prob, domain, case: Case) -> Paths:
+    """The paper's class with restitution ``e > 0``: none (its impact is plastic); every response with rebounds,
+    chattering included (``R...RP``), comes from the signature search."""
+    return Paths(prob, domain, tuple(case.grid), (), {"paper_class": f"none: restitution e = {case.restitution:g} "
+                                                                    "(the paper's class needs a plastic impact)"})
 
 
 def _interval(r) -> str:

@@ -19,11 +19,11 @@ from .follow import FollowSettings, follow
 from .prepare import compiled, prepare
 from .seeds import doubled, from_motion, zero_dwell
 from .series import OrbitSeries, canonical, from_row
-from .signature import PAPER, ZERO_DWELL, Signature, signature
+from .signature import ONE_REBOUND, PAPER, ZERO_DWELL, Signature, signature
 from .solve import HybridOrbit, NotConverged, orbit_at, polish
 from .verify import admissible, expected_events
 
 __all__ = ["KINDS", "HybridBranch", "find_hybrid", "Chain", "evaluate", "monodromy", "multipliers", "FollowSettings",
-           "follow", "doubled", "from_motion", "zero_dwell", "PAPER", "ZERO_DWELL", "Signature", "signature",
+           "follow", "doubled", "from_motion", "zero_dwell", "PAPER", "ZERO_DWELL", "ONE_REBOUND", "Signature", "signature",
            "OrbitSeries", "canonical", "from_row", "HybridOrbit", "NotConverged", "orbit_at", "polish", "admissible",
            "expected_events", "compiled", "prepare"]

@@ -2,7 +2,8 @@
 
 :func:`find_hybrid` seeds, follows and checks:
 
-1. the zero-dwell class ``1Z`` on a grid of the period window (closed form, :func:`.seeds.zero_dwell`);
+1. the zero-dwell class ``1Z`` on a grid of the period window (closed form, :func:`.seeds.zero_dwell`); with a
+   coefficient of restitution ``e > 0`` the class ``1R`` (one rebound per period) instead, the same closed form;
 2. every period doubling met on a branch (a real multiplier through ``-1``) seeds the doubled
    signature (``m = 2``, then ``m = 4``), on the branches of the paper's class (their events,
    :func:`plbar.find_paths`) and on the branches found here;
@@ -30,8 +31,8 @@ from ..paths import FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING
 from ..util.reprs import build, count, rng
 from .floquet import monodromy, multipliers
 from .follow import END_DWELL, FollowSettings, follow
-from .seeds import doubled, split, zero_dwell
-from .signature import PAPER, Signature
+from .seeds import ONE_REBOUND, doubled, split, zero_dwell
+from .signature import PAPER, ZERO_DWELL, Signature
 from .solve import HybridOrbit, NotConverged, orbit_at, polish
 from .verify import admissible
 
@@ -183,9 +184,10 @@ class _Curves:
 
 
 def _zero_dwell_seeds(prob, window, num: int) -> list[HybridOrbit]:
-    """One admissible ``1Z`` orbit per admissible stretch of the grid (and root)."""
+    """One admissible ``1Z`` orbit (``1R`` with restitution) per admissible stretch of the grid (and root)."""
     Ts = np.linspace(window[0], window[1], num)
-    orbs = [o for T in Ts for o in zero_dwell(prob, T)]
+    sig = ONE_REBOUND if getattr(prob, "restitution", 0.0) else ZERO_DWELL
+    orbs = [o for T in Ts for o in zero_dwell(prob, T, sig)]
     ok = admissible(orbs)
     seeds, prev = [], None
     for o, a in zip(orbs, ok):
@@ -206,7 +208,7 @@ def _dwell_transition(prob, orb: HybridOrbit) -> list[HybridOrbit]:
         if positive and d[2 * i] < 1e-3 * orb.T:
             dw = list(orb.sig.dwell)
             dw[i] = False
-            sig = Signature(orb.sig.m, tuple(dw))
+            sig = Signature(orb.sig.m, tuple(dw), orb.sig.rebound)
             var = [d[2 * j] for j in range(orb.sig.k) if dw[j]]
             X = [orb.z0]
             vals = []

@@ -32,6 +32,7 @@ from functools import cached_property, lru_cache
 
 import numpy as np
 
+from ..errors import InputError
 from ..model import Problem
 from .signature import Signature
 
@@ -91,8 +92,12 @@ class Chain:
 
 
 def layout(prob: Problem, sig: Signature) -> tuple[int, int, int]:
-    """``(nz, q, nX)``: state I size ``2 m1``, unknown durations, unknowns."""
-    nz = 2 * prob.system.w1.size
+    """``(nz, q, nX)``: the start state's size (state I ``2 m1``; state II ``2 m2`` when the first pair begins with
+    a rebound), unknown durations, unknowns.  A rebound (``R``) needs a coefficient of restitution ``e > 0``."""
+    if sig.rebounds and not getattr(prob, "restitution", 0.0):
+        raise InputError(f"signature {sig} has rebounds (R): they need a coefficient of restitution e > 0 "
+                         "(Case(restitution=e), --restitution E); with e = 0 every impact sticks (P or Z)")
+    nz = 2 * (prob.system.w2 if sig.rebound[0] else prob.system.w1).size
     q = sig.durations
     return nz, q, nz + q + 1
 
@@ -112,6 +117,21 @@ def state_data(prob: Problem, s: int):
 def switch_maps(prob: Problem):
     """The modal switch maps ``(E, G)``: opening ``diag(P12, P12)``, impact ``diag(P21, Q21)`` (cached)."""
     return prob.cached("hybrid_switch_maps", _build_switch_maps)
+
+
+def rebound_map(prob: Problem) -> np.ndarray:
+    """The modal map of a rebound (state II to state II, Newton's law with ``e = prob.restitution``):
+    ``diag(I, I - (1 + e) g g^T / |g|^2)``, ``g`` the gap row (``x_c = g . eta``): the positions kept, the
+    contact's velocity reversed and scaled by ``e``, the impulse along the contact DOF (cached)."""
+    return prob.cached("hybrid_rebound_map", _build_rebound_map)
+
+
+def _build_rebound_map(prob: Problem) -> np.ndarray:
+    g = np.asarray(prob.system.gap_row, float)
+    m = g.size
+    B = np.eye(2 * m)
+    B[m:, m:] -= (1.0 + float(getattr(prob, "restitution", 0.0))) * np.outer(g, g) / float(g @ g)
+    return B
 
 
 def _build_switch_maps(prob: Problem):
@@ -140,13 +160,17 @@ def _build_model(prob: Problem):
     E, G = switch_maps(prob)
     damping = np.ones(1) if getattr(prob.system, "damped", False) else None
     return (tabs[0], tabs[1], np.ascontiguousarray(E, float), np.ascontiguousarray(G, float),
-            float(state_data(prob, 1)[3])), damping
+            float(state_data(prob, 1)[3]), np.ascontiguousarray(rebound_map(prob), float)), damping
+
+
+ZERO, POSITIVE, REBOUND = 0, 1, 2     #: pair kinds of the compiled chain (:func:`dwell_of`)
 
 
 @lru_cache(maxsize=256)
 def dwell_of(sig: Signature) -> np.ndarray:
-    """The signature's dwell kinds as the compiled chain takes them (1 positive, 0 zero)."""
-    out = np.array(sig.dwell, np.int64)
+    """The signature's pair kinds as the compiled chain takes them (:data:`ZERO` 0, :data:`POSITIVE` 1,
+    :data:`REBOUND` 2)."""
+    out = np.array([REBOUND if r else (POSITIVE if d else ZERO) for d, r in zip(sig.dwell, sig.rebound)], np.int64)
     out.setflags(write=False)
     return out
 
@@ -163,7 +187,7 @@ def compiled():
 def _plan(sig: Signature) -> tuple:
     """``(dwell, segment states, zero dwells, unknown durations, segments)`` of a signature."""
     states = tuple(s for positive in sig.dwell for s in ((1, 2) if positive else (2,)))
-    return dwell_of(sig), states, sig.zero, sig.durations, len(states)
+    return dwell_of(sig), states, sig.zero - sig.rebounds, sig.durations, len(states)
 
 
 def evaluate(prob: Problem, sig: Signature, T: float, X, jac: bool = True) -> Chain:
@@ -172,7 +196,7 @@ def evaluate(prob: Problem, sig: Signature, T: float, X, jac: bool = True) -> Ch
     md, damping = model(prob)
     dwell, states, zeros, q, nseg = _plan(sig)
     m1, m2 = md[0].shape[1], md[1].shape[1]
-    nX = 2 * m1 + q + 1
+    nX = layout(prob, sig)[2]
     X = np.ascontiguousarray(X, dtype=float)
     if X.shape != (nX,):
         raise ValueError(f"X has shape {X.shape}, the chain of {sig} takes {nX} unknowns")

@@ -33,11 +33,12 @@ def monodromy(prob: Problem, sig: Signature, T: float, phi: float, ch: Chain) ->
     The section is at ``t = 0+``, in the state the motion continues in: state I
     (``2 m1`` square) when the first pair has a positive dwell, state II after the
     immediate opening (``2 m2``; the impact removes a direction, so two extra zero
-    multipliers appear) when it has a zero dwell.  With inherent damping the vector
+    multipliers appear) when it has a zero dwell, and state II when it begins with a rebound (Newton's
+    law keeps the dimension: no zero multiplier from the impact, ``e^T`` of the velocity reversed).  With inherent damping the vector
     fields take the damper and the opening's event function its share of the reaction.
     """
     md, damping = model(prob)
-    n = 2 * (md[0] if sig.dwell[0] else md[1]).shape[1]
+    n = 2 * (md[0] if sig.dwell[0] else md[1]).shape[1]        # a first rebound: state II too
     M = np.empty((n, n))
     compiled().monodromy(md, damping, dwell_of(sig), float(T), float(phi), ch.times, ch.states, M)
     return M

@@ -50,7 +50,7 @@ class FollowSettings:
 def scale_of(prob: Problem, sig: Signature, X: np.ndarray, T: float) -> np.ndarray:
     """The scales of ``Y = (X, T)``: the state by its largest component, the durations and ``T`` by ``T``, the phase
     by 1."""
-    nz, q = 2 * prob.system.w1.size, sig.durations
+    nz, q, _ = layout(prob, sig)
     S = np.empty(nz + q + 2)
     S[:nz] = max(float(np.abs(X[:nz]).max(initial=0.0)), 1e-12)
     S[nz:] = T

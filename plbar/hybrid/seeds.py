@@ -21,22 +21,24 @@ import numpy as np
 
 from ..model import Problem
 from .chain import evaluate, layout
-from .signature import ZERO_DWELL, Signature
+from .signature import ONE_REBOUND, ZERO_DWELL, Signature
 from .solve import HybridOrbit, NotConverged, orbit_at, polish
 
-__all__ = ["zero_dwell", "doubled", "from_motion", "split"]
+__all__ = ["zero_dwell", "doubled", "from_motion", "split", "ONE_REBOUND"]
 
 
-def zero_dwell(prob: Problem, T: float) -> list[HybridOrbit]:
-    """The responses of class ``1Z`` at period ``T`` (both phase roots; checked, not yet for admissibility)."""
-    nz, q, nX = layout(prob, ZERO_DWELL)
+def zero_dwell(prob: Problem, T: float, sig: Signature = ZERO_DWELL) -> list[HybridOrbit]:
+    """The responses of class ``1Z`` at period ``T`` (both phase roots; checked, not yet for admissibility); with
+    ``sig = ONE_REBOUND`` those of class ``1R`` (one rebound per period, restitution ``e > 0``: the same
+    structure, the start state in state II)."""
+    nz, q, nX = layout(prob, sig)
     T = float(T)
     base = np.zeros(nX)
     base[nz] = T
-    ch0 = evaluate(prob, ZERO_DWELL, T, base)                     # phi = 0, z0 = 0: the cos phi column, and d/dz0
+    ch0 = evaluate(prob, sig, T, base)                            # phi = 0, z0 = 0: the cos phi column, and d/dz0
     Xs = base.copy()
     Xs[-1] = 0.5 * np.pi
-    ch1 = evaluate(prob, ZERO_DWELL, T, Xs, jac=False)           # phi = pi/2: the sin phi column
+    ch1 = evaluate(prob, sig, T, Xs, jac=False)                  # phi = pi/2: the sin phi column
     rows = np.r_[0, np.arange(2, 2 + nz)]                         # impact residual and periodicity
     A = ch0.J[rows][:, :nz]                                       # d/dz0 of both (affine in z0)
     cc, cs = ch0.F[rows], ch1.F[rows]
@@ -50,7 +52,7 @@ def zero_dwell(prob: Problem, T: float) -> list[HybridOrbit]:
     out = []
     for phi in np.mod(np.arctan2(-a, b) + np.array([0.0, np.pi]), 2 * np.pi):
         X = np.concatenate([Zc * np.cos(phi) + Zs * np.sin(phi), [T, phi]])
-        orb = orbit_at(prob, ZERO_DWELL, T, X)
+        orb = orbit_at(prob, sig, T, X)
         if orb.residual <= 1e-9:
             out.append(orb)
     return out
@@ -93,7 +95,8 @@ def from_motion(prob: Problem, T: float, m: int, t_b: float, x_b, v_b, state_b: 
     """Polish a periodic motion of a simulation into an exact orbit.
 
     ``x_b, v_b`` (physical, contact DOF last) and ``state_b`` (0 stuck, 1 free) are the state at ``t_b``
-    (a period boundary); ``times, kinds`` the switches after it (1 opening, 2 impact), covering the first
+    (a period boundary); ``times, kinds`` the switches after it (1 opening, 2 impact, 3 rebound, 4 the impact
+    that ends a chattering sequence: the simulator's kinds), covering the first
     impact after ``t_b`` and ``m`` periods beyond.  The state is carried by the exact flows to that
     impact, the orbit's ``t = 0``; the switches of the next ``m`` periods give the signature and the
     durations; Newton polishes (:func:`polish`).  Raises :class:`NotConverged` or ``ValueError``.
@@ -107,7 +110,7 @@ def from_motion(prob: Problem, T: float, m: int, t_b: float, x_b, v_b, state_b: 
     else:
         z = np.concatenate([sy.V2.T @ M @ x_b, sy.V2.T @ M @ v_b])
     s, t = (1 if state_b == 0 else 2), float(t_b)
-    imp = np.flatnonzero(kinds == 2)
+    imp = np.flatnonzero(kinds >= 2)                  # impacts: plastic (2), rebound (3), sticking after rebounds (4)
     if not imp.size:
         raise ValueError("no impact after the boundary state")
     for te, ke in zip(times[:imp[0] + 1], kinds[:imp[0] + 1]):
@@ -118,28 +121,53 @@ def from_motion(prob: Problem, T: float, m: int, t_b: float, x_b, v_b, state_b: 
     after = times[imp[0] + 1:]
     kinds_after = kinds[imp[0] + 1:]
     end = t_imp + m * T
-    closing = np.flatnonzero(kinds_after == 2)
+    closing = np.flatnonzero((kinds_after == 3) == (kinds[imp[0]] == 3))
+    closing = closing[kinds_after[closing] >= 2]
     if not closing.size:
-        raise ValueError("no impact after the first one")
+        raise ValueError("no impact of the first one's kind after it")
     # the orbit closes on the impact nearest to m T later: a motion still settling on its orbit repeats only
     # nearly, its closing impact a little before or after (a fixed window would cut or add a pair)
     j = int(closing[np.argmin(np.abs(after[closing] - end))])
     if abs(after[j] - end) > 0.05 * T:
         raise ValueError(f"no impact within 0.05 T of m T = {m} T after the first one: not an orbit of m periods")
     n = j + 1
-    seq_t, seq_k = np.concatenate([[t_imp], after[:n]]), kinds_after[:n]
-    if not n or seq_k[-1] != 2 or np.any(seq_k[0::2] != 1) or np.any(seq_k[1::2] != 2):
-        raise ValueError("the switches after the impact are not opening/impact pairs over m periods")
-    d = np.diff(seq_t)
-    dwell = tuple(bool(x > 1e-9 * T) for x in d[0::2])
-    sig = Signature(int(m), dwell)
-    var = []
-    for i, positive in enumerate(dwell):
-        if positive:
-            var.append(d[2 * i])
-        var.append(d[2 * i + 1])
+    seq_t, seq_k = np.concatenate([[t_imp], after[:n]]), np.concatenate([[kinds[imp[0]]], kinds_after[:n]])
+    sig, var = _pairs(seq_t, seq_k, T, m)
     var[-1] += end - seq_t[-1]                    # the sum is m T exactly
     return polish(prob, sig, T, np.concatenate([z, var, [np.mod(phi - W * t_imp, 2 * np.pi)]]))
+
+
+def _pairs(seq_t, seq_k, T: float, m: int) -> tuple[Signature, list]:
+    """The signature and the unknown durations of a switch sequence that starts and ends with an impact.
+
+    ``seq_t, seq_k``: times and the simulator's kinds (1 opening, 2 impact, 3 rebound, 4 sticking impact); each
+    impact begins a pair: a rebound the free phase at once (``R``), a sticking impact a stuck phase ended by an
+    opening (``P``, or ``Z`` where the opening is at once).  Raises ``ValueError`` on any other sequence.
+    """
+    n = len(seq_t) - 1
+    dwell, rebound, var = [], [], []
+    i = 0
+    while i < n:                                     # one pair per impact: what follows it, then the free phase
+        if seq_k[i] == 3:                            # a rebound: the free phase at once
+            if i + 1 > n or seq_k[i + 1] < 2:
+                raise ValueError("an opening after a rebound")
+            dwell.append(False)
+            rebound.append(True)
+            var.append(seq_t[i + 1] - seq_t[i])
+            i += 1
+        else:                                        # the contact sticks: an opening, then the free phase
+            if i + 2 > n or seq_k[i + 1] != 1 or seq_k[i + 2] < 2:
+                raise ValueError("the switches after a sticking impact are not an opening and an impact")
+            positive = bool(seq_t[i + 1] - seq_t[i] > 1e-9 * T)
+            dwell.append(positive)
+            rebound.append(False)
+            if positive:
+                var.append(seq_t[i + 1] - seq_t[i])
+            var.append(seq_t[i + 2] - seq_t[i + 1])
+            i += 2
+    if i != n:
+        raise ValueError("the switches do not end with an impact")
+    return Signature(int(m), tuple(dwell), tuple(rebound)), var
 
 
 def _carry(prob, s, z, W, t, tau, phi):
@@ -154,10 +182,14 @@ def _carry(prob, s, z, W, t, tau, phi):
 
 
 def _switch(prob, z, kind):
-    from .chain import switch_maps
+    from .chain import rebound_map, switch_maps
 
     E, G = switch_maps(prob)
-    return (E @ z, 2) if kind == 1 else (G @ z, 1)
+    if kind == 1:
+        return E @ z, 2
+    if kind == 3:
+        return rebound_map(prob) @ z, 2
+    return G @ z, 1
 
 
 def split(prob: Problem, orb: HybridOrbit) -> list[HybridOrbit]:
@@ -167,32 +199,27 @@ def split(prob: Problem, orb: HybridOrbit) -> list[HybridOrbit]:
     for ``m`` periods; the switches met, one more pair where the orbit switched prematurely, are the
     guess; Newton polishes.  Empty if the replay does not end with an impact near ``m T``, or Newton fails.
     """
-    from ..motion import STUCK, Start, padded, run
+    from ..motion import Start, padded, run
+    from .verify import start_of
 
     pad = padded(prob)
-    m1 = prob.system.w1.size
-    eta, vel = np.zeros((1, pad.m)), np.zeros((1, pad.m))
-    eta[0, :m1], vel[0, :m1] = orb.z0[:m1], orb.z0[m1:]
+    state, eta, vel = start_of(orb, pad.m)
     m = orb.sig.m
-    r = run(pad, [orb.T], [orb.phi], m + 1, m + 1, Start(np.array([STUCK]), eta, vel), accounts=False)
+    r = run(pad, [orb.T], [orb.phi], m + 1, m + 1, Start(np.array([state]), eta[None], vel[None]), accounts=False)
     te, ke = r.events["time"], r.events["kind"]
     end = m * orb.T
     n = int(np.sum(te <= end * (1 + 1e-3)))
     while n and ke[n - 1] == 1:
         n -= 1
-    if n < 2 or ke[n - 1] != 2 or abs(te[n - 1] - end) > 0.05 * orb.T or np.any(ke[:n][0::2] != 1) or \
-            np.any(ke[:n][1::2] != 2):
+    if n < 1 or ke[n - 1] < 2 or (ke[n - 1] == 3) != orb.free_start or abs(te[n - 1] - end) > 0.05 * orb.T:
         return []
-    d = np.diff(np.concatenate([[0.0], te[:n]]))
-    dwell = tuple(bool(x > 1e-9 * orb.T) for x in d[0::2])
-    sig = Signature(m, dwell)
+    try:
+        sig, var = _pairs(np.concatenate([[0.0], te[:n]]), np.concatenate([[3 if orb.free_start else 2], ke[:n]]),
+                          orb.T, m)
+    except ValueError:
+        return []
     if sig == orb.sig:
         return []
-    var = []
-    for i, positive in enumerate(dwell):
-        if positive:
-            var.append(d[2 * i])
-        var.append(d[2 * i + 1])
     var[-1] += end - te[n - 1]
     try:
         return [polish(prob, sig, orb.T, np.concatenate([orb.z0, var, [orb.phi]]))]

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..response import segment
-from .chain import state_data
+from .chain import layout, state_data
 from .signature import Signature
 from .solve import HybridOrbit, polish
 
@@ -29,7 +29,7 @@ def canonical(orb: HybridOrbit) -> tuple[Signature, np.ndarray, float]:
     target = orb.sig.canonical()
     k = orb.sig.k
     for r in range(k):
-        if orb.sig.dwell[r:] + orb.sig.dwell[:r] == target.dwell:
+        if orb.sig.rotated(r) == target:
             d = orb.durations
             t_r = float(np.sum(d[:2 * r]))
             return target, np.concatenate([d[2 * r:], d[:2 * r]]), float(np.mod(orb.phi - 2 * np.pi / orb.T * t_r,
@@ -45,7 +45,7 @@ def from_row(prob, sig: Signature, T: float, durations, phi: float) -> HybridOrb
         if positive:
             var.append(d[2 * i])
         var.append(d[2 * i + 1])
-    nz = 2 * prob.system.w1.size
+    nz = layout(prob, sig)[0]
     return polish(prob, sig, T, np.concatenate([np.zeros(nz), var, [phi]]))
 
 

@@ -54,7 +54,7 @@ class HybridOrbit:
     chain : Chain
 
     ``dPL`` (impact loss over the orbit, ``m`` periods: the sum of ``S v_c^2 / 2`` over its impacts,
-    Eq. (14)), ``loss_per_T = dPL / m``, ``xi`` (``xi_eq``, Eq. (22) over all segments) and ``xi_w``
+    Eq. (14), times ``1 - e^2`` for a rebound: :attr:`impact_loss`), ``loss_per_T = dPL / m``, ``xi`` (``xi_eq``, Eq. (22) over all segments) and ``xi_w``
     (one frequency, the forcing's) are computed on first access.
     """
 
@@ -71,21 +71,39 @@ class HybridOrbit:
 
     @property
     def z0(self) -> np.ndarray:
-        return self.X[:2 * self.prob.system.w1.size]
+        """The modal state at ``t = 0+``: state I, or state II when the first pair begins with a rebound."""
+        return self.X[:layout(self.prob, self.sig)[0]]
+
+    @property
+    def free_start(self) -> bool:
+        """The orbit starts free (just after a rebound: ``z0`` is a state II modal state)."""
+        return bool(self.sig.rebound[0])
 
     @property
     def start(self) -> tuple[np.ndarray, np.ndarray]:
-        """Physical displacement and velocity of every DOF at ``t = 0`` (stuck, just after the last impact): the
-        state I modal state ``z0`` through the state I modes, the contact DOF at rest at the wall."""
+        """Physical displacement and velocity of every DOF at ``t = 0`` (just after the last impact): the
+        state I modal state ``z0`` through the state I modes, the contact DOF at rest at the wall (stuck); or,
+        after a rebound, the state II modal state through the state II modes."""
         s = self.prob.system
-        m = s.w1.size
         z = self.z0
+        if self.free_start:
+            m = s.w2.size
+            return z[:m] @ s.V2.T, z[m:] @ s.V2.T
+        m = s.w1.size
         return s.embed(z[:m] @ s.V1.T), s.embed(z[m:] @ s.V1.T)
 
     @cached_property
-    def dPL(self) -> float:
+    def impact_loss(self) -> np.ndarray:
+        """The energy each impact takes (the impact ending pair ``i``): ``S v_c^2 / 2`` (Eq. (14)) where it sticks,
+        ``(1 - e^2) S v_c^2 / 2`` where it rebounds (Newton's law, ``e`` the problem's restitution)."""
         S = self.prob.cached("impact_mass", lambda p: p.system.impact_mass)
-        return float(0.5 * S * np.sum(self.v_impact ** 2))
+        e = float(getattr(self.prob, "restitution", 0.0))
+        nxt = np.roll(np.array(self.sig.rebound, bool), -1)
+        return 0.5 * S * self.v_impact ** 2 * np.where(nxt, 1.0 - e * e, 1.0)
+
+    @cached_property
+    def dPL(self) -> float:
+        return float(np.sum(self.impact_loss))
 
     @property
     def loss_per_T(self) -> float:
@@ -140,8 +158,8 @@ class HybridOrbit:
         if p == self.sig.m:
             return self
         n = next(n for q, n in self.sig.parts() if q == p)
-        sig = Signature(p, self.sig.dwell[:n])
-        nz = 2 * self.prob.system.w1.size
+        sig = self.sig.head(p, n)
+        nz = layout(self.prob, sig)[0]
         return polish(self.prob, sig, self.T, np.concatenate([self.X[:nz + sig.durations], self.X[-1:]]))
 
     @cached_property
@@ -182,7 +200,7 @@ def orbit_at(prob: Problem, sig: Signature, T: float, X, ch: Chain | None = None
     X = np.asarray(X, float)
     ch = ch if ch is not None and ch.J is None else evaluate(prob, sig, T, X, jac=False)
     return HybridOrbit(prob, sig, float(T), float(np.mod(X[-1], 2 * np.pi)), X,
-                       durations_of(sig, X, 2 * prob.system.w1.size), ch.residual, ch.v_impact, ch.zero_margins, ch)
+                       durations_of(sig, X, layout(prob, sig)[0]), ch.residual, ch.v_impact, ch.zero_margins, ch)
 
 
 def polish(prob: Problem, sig: Signature, T: float, X0, maxit: int = 30) -> HybridOrbit:

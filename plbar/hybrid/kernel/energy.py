@@ -28,8 +28,8 @@ def _energy(stamp):
         Om, cphi, sphi = 2.0 * pi / T, cos(phi), sin(phi)
         a, b, c, col = 0.0, 0.0, 0.0, 0
         for i in range(dwell.size if stamp >= 0 else 0):       # (the stamp keys the on-disk cache)
-            for s in range(2 if dwell[i] else 1):
-                tab = md[0] if s == 0 and dwell[i] else md[1]
+            for s in range(2 if dwell[i] == 1 else 1):
+                tab = md[0] if s == 0 and dwell[i] == 1 else md[1]
                 m, t0, tau = tab.shape[1], times[col, 0], times[col, 1]
                 c0, s0 = cos(Om * t0), sin(Om * t0)
                 z = zs[col, 0]
@@ -40,7 +40,7 @@ def _energy(stamp):
                         w, zeta = tab[W, j], tab[ZETA, j]
                         p = psi(w, zeta, tab[LOAD, j], Om, c0, s0, tau, z[j], z[m + j], cphi, sphi, damping, cb, sb)
                         a, b, c = a + w * p, b + p, c + 2.0 * zeta * w * p
-                elif s == 1 or not dwell[i]:
+                elif s == 1 or dwell[i] != 1:
                     for k in range(samples):
                         u = tau if k == samples - 1 else k * (tau / (samples - 1))
                         cW, sW, sWu = half(Om, u)

@@ -4,7 +4,8 @@ The product of :mod:`plbar.hybrid.floquet` (its docstring says what each factor 
 :func:`.walk.chain` recorded (``times``, ``zs``): the free flow of every segment (its 2 x 2 block per mode
 is :func:`plbar.motion.kernel.closed.mode_flow` with unit initial states and no load), the saltation of
 every opening after a positive dwell (``E + (f_II(E z) - E f_I(z)) dh^T / hdot``) and of every impact
-(``R + (f^+ - R f_II) e^T / v_c``, ``R = G``, or ``E G`` where a zero dwell follows).
+(``R + (f^+ - R f_II) e^T / v_c``, ``R = G``, or ``E G`` where a zero dwell follows, or the rebound map ``B``
+of Newton's law where a rebound follows, ``f^+`` then the state II field: the saltation of a Newton impact).
 """
 
 from __future__ import annotations
@@ -100,7 +101,7 @@ def _impact(tabp, R, tab2, Om, t, phi, z, P, Pn):
 def _monodromy(stamp):
     def monodromy(md, damping, dwell, T, phi, times, zs, M):
         """``M``: the Jacobian of the ``m``-period map of the chain whose segments are ``times``, ``zs``."""
-        tab1, tab2, E, G, rq1 = md
+        tab1, tab2, E, G, rq1, B = md
         n0, mm = M.shape[0], 2 * max(tab1.shape[1], tab2.shape[1])
         EG = np.zeros((E.shape[0], G.shape[1]))
         for i in range(E.shape[0]):
@@ -112,14 +113,16 @@ def _monodromy(stamp):
             P[i, i] = 1.0
         Om, col, k = 2.0 * np.pi / T, 0, dwell.size
         for i in range(k):
-            for s in range(2 if dwell[i] else 1):
-                stuck = s == 0 and dwell[i]
+            for s in range(2 if dwell[i] == 1 else 1):
+                stuck = s == 0 and dwell[i] == 1
                 t = times[col, 0] + times[col, 1]
                 _free(tab1 if stuck else tab2, damping, Om, times[col, 1], P, Pn)
                 if stuck:
                     _opening(tab1, tab2, E, rq1, Om, t, phi, zs[col, 1], Pn, P)
-                elif dwell[(i + 1) % k]:
+                elif dwell[(i + 1) % k] == 1:
                     _impact(tab1, G, tab2, Om, t, phi, zs[col, 1], Pn, P)
+                elif dwell[(i + 1) % k] == 2:      # a rebound: Newton's law, the free phase goes on
+                    _impact(tab2, B, tab2, Om, t, phi, zs[col, 1], Pn, P)
                 else:                             # zero dwell next: impact and opening at once
                     _impact(tab2, EG, tab2, Om, t, phi, zs[col, 1], Pn, P)
                 col += 1

@@ -15,7 +15,7 @@ from math import inf, isfinite, sqrt
 import numpy as np
 
 from .stamp import cached, jit
-from .walk import chain, copy, relative, segments
+from .walk import chain, copy, relative, segments, start_size
 
 __all__ = ["lu_factor", "lu_solve", "scratch", "augmented", "tangent", "correct", "step", "polish", "FAILED",
            "CONVERGED", "DONE", "SINGULAR", "ENDED", "FOLLOW", "CHORD", "NEWTON"]
@@ -76,7 +76,7 @@ def lu_solve(A, piv, b):
 def scratch(md, dwell, nX):
     """What :func:`.walk.chain` fills besides ``F`` and ``J``, for a call that does not keep it."""
     k, n = segments(dwell), 2 * max(md[0].shape[1], md[1].shape[1])
-    return (np.empty((k, 2)), np.empty((k, 2, n)), np.empty(dwell.size), np.empty(nX - 2 * md[0].shape[1] - 1),
+    return (np.empty((k, 2)), np.empty((k, 2, n)), np.empty(dwell.size), np.empty(nX - start_size(md, dwell) - 1),
             np.empty(dwell.size))
 
 
@@ -159,7 +159,7 @@ def correct(md, damping, dwell, m, Yp, t, S, newton, Ja, chord, Y):
     With ``chord`` the augmented Jacobian ``Ja`` at the last point is factorised once and every iteration
     evaluates only the residuals (a chord method); a fresh Jacobian where the chord stalls.
     """
-    n, nz = Yp.size, 2 * md[0].shape[1]
+    n, nz = Yp.size, start_size(md, dwell)
     q = n - nz - 2
     A, piv = np.empty((n, n)), np.empty(n, np.int64)
     F, dY, none = np.empty(n - 1), np.empty(n), np.empty((0, 0))
@@ -215,7 +215,7 @@ def _step(stamp):
                 return FAILED, h
         else:
             copy(c, t)
-        nz = 2 * md[0].shape[1]
+        nz = start_size(md, dwell)
         Yp = np.empty(n)
         while h >= h_min:
             for i in range(n):
@@ -235,7 +235,7 @@ def _polish(stamp):
     def polish(md, damping, dwell, m, T, X, maxit, roundoff):
         """Newton on the chain's residuals from ``X`` (in place; damped by halving): :data:`DONE` or
         :data:`SINGULAR`."""
-        nX, nz = X.size, 2 * md[0].shape[1]
+        nX, nz = X.size, start_size(md, dwell)
         q = nX - nz - 1
         F, J, Fn = np.empty(nX), np.empty((nX, nX)), np.empty(nX)
         piv, dX, Xn = np.empty(nX, np.int64), np.empty(nX), X.copy()

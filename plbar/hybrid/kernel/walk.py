@@ -10,7 +10,10 @@ part's derivative in the phase (zero initial state, ``(cos, sin)`` of the phase 
 A state's table ``tab[W | LOAD | C | ZETA | CV, j]`` holds its frequencies, modal loads, the
 weights of its margin (``-r_eta`` in state I, ``-gap_row`` in state II), its damping ratios and
 the damper's share of the reaction (zero where there is none).  The model is
-``md = (tab1, tab2, E, G, rq1)`` (switch maps: opening ``E``, impact ``G``; ``rq1 = -r_q``).
+``md = (tab1, tab2, E, G, rq1, B)`` (switch maps: opening ``E``, impact ``G``, rebound ``B``; ``rq1 = -r_q``).
+A pair's kind ``dwell[i]`` is 1 (a stuck phase of positive dwell, then the free phase), 0 (zero dwell: the
+opening at once) or 2 (a rebound: the free phase at once); the impact that ends a pair is a rebound (``B``)
+when the next pair is of kind 2, else the plastic impact (``G``).
 """
 
 from __future__ import annotations
@@ -113,8 +116,14 @@ def segments(dwell):
     """Segments of a chain: one per free phase and one per positive dwell."""
     n = 0
     for d in dwell:
-        n += 2 if d else 1
+        n += 2 if d == 1 else 1
     return n
+
+
+@jit
+def start_size(md, dwell):
+    """The start state's size: state I, or state II when the first pair begins with a rebound."""
+    return 2 * (md[1] if dwell[0] == 2 else md[0]).shape[1]
 
 
 @jit
@@ -160,8 +169,8 @@ def _chain(stamp):
         before every impact ``vimp``.  The state and its derivative live in two buffers each (``a``: the current
         one).
         """
-        tab1, tab2, E, G, rq1 = md
-        nz, nX = 2 * tab1.shape[1], X.size
+        tab1, tab2, E, G, rq1, B = md
+        nz, nX, k = start_size(md, dwell), X.size, dwell.size
         n, jac = 2 * max(tab1.shape[1], tab2.shape[1]), J.size > 0 and stamp >= 0   # (the stamp keys the cache)
         Om, phi = 2.0 * pi / T, X[nX - 1]
         cphi, sphi = cos(phi), sin(phi)
@@ -172,10 +181,12 @@ def _chain(stamp):
             if jac:
                 DD[0, i, i] = 1.0
         t, col, nzero, a = 0.0, 0, 0, 0
-        for i in range(dwell.size):
+        for i in range(k):
             for s in range(2):
+                if s == 0 and dwell[i] == 2:          # a rebound: the free phase at once
+                    continue
                 tab, rq = tab1 if s == 0 else tab2, rq1 if s == 0 else 0.0
-                if s == 0 and not dwell[i]:           # just after the impact: the reaction must pull (< 0)
+                if s == 0 and dwell[i] == 0:          # just after the impact: the reaction must pull (< 0)
                     zero[nzero] = _margin(tab1, rq1, Om, t, phi, Z[a])[0]
                     nzero += 1
                 else:
@@ -195,8 +206,8 @@ def _chain(stamp):
                         for j in range(tab2.shape[1]):
                             vimp[i] -= tab2[C, j] * Z[1 - a, tab2.shape[1] + j]
                     a, t, col = 1 - a, t + tau, col + 1
-                M = E if s == 0 else G
-                matvec(M, Z[a], Z[1 - a])               # opening, impact
+                M = E if s == 0 else (B if dwell[(i + 1) % k] == 2 else G)
+                matvec(M, Z[a], Z[1 - a])               # opening, impact or rebound
                 if jac:
                     _switch_rows(M, DD[a], DD[1 - a])
                 a = 1 - a
