@@ -24,6 +24,7 @@ from .solve import HybridOrbit, NotConverged, orbit_at, polish
 from .verify import admissible, expected_events
 
 __all__ = ["KINDS", "HybridBranch", "find_hybrid", "Chain", "evaluate", "monodromy", "multipliers", "FollowSettings",
-           "follow", "doubled", "from_motion", "zero_dwell", "PAPER", "ZERO_DWELL", "ONE_REBOUND", "Signature", "signature",
+           "follow", "doubled", "from_motion", "zero_dwell", "PAPER", "ZERO_DWELL", "ONE_REBOUND", "Signature",
+           "signature",
            "OrbitSeries", "canonical", "from_row", "HybridOrbit", "NotConverged", "orbit_at", "polish", "admissible",
            "expected_events", "compiled", "prepare"]

@@ -34,7 +34,8 @@ def monodromy(prob: Problem, sig: Signature, T: float, phi: float, ch: Chain) ->
     (``2 m1`` square) when the first pair has a positive dwell, state II after the
     immediate opening (``2 m2``; the impact removes a direction, so two extra zero
     multipliers appear) when it has a zero dwell, and state II when it begins with a rebound (Newton's
-    law keeps the dimension: no zero multiplier from the impact, ``e^T`` of the velocity reversed).  With inherent damping the vector
+    law keeps the dimension: no zero multiplier from the impact, ``e^T`` of the velocity reversed).  With
+    inherent damping the vector
     fields take the damper and the opening's event function its share of the reaction.
     """
     md, damping = model(prob)

@@ -54,7 +54,8 @@ class HybridOrbit:
     chain : Chain
 
     ``dPL`` (impact loss over the orbit, ``m`` periods: the sum of ``S v_c^2 / 2`` over its impacts,
-    Eq. (14), times ``1 - e^2`` for a rebound: :attr:`impact_loss`), ``loss_per_T = dPL / m``, ``xi`` (``xi_eq``, Eq. (22) over all segments) and ``xi_w``
+    Eq. (14), times ``1 - e^2`` for a rebound: :attr:`impact_loss`), ``loss_per_T = dPL / m``, ``xi``
+    (``xi_eq``, Eq. (22) over all segments) and ``xi_w``
     (one frequency, the forcing's) are computed on first access.
     """
 

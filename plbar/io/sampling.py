@@ -248,8 +248,10 @@ def motion_data(series, steps: int = 40, info: dict | None = None) -> ResponseDa
     ``steps`` samples per forcing period over the series' window, and one more just after every event (opening or
     impact), so the time series holds the impacts as marked steps: the per-step fields ``event`` (0 a regular
     sample, 1 the gap opens, 2 an impact, 3 an impact followed at once by the opening: a zero dwell, one step
-    since the times of a series increase strictly) and ``impact_loss`` (the energy an impact took, Eq. (14); 0
-    elsewhere).
+    since the times of a series increase strictly; with a coefficient of restitution: 4 a rebound, the gap stays
+    open, and 5 the impact that ends a chattering sequence, the contact stuck after it, marked at the
+    accumulation point of its rebounds) and ``impact_loss`` (the energy an impact took, Eq. (14), times
+    ``1 - e^2`` for a rebound; 0 elsewhere).
     ``time`` is absolute; the series' own times (``times``, ``phase_time``) run from 0 at the window's start, and
     ``info["T"]`` is the window's length, so that a render draws the whole window.
     """
@@ -260,13 +262,14 @@ def motion_data(series, steps: int = 40, info: dict | None = None) -> ResponseDa
     ev = series.events
     inside = ev["time"] < t0 + series.span
     t_ev, k_ev, l_ev = ev["time"][inside], ev["kind"][inside].astype(np.int32), ev["loss"][inside]
+    k_ev = np.where(k_ev >= 3, k_ev + 1, k_ev)  # the simulator's rebound (3) and chatter's end (4): codes 4 and 5
     # one step per distinct time: an impact and the opening that follows it at once (a zero dwell) are one step
     u_ev, first = np.unique(t_ev, return_index=True)
     code = np.zeros(u_ev.size, np.int32)
     loss_ev = np.zeros(u_ev.size)
     where = np.searchsorted(u_ev, t_ev)
     np.add.at(code, where, k_ev)                # 1 opening, 2 impact, 3 impact with an immediate opening
-    np.add.at(loss_ev, where, np.where(k_ev == 2, l_ev, 0.0))
+    np.add.at(loss_ev, where, np.where(k_ev >= 2, l_ev, 0.0))
     grid = grid[~np.isin(grid, u_ev)]
     t_abs = np.concatenate([grid, u_ev])
     kind = np.concatenate([np.zeros(grid.size, np.int32), code])

@@ -7,7 +7,8 @@ from the state at the boundary of its period, carry it by the closed-form
 modal flows (:func:`plbar.response.segment`, another implementation than the
 kernel's) through the period's events, switching at each (opening: the
 state I modes seen by state II, ``P12``; impact: ``P21`` for positions,
-``Q21`` for velocities, the contact DOF stopped, Eq. (10)).  Each period
+``Q21`` for velocities, the contact DOF stopped, Eq. (10); a rebound with a
+coefficient of restitution: Newton's law along the contact DOF, the gap still open).  Each period
 restarts from the kernel's own boundary state, so the series is exact at the
 boundaries and an irregular motion's sensitivity cannot carry round-off from
 one period to the next; :meth:`MotionSeries.boundary_mismatch` measures how
@@ -53,13 +54,11 @@ class MotionSeries:
     t0, span : float
         Absolute start time of the window and its length ``periods T``.
     events : dict of ndarray
-        ``time`` (absolute), ``kind`` (1 opening, 2 impact), ``loss`` of the window's events.
+        ``time`` (absolute), ``kind`` (1 opening, 2 impact, 3 rebound, 4 the impact that ends a chattering
+        sequence, recorded at its accumulation point), ``loss`` of the window's events.
     """
 
     def __init__(self, prob: Problem, r: Run, b: int, periods: int | None = None):
-        if getattr(prob, "restitution", 0.0):
-            raise InputError("a motion with rebounds (restitution > 0) cannot be replayed yet: its series follows "
-                             "the plastic impact's switches (issue 31)")
         R = int(r.record)
         P = R if periods is None else periods
         if isinstance(P, bool) or int(P) != P or not 1 <= P <= R:
@@ -103,7 +102,28 @@ class MotionSeries:
             return 2, sy.P12 @ e, sy.P12 @ v
         if s != 2:
             raise InputError("an impact recorded in contact: not this run's events")
+        if kind == 3:                      # a rebound: Newton's law along the contact DOF, the gap stays open
+            g = np.asarray(sy.gap_row, float)
+            return 2, e, v - (1.0 + float(self.prob.restitution)) * (g @ v) / (g @ g) * g
         return 1, sy.P21 @ e, sy.Q21 @ v
+
+    def _stick_time(self, t: float, te: float, e, v) -> float:
+        """The time of the impact that ends a chattering sequence, recorded at ``te``: the simulator records it at
+        the accumulation point of the rebounds it stands for, ``2 e v_c / (a (1 - e))`` after the impact, where
+        it switched (:func:`plbar.motion.kernel.loop.rebound`).  The last return of the gap to zero in the free
+        flight ``[t, te]`` (from the state ``e, v`` at ``t``)."""
+        g = np.asarray(self.prob.system.gap_row, float)
+        xc = lambda u: float(g @ self._flow(2, t, u - t, e, v)[0])   # noqa: E731
+        grid = np.linspace(t, te, 65)[1:]
+        vals = np.array([xc(u) for u in grid])
+        if not vals[-1] > 0:
+            return te
+        neg = np.flatnonzero(vals <= 0)
+        if not neg.size:
+            return te
+        from scipy.optimize import brentq
+
+        return float(brentq(xc, grid[neg[-1]], grid[neg[-1] + 1], xtol=1e-15 * max(abs(te), 1.0), rtol=1e-15))
 
     def _carry(self, k: int, t_end: float):
         """The modal state at ``t_end`` (in period ``k``), carried from boundary ``k`` through the events up to it."""
@@ -113,9 +133,11 @@ class MotionSeries:
         lo = np.searchsorted(ev["time"], t + SNAP * self.T, side="right")
         hi = np.searchsorted(ev["time"], t_end, side="right")
         for i in range(lo, hi):
-            te = float(ev["time"][i])
+            te, kind = float(ev["time"][i]), int(ev["kind"][i])
+            if kind == 4:                  # the end of a chattering sequence: switched before it was recorded
+                te = self._stick_time(t, te, e, v)
             e, v = self._flow(s, t, te - t, e, v)
-            s, e, v = self._switch(s, int(ev["kind"][i]), e, v)
+            s, e, v = self._switch(s, kind, e, v)
             t = te
         e, v = self._flow(s, t, t_end - t, e, v)
         return s, e, v

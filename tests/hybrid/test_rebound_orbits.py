@@ -195,3 +195,26 @@ def test_one_rebound_closed_form(prob):
     assert s0 == FREE
     r = run(pad, [o.T], [o.phi], 2, 2, Start(np.array([s0]), e0[None], v0[None]))
     assert r.loss[0, 1] == pytest.approx(o.loss_per_T, rel=1e-9)
+
+
+@pytest.mark.slow
+def test_cli_run_with_restitution(tmp_path, capsys):
+    """``plbar run --restitution 0.3``: the responses with rebounds in paths.csv and the summary, exported by row."""
+    import csv
+    import json
+
+    from plbar.cli import main
+
+    out = tmp_path / "run"
+    assert main(["run", "--restitution", "0.3", "--out", str(out), "-q", "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    assert got["summary"]["n_branches"] == 0                       # no paper's class with rebounds
+    labels = {b["signature"] for b in got["summary"]["other_signatures"]}
+    assert "1R" in labels and any(lb.startswith("1PR") for lb in labels)
+    rows = list(csv.DictReader(open(out / "paths.csv")))
+    assert rows and all("R" in r["signature"] for r in rows)
+    row = next(r for r in rows if r["signature"].startswith("1PR"))
+    assert main(["export", "--from", str(out), "--branch", row["branch"], "--index", "0", "--steps", "8", "-q",
+                 "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)["summary"]
+    assert info["signature"] == row["signature"] and info["dPL"] == pytest.approx(float(row["loss_per_T"]), rel=1e-9)

@@ -113,3 +113,20 @@ def _csv(path):
 
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
+
+
+@pytest.mark.parametrize("e, T", [(0.3, 10.0), (0.3, 7.0), (0.6, 9.65)])
+def test_motion_with_rebounds_and_chattering(e, T):
+    """With a coefficient of restitution (issue 31): the series carries each boundary state to the next through
+    the rebounds and the chattering sequences' ends (whose switch precedes their recorded accumulation point)
+    to 1e-12; the exported losses are the run's (1e-12); rebounds (4) and chatter ends (5) are marked steps."""
+    prob = plbar.Case(restitution=e).problem()
+    r = run(padded(prob), np.array([T]), 0.0, 200, 10)
+    ms = MotionSeries(prob, r, 0)
+    assert ms.boundary_mismatch() <= 1e-12
+    d = motion_data(ms, 8)
+    ev = d.field_data["event"]
+    kinds = r.events["kind"][r.events["time"] < ms.t0 + ms.span]
+    assert np.sum(ev == 4) == np.sum(kinds == 3) > 0 and np.sum(ev == 5) == np.sum(kinds == 4)
+    assert d.field_data["impact_loss"].sum() == pytest.approx(r.loss[0].sum(), rel=1e-12)
+    assert np.all(d.field_data["state"][ev == 4] == 2) and np.all(d.field_data["state"][ev == 5] == 1)

@@ -12,8 +12,9 @@ The table has the survey's columns (:data:`plbar.studies.survey.COLUMNS`) with `
 ``(e, T)``; the summary holds, per ``e``, the median and 10-90 % quantiles over ``T`` of ``xi_eq``, ``xi_w``
 and the loss per forcing period, the ratio of the median ``xi_eq`` to the plastic one (``e = 0``), how many
 forcing periods damp more than the plastic impact at the same ``T`` (the bound holds for the range, not period
-by period), and the kinds.  For ``e > 0`` the exact-orbit columns (``exact_loss``, ``signature``, ...) are blank: periodic
-responses with rebounds are not built yet.
+by period), and the kinds.  For ``e > 0`` the exact-orbit columns (``exact_loss``, ``signature``, ...) are blank
+(the survey's settle-and-polish step is the plastic one); the exact periodic responses with rebounds are
+``plbar run --restitution E`` (:func:`plbar.solve`, signatures with ``R``).
 """
 
 from __future__ import annotations
