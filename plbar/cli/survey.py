@@ -107,7 +107,8 @@ def _cmd_survey(a) -> int:
         return _refine(a, case, T, out)
     plot = not a.no_plot and importlib.util.find_spec("matplotlib") is not None
     paths = None
-    # the paper's class under it (plastic: with a restitution e > 0 there are no exact branches to draw yet)
+    # the paper's class under it (plastic: with a restitution e > 0 it does not exist; the responses with rebounds
+    # are plbar run --restitution E)
     if plot and not a.no_paths and not case.restitution and (a.paths or case.n_eff <= 12):
         paths = solve(replace(case, signatures="paper"), progress=False).paths
     kind = "dask" if a.scheduler else a.executor

@@ -218,3 +218,15 @@ def test_cli_run_with_restitution(tmp_path, capsys):
                  "--json"]) == 0
     info = json.loads(capsys.readouterr().out)["summary"]
     assert info["signature"] == row["signature"] and info["dPL"] == pytest.approx(float(row["loss_per_T"]), rel=1e-9)
+
+
+def test_studies_of_the_papers_class_refuse_rebounds(tmp_path, capsys):
+    """sweep-loads and refine follow the paper's class (a plastic impact): with e > 0 they refuse in one line and
+    name the survey that takes a restitution (refine had silently solved the plastic case)."""
+    from plbar.cli import main
+
+    for cmd, hint in ((["sweep-loads"], "survey --positions"), (["refine", "-N", "3", "4"], "survey -N")):
+        assert main(cmd + ["--restitution", "0.3", "--out", str(tmp_path / cmd[0]), "-q"]) == 2
+        err = capsys.readouterr().err
+        assert "restitution = 0.3" in err and hint in err
+        assert not (tmp_path / cmd[0]).exists()

@@ -58,6 +58,10 @@ def with_rayleigh(case: Case | None = None, ratios=RATIOS, at=None, progress: bo
     case = Case() if case is None else case
     if not isinstance(case, Case):
         raise InputError(f"case must be a plbar.Case, got {type(case).__name__}")
+    if case.restitution:
+        raise InputError(f"restitution = {case.restitution:g}: this study compares the paper's class (a plastic "
+                         "impact, e = 0) with inherent damping; with rebounds: plbar survey --restitution E "
+                         "--damping-ratio Z")
     if at is None:
         T0I, T0II = replace(case, rayleigh=None).problem().system.T0
         at = (0.8 * T0I, 0.55 * T0II)

@@ -283,6 +283,10 @@ def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pair
     from ...app import Case, case_fingerprint, solve
 
     case = Case() if case is None else case
+    if case.restitution:
+        raise InputError(f"restitution = {case.restitution:g}: sweep-loads is the paper's class (one plastic impact "
+                         "and a stuck phase per period, Sec. 4.2), which needs e = 0; the real motion at every load "
+                         "position with rebounds: plbar survey --positions S ... --restitution E")
     check_positions(case, positions, per_element)
     claim = None if out is None else \
         check_folder(out, "sweep-loads", case_fingerprint(case), SWEEP_OWNED, overwrite)   # before the solve

@@ -165,6 +165,10 @@ def refine_study(cases, ns, families=("T0_II/2",), settings: TrackSettings | Non
 
 def _refinable(case: Case) -> None:
     """Refuse what a refinement cannot honour (one line each, saying what to do instead)."""
+    if case.restitution:
+        raise InputError(f"restitution = {case.restitution:g}: refine follows families of the paper's class (a "
+                         "plastic impact) through N, which need e = 0; the real motion on each mesh with rebounds: "
+                         "plbar survey -N N1 N2 ... --restitution E")
     if case.modes is not None:
         raise InputError(f"the case keeps {case.modes} modes; a refinement follows the full model (xi_eq needs all "
                          "modes: a truncated impact loses the energy outside the kept modes); drop modes / --modes")
