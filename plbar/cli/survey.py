@@ -85,6 +85,11 @@ def _lines(s, T) -> list[str]:
         lines.append(f"  xi_eq of every motion: {np.nanmin(t['xi_eq']):.4f} .. {np.nanmax(t['xi_eq']):.4f} "
                      f"(median {np.nanmedian(t['xi_eq']):.4f}); xi_w: {np.nanmin(t['xi_w']):.4f} .. "
                      f"{np.nanmax(t['xi_w']):.4f}")
+    drift = (t["steady"] == 0) & (t["kind"] != "failed")
+    if drift.any():
+        lines.append(f"  {int(drift.sum())} motion(s) drift over the recorded window (loss or int v^T M v changes by "
+                     "more than 5 %, a significant trend): their xi_eq and xi_w are the window's, not steady values "
+                     "(column steady = 0; drift_loss, drift_vMv)")
     lines.append(f"  energy budget closes to {s.summary['energy_residual_max']:.1e} of the work")
     lines.append("  wrote " + ", ".join(str(f) for v in s.files.values() for f in (v if isinstance(v, list) else [v])))
     return lines

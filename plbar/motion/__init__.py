@@ -13,7 +13,7 @@ from .model import CHATTER, FREE, OK, STALLED, STUCK, Padded, padded
 from .compile import COMPILE_NOTE, Elsewhere, compile_elsewhere, compiled
 from .run import Run, Start, energy, prepare, rest, run
 from .series import MotionSeries
-from .steady import KINDS, M_MAX, PERIODIC_TOL, Steady, periodicity, steady
+from .steady import BATCHES, DRIFT_TOL, KINDS, M_MAX, PERIODIC_TOL, T_CRIT, Steady, periodicity, steady, trend
 
 __all__ = [
            "CHATTER",
@@ -21,6 +21,10 @@ __all__ = [
            "COMPILE_NOTE",
            "FREE",
            "KINDS",
+           "BATCHES",
+           "DRIFT_TOL",
+           "T_CRIT",
+           "trend",
            "M_MAX",
            "MotionSeries",
            "OK",

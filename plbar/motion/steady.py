@@ -19,6 +19,13 @@ From the recorded periods of a :class:`plbar.motion.Run`:
   mean loss / (``2 W`` x mean ``int v^T M v``) (viscous damping ``c = 2 xi W M``).
 * the contact amplitude (largest ``-x_c`` per period: mean and largest), the
   fraction of time stuck, and the energy budget of the whole run.
+* **steadiness** (issue 29): the trend of the per-period loss and of ``int v^T M v`` (the energy in the bar's
+  motion) over the recorded window, by batch means (:data:`BATCHES` windows, a straight line through their
+  means): ``drift_*`` is the line's change across the window relative to the mean, and an irregular motion is
+  ``steady`` unless one of them changes by more than :data:`DRIFT_TOL` with a slope significant at 1 %
+  (``|t| > T_CRIT``, ``BATCHES - 2`` degrees of freedom); a periodic motion is steady (its states repeat), a
+  failed one is not.  An undamped bar whose impacts keep feeding its
+  high modes is not steady: its ``xi_eq`` and ``xi_w`` are then the window's values, not steady ones.
 """
 
 from __future__ import annotations
@@ -31,11 +38,15 @@ from ..util.batch import Batch
 from ..util.reprs import build, rng
 from .run import Run
 
-__all__ = ["KINDS", "M_MAX", "PERIODIC_TOL", "Steady", "periodicity", "steady"]
+__all__ = ["KINDS", "M_MAX", "PERIODIC_TOL", "Steady", "periodicity", "steady", "trend", "BATCHES", "DRIFT_TOL",
+           "T_CRIT"]
 
 KINDS = ("periodic", "irregular", "failed")
 PERIODIC_TOL = 1e-6   #: relative distance of the boundary states below which a motion repeats
 M_MAX = 12            #: longest stroboscopic period looked for
+BATCHES = 10          #: windows of the steadiness test
+DRIFT_TOL = 0.05      #: relative change across the recorded window above which a significant trend is a drift
+T_CRIT = 3.355        #: Student's t at 1 % (two-sided), BATCHES - 2 = 8 degrees of freedom
 
 
 @dataclass(frozen=True)
@@ -66,6 +77,9 @@ class Steady(Batch):
     work_per_T: np.ndarray
     energy_residual: np.ndarray
     viscous_per_T: np.ndarray = None
+    drift_loss: np.ndarray = None
+    drift_vMv: np.ndarray = None
+    steady: np.ndarray = None
 
     def __len__(self) -> int:
         return self.T.size
@@ -98,6 +112,29 @@ def periodicity(x, v, m_max: int = M_MAX, tol: float = PERIODIC_TOL):
         best_m[new] = m
         best_d = np.where(new | ((best_m == 0) & (dist < best_d)), dist, best_d)
     return best_m, best_d
+
+
+def trend(a, batches: int = BATCHES) -> tuple[np.ndarray, np.ndarray]:
+    """``(drift, t)`` of each row of ``a`` (B, R): the change across the window of the straight line through the
+    means of ``batches`` consecutive windows, relative to the mean of the row, and the slope's Student ``t``
+    (0 where the row is constant; ``inf`` where the batch means lie on the line exactly)."""
+    a = np.asarray(a, float)
+    B, R = a.shape
+    nb = min(batches, R)
+    if nb < 3:
+        return np.zeros(B), np.zeros(B)
+    edges = np.linspace(0, R, nb + 1).round().astype(int)
+    means = np.stack([a[:, i:j].mean(axis=1) for i, j in zip(edges[:-1], edges[1:])], axis=1)    # (B, nb)
+    x = 0.5 * (edges[:-1] + edges[1:]) - 0.5 * R
+    sxx = float(x @ x)
+    slope = (means - means.mean(axis=1, keepdims=True)) @ x / sxx
+    resid = means - means.mean(axis=1, keepdims=True) - slope[:, None] * x[None, :]
+    se = np.sqrt((resid ** 2).sum(axis=1) / (nb - 2) / sxx)
+    mean = np.abs(a.mean(axis=1))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        drift = np.where(mean > 0, slope * R / mean, 0.0)
+        t = np.where(slope == 0, 0.0, np.where(se > 0, slope / se, np.inf))
+    return drift, t
 
 
 def _spread(a, use):
@@ -139,6 +176,11 @@ def steady(r: Run, m_max: int = M_MAX, tol: float = PERIODIC_TOL, settled=None) 
     _, x_min, x_max, x_std = _spread(per, use)
     stuck = np.array([r.stuck[b][use[b]].sum() / (use[b].sum() * r.T[b]) for b in range(r.T.size)])
     amp_max = np.array([r.amp[b][use[b]].max() for b in range(r.T.size)])
+    d_loss, t_loss = trend(r.loss)
+    d_vmv, t_vmv = trend(r.d_w)
+    drifting = ((np.abs(d_loss) > DRIFT_TOL) & (np.abs(t_loss) > T_CRIT)) | \
+        ((np.abs(d_vmv) > DRIFT_TOL) & (np.abs(t_vmv) > T_CRIT))
     return Steady(r.T, kind, m, dist, per_T(r.impacts.astype(float)), loss, l_min, l_max, l_std, xi, x_min, x_max,
                   x_std, xi_w, per_T(r.amp), amp_max, stuck, per_T(r.work_rec), r.energy_residual,
-                  per_T(r.viscous_rec) if r.viscous_rec is not None else np.zeros(r.T.size))
+                  per_T(r.viscous_rec) if r.viscous_rec is not None else np.zeros(r.T.size), d_loss, d_vmv,
+                  ((kind == 0) | (~drifting & (kind == 1))).astype(int))      # a periodic motion repeats: steady

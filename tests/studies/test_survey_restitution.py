@@ -69,8 +69,10 @@ def test_the_summary_per_e(small):
     assert np.allclose(small.ratio_to_plastic(), med / med[0], rtol=1e-15)
     # partly elastic impacts damp the motion less than the paper's plastic one (its upper limit)
     assert 0.0 < s["by_e"]["0.5"]["ratio_to_plastic"] < 1.0 and s["by_e"]["1"]["ratio_to_plastic"] == 0.0
-    # e > 0: no exact orbit (periodic responses with rebounds are not built yet)
-    assert all(v == "" for v in small.table["signature"][small.table["e"] > 0])
+    # e > 0: a periodic motion's exact orbit has rebounds (R) in its signature and the simulated loss
+    t = small.table
+    for i in np.flatnonzero((t["e"] > 0) & (t["signature"] != "")):
+        assert "R" in t["signature"][i] and t["exact_loss"][i] == pytest.approx(t["loss_per_T"][i], rel=1e-6)
 
 
 def test_an_fe_bar_with_an_end_mass():

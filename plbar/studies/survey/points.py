@@ -28,7 +28,7 @@ __all__ = ["COLUMNS", "survey_chunk", "start_of", "start_json"]
 COLUMNS = ("T", "kind", "m", "impacts_per_T", "loss_per_T", "loss_min", "loss_max", "xi_eq", "xi_min", "xi_max",
            "xi_w", "amp_c", "stuck_fraction", "loss_std", "xi_std", "amp_c_max", "work_per_T", "distance",
            "energy_residual", "exact_loss", "exact_xi", "signature", "status", "viscous_per_T", "xi_total",
-           "max_abs_multiplier", "orbit_distance", "rate")
+           "max_abs_multiplier", "orbit_distance", "rate", "steady", "drift_loss", "drift_vMv")
 
 
 def start_json(s: Start, i: int) -> dict:
@@ -99,7 +99,7 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
     T = np.asarray(T, float)
     r = run(pad, T, 0.0, periods, record, start, progress)
     s = steady(r)
-    exact = not prob.restitution           # the exact orbits (plbar.hybrid) are those of the plastic impact
+    exact = True                           # the exact orbits (plbar.hybrid), with rebounds where e > 0
     settled = {b: settle(prob, r, b) for b in np.flatnonzero(s.kind == KINDS.index("irregular"))} if exact else {}
     settled = {b: a for b, a in settled.items() if a is not None}
     if settled:
@@ -108,12 +108,13 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
     for i in range(T.size):
         row = {c: float(getattr(s, c)[i]) for c in COLUMNS if hasattr(s, c) and c not in ("kind", "m")}
         row.update(kind=KINDS[int(s.kind[i])], m=int(s.m[i]), status=int(r.status[i]), signature="",
+                   steady=int(s.steady[i]),
                    viscous_per_T=float(s.viscous_per_T[i]),
                    xi_total=float(prob.system.rayleigh_ratio(2 * np.pi / T[i]) + s.xi_eq[i])
                    if getattr(prob.system, "damped", False) else float(s.xi_eq[i]))
         if i in settled:
             row.update(_orbit_fields(settled[i]))
-        elif row["kind"] == "periodic" and exact:
+        elif row["kind"] == "periodic":             # any restitution: R in the signature for a rebound
             row.update(_polish(prob, r, i, row["m"], row["loss_per_T"]))
         rows.append(row)
     return rows, r.final

@@ -12,9 +12,8 @@ The table has the survey's columns (:data:`plbar.studies.survey.COLUMNS`) with `
 ``(e, T)``; the summary holds, per ``e``, the median and 10-90 % quantiles over ``T`` of ``xi_eq``, ``xi_w``
 and the loss per forcing period, the ratio of the median ``xi_eq`` to the plastic one (``e = 0``), how many
 forcing periods damp more than the plastic impact at the same ``T`` (the bound holds for the range, not period
-by period), and the kinds.  For ``e > 0`` the exact-orbit columns (``exact_loss``, ``signature``, ...) are blank
-(the survey's settle-and-polish step is the plastic one); the exact periodic responses with rebounds are
-``plbar run --restitution E`` (:func:`plbar.solve`, signatures with ``R``).
+by period), and the kinds.  For ``e > 0`` a periodic motion's exact orbit has ``R`` (a rebound) in its
+signature; the settling test stays the plastic impact's (a motion is periodic where its states repeat).
 """
 
 from __future__ import annotations

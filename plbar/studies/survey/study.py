@@ -25,7 +25,7 @@ __all__ = ["Survey", "survey", "run_survey", "survey_study", "SURVEY_OWNED", "ch
 SURVEY_OWNED = ("survey.csv", "summary.json", "survey.png", "survey.pdf", "study.json", "tasks", "sweeps", ".*.part.*",
                 "vtk", "render")             # and the exports and renders of its motions
 
-INT_COLUMNS = ("N", "m", "status")             #: columns of integers in the survey's tables
+INT_COLUMNS = ("N", "m", "status", "steady")             #: columns of integers in the survey's tables
 TEXT_COLUMNS = ("kind", "start", "signature")   #: columns of text
 
 
@@ -124,7 +124,7 @@ def _summary(case: Case, table: dict, study: Study, seconds: float) -> dict:
                                     sorted(set(table["m"][sel & (table["kind"] == "periodic")].tolist()))}}
     fin = np.isfinite(table["xi_eq"])
     return {"plbar_version": __version__, "case": case_fields(case), **study.params, "rows": int(table["T"].size),
-            "kinds": kinds, "by_start": per,
+            "kinds": kinds, "by_start": per, "drifting": int(np.sum(table["steady"] == 0) - kinds.get("failed", 0)),
             "xi_eq": [float(table["xi_eq"][fin].min()), float(table["xi_eq"][fin].max())] if fin.any() else None,
             "loss_per_T": [float(np.nanmin(table["loss_per_T"])), float(np.nanmax(table["loss_per_T"]))],
             "energy_residual_max": float(np.nanmax(np.abs(table["energy_residual"]))), "seconds": round(seconds, 3)}
