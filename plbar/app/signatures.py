@@ -170,7 +170,8 @@ def hybrid_summary(branches, first_id: int) -> list[dict]:
     """One entry per hybrid branch for ``summary.json``."""
     out = []
     for j, b in enumerate(branches):
-        out.append({"branch": first_id + j, "signature": b.label, "m": b.sig.m, "k": b.sig.k, "points": len(b),
+        out.append({"branch": first_id + j, "signature": b.label, "family": b.sig.family, "m": b.sig.m, "k": b.sig.k,
+                    "points": len(b),
                     "T_range": [float(b.T.min()), float(b.T.max())],
                     "xi_range": [float(b.xi.min()), float(b.xi.max())],
                     "loss_per_T_range": [float(b.loss_per_T.min()), float(b.loss_per_T.max())],

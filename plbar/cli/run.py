@@ -47,7 +47,9 @@ def _human(summary: dict, files: dict, verbose: bool, survey: str = "") -> str:
     lines = [f"plbar: {summary['bar']}; load {summary['load']}",
              f"  fundamental periods T0_I = {summary['T0_I']:.6g}, T0_II = {summary['T0_II']:.6g}",
              f"  {plural(summary['n_branches'], 'branch')}, {plural(summary['n_points'], 'admissible path point')} "
-             f"of the paper's class in {summary['paper_time']:.3g} s", *_stable_lines(summary, survey)]
+             f"of the paper's class in {summary['paper_time']:.3g} s" if not summary["case"].get("restitution") else
+             f"  the paper's class: none (restitution e = {summary['case']['restitution']:g}: it needs a plastic "
+             "impact); every response below has rebounds (R) or chatters (R...RP)", *_stable_lines(summary, survey)]
     if summary.get("rayleigh"):
         lines.insert(2, f"  Rayleigh damping alpha = {summary['rayleigh'][0]:.6g}, beta = {summary['rayleigh'][1]:.6g}")
     order = sorted(brs, key=lambda b: (b["stable_points"] == 0, -b["xi_range"][1]))
@@ -66,8 +68,8 @@ def _human(summary: dict, files: dict, verbose: bool, survey: str = "") -> str:
     found = summary.get("other_signatures", [])
     if found:
         by = {}
-        for b in found:
-            by.setdefault(b["signature"], []).append(b)
+        for b in found:                  # chattering orbits (R...RP) by family: their count of rebounds varies
+            by.setdefault(b.get("family", b["signature"]), []).append(b)
         paper = by.pop(PAPER_SIGNATURE, [])
         other = [b for bs in by.values() for b in bs]
         if paper:
@@ -78,8 +80,12 @@ def _human(summary: dict, files: dict, verbose: bool, survey: str = "") -> str:
                      "more (its simulation from rest ran beside the paper's class):")
         for lab, bs in by.items():
             lo, hi = min(b["T_range"][0] for b in bs), max(b["T_range"][1] for b in bs)
+            sigs = sorted({b["signature"] for b in bs}, key=lambda x: (len(x), x))
+            what = f" ({', '.join(sigs) if len(sigs) <= 3 else sigs[0] + ' .. ' + sigs[-1]}: C a chatter)" \
+                if "C" in lab else ""
             lines.append(f"    {lab:8s} {len(bs):3d} branch(es), T in [{lo:.5g}, {hi:.5g}], xi_eq up to "
-                         f"{max(b['xi_range'][1] for b in bs):.4g}, {sum(b['stable_points'] for b in bs)} stable points")
+                         f"{max(b['xi_range'][1] for b in bs):.4g}, {sum(b['stable_points'] for b in bs)} stable "
+                         f"points{what}")
     elif summary.get("signatures", "default") == "paper":
         lines.append("  (the paper's class only: without --signatures paper, plbar run adds zero-dwell impacts, "
                      "subharmonics and several impacts per period)")

@@ -70,6 +70,28 @@ class Signature:
         """Pairs that begin with a rebound."""
         return sum(self.rebound)
 
+    @property
+    def family(self) -> str:
+        """The canonical string with every run of rebounds that ends in a sticking impact (the next pair ``P`` or
+        ``Z``: a chattering sequence) written ``C``: ``"1PR9"`` and ``"1PR10"`` are both ``"1PC"``, one family
+        whose count of resolved rebounds changes where a rebound's height crosses the simulator's accumulation
+        threshold; runs of rebounds without a stick (``"2RR"``) stay as they are."""
+        c = self.canonical()
+        k, out, i = c.k, [], 0
+        letters = c.letters
+        while i < k:
+            if letters[i] != "R":
+                out.append(letters[i])
+                i += 1
+                continue
+            j = i
+            while j < k and letters[j] == "R":
+                j += 1
+            sticks = letters[j % k] != "R" if j < k else letters[0] != "R"
+            out.append("C" if sticks else _COMPACT.sub(lambda mt: f"R{len(mt.group(0))}", letters[i:j]))
+            i = j
+        return f"{c.m}{''.join(out)}"
+
     def rotated(self, r: int) -> "Signature":
         """The same orbit started ``r`` pairs later."""
         return Signature(self.m, self.dwell[r:] + self.dwell[:r], self.rebound[r:] + self.rebound[:r])

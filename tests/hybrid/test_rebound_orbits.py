@@ -65,6 +65,10 @@ def test_signatures_with_rebounds():
     assert signature("2RR") == Signature(2, (False, False), (True, True))
     assert str(signature("1RPRR").canonical()) == "1PR3"          # rotations: P < R < Z
     assert str(ONE_REBOUND) == "1R"
+    # a chattering sequence (rebounds, then the contact sticks) is one family whatever its count of rebounds
+    assert signature("1PR9").family == signature("1PR10").family == "1PC"
+    assert signature("7PR10PR13").family == "7PCPC" and signature("2RR").family == "2RR"
+    assert signature("2R10PR").family == "2PC" and signature("1P").family == "1P"
     for bad in ("1R0", "1Q", "R"):
         with pytest.raises(InputError):
             signature(bad)
