@@ -99,8 +99,9 @@ class Case:
     restitution : float
         Coefficient of restitution ``e`` of the contact, in ``[0, 1]`` (Newton's impact law: the contact
         leaves the wall at ``e`` times the speed it hit it with, losing ``1 - e^2`` of the plastic impact's
-        loss).  Default 0: the paper's perfectly plastic impact.  The simulator and the survey use any ``e``;
-        the periodic responses (``run``) are the plastic ones.
+        loss).  Default 0: the paper's perfectly plastic impact.  Every command takes any ``e``: the
+        periodic responses (``run``) then have rebounds (``R`` in their signatures) and chattering sequences
+        (``R...RP``); the studies of the paper's class (``sweep-loads``, ``refine``) need ``e = 0``.
     """
 
     model: str = "chain"

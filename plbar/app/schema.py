@@ -48,8 +48,8 @@ HELP = {
             "damping_ratio": "the Rayleigh damping with this ratio at the two periods of `damping_at`; not with "
                              "`rayleigh`",
             "damping_at": "the two periods `[T_A, T_B]` where `damping_ratio` holds",
-            "restitution": "coefficient of restitution e of the contact, 0 <= e <= 1 (the survey and the "
-                           "simulator; run's periodic responses need 0, the paper's plastic impact) [0]"},
+            "restitution": "coefficient of restitution e of the contact, 0 <= e <= 1 (Newton's impact law; "
+                           "run's responses then rebound: R in their signatures; sweep-loads and refine need 0) [0]"},
     "load": {"node": "a force on free DOF K (1-based from the clamp); or `at`",
              "at": "a point force at position s in (0, L]; or `node`", "amplitude": "its amplitude [1]"},
     "search": {"grid": "scan grid over (T1, T2) [200, 200]",

@@ -86,8 +86,8 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
     g.add_argument("--modes", type=int, default=None, metavar="M",
                    help="keep the lowest M modes of each state (modal truncation: never for xi_eq, see README) [all]")
     g.add_argument("--restitution", type=float, default=None, metavar="E",
-                   help="coefficient of restitution of the contact, 0 <= E <= 1 (the simulator and the survey; "
-                        "run's periodic responses are the paper's plastic impact, E = 0) [0]")
+                   help="coefficient of restitution of the contact, 0 <= E <= 1 (Newton's impact law; run's "
+                        "responses then rebound: R in their signatures; sweep-loads and refine need E = 0) [0]")
     _damping_args(p, at)
     g = p.add_argument_group(f"load ({load_help}; unit amplitude; default: DOF 1 of the chain, s = L/2 of an FE bar)")
     g.add_argument("--load-node", type=int, action="append", default=None, metavar="K",
