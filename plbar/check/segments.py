@@ -304,7 +304,8 @@ def _next_event(mod: _Model, W, phi, seg: _Seg, tau_max: float):
         neg = np.flatnonzero(m < -tol)      # below zero by round-off only: no event there
         if neg.size:
             k = int(neg[0])
-            lo = taus[k - 1] if k > 0 else a
+            up = np.flatnonzero(m[:k] >= 0)     # the last sample not below zero (not one in the round-off band)
+            lo = taus[up[-1]] if up.size else a
             return _refine(g, lo, taus[k])
         a = float(taus[-1])
     return None
