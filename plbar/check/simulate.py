@@ -43,8 +43,8 @@ from dataclasses import dataclass
 import numpy as np
 from ..errors import InputError
 from ..util.reprs import build, rng
-from .segments import (IMPACT, OPEN, SAMPLES_PER_RAD, SimulationError, _at, _energy, _Model, _model, _next_event, _physical, _Seg,
-                       _switch, _viscous, _work)
+from .segments import (IMPACT, OPEN, SAMPLES_PER_RAD, SimulationError, _at, _energy, _Model, _model, _next_event,
+                       _physical, _Seg, _switch, _viscous, _work)
 
 __all__ = ["Simulation", "History", "SimulationError", "simulate", "period_map", "OPEN", "IMPACT",
            "SNAP", "SAMPLES_PER_RAD"]

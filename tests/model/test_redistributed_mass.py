@@ -104,7 +104,7 @@ def test_case_file_and_cli(tmp_path):
 
 
 def test_survey_runs(tmp_path):
-    """``plbar survey --model fe --mass redistributed --end-mass 0.5 -N 16 --num 5 --periods 200`` (~5 s, compiled kernel)."""
+    """``plbar survey --model fe --mass redistributed --end-mass 0.5 -N 16 --num 5 --periods 200`` (~5 s)."""
     out = tmp_path / "s"
     assert main(["survey", "--model", "fe", "--mass", "redistributed", "--end-mass", "0.5", "-N", "16", "--num", "5",
                  "--periods", "200", "--out", str(out), "--no-plot", "--quiet"]) == 0
