@@ -271,7 +271,9 @@ def _next_event(mod: _Model, W, phi, seg: _Seg, tau_max: float):
     below its round-off level (:func:`_tolerance`) brackets the root with its
     predecessor: a margin within round-off of zero is zero, no event (a bar at
     rest loaded far from its contact has a margin that vanishes to a high order
-    in time, whose modal sums are noise of either sign).  Right at the segment
+    in time, whose modal sums are noise of either sign).  A last sample in that band is
+    an event if the margin one step later is below it (a crossing just before ``tau_max``,
+    e.g. an impact at the end of a run).  Right at the segment
     start the margin is zero up to round-off (both switches start on the
     constraint), so the first interval is resolved on a geometric grid and
     a margin below the round-off level there is an immediate event.
@@ -282,6 +284,7 @@ def _next_event(mod: _Model, W, phi, seg: _Seg, tau_max: float):
     a = 0.0
     first = True
     size = 32
+    m = np.zeros(1)
     while a < tau_max:
         taus = a + h * np.arange(1, size + 1)
         taus = taus[taus < tau_max]
@@ -308,6 +311,9 @@ def _next_event(mod: _Model, W, phi, seg: _Seg, tau_max: float):
             lo = taus[up[-1]] if up.size else a
             return _refine(g, lo, taus[k])
         a = float(taus[-1])
+    if m[-1] < 0 and g(tau_max) < 0 and g(tau_max + h) < -tol:   # a crossing just before the end, in the band
+        up = np.flatnonzero(m >= 0)
+        return _refine(g, taus[up[-1]] if up.size else taus[0], tau_max)
     return None
 
 
