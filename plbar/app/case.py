@@ -50,7 +50,8 @@ class Case:
     n : int, optional
         Masses of the chain / elements of the FE bar (default 5 / 8).
     element, mass : str
-        FE element (``P1``/``P2``) and mass (``lumped``/``consistent``); the chain is P1 lumped.
+        FE element (``P1``/``P2``) and mass (``lumped``/``consistent``/``redistributed``, the last with
+        ``end_mass > 0``, see :class:`plbar.Bar`); the chain is P1 lumped.
     length, EA, rhoA : float
         FE bar length and section properties (the chain has ``L = N``).
     m, k : float
@@ -230,14 +231,19 @@ class Case:
         return self.end_mass if self.end_mass_absolute else self.end_mass * self.bar().bar_mass
 
     def _make_bar(self) -> Bar:
-        """The bar of the case with its end mass (a point mass on the contact node, added to any there)."""
+        """The bar of the case with its end mass (a point mass on the contact node, added to any there).
+
+        A redistributed mass needs the end mass on the bar (:class:`plbar.Bar`), so the bar is first built
+        with a consistent mass and the end mass is added with the case's mass.
+        """
         bar = self._base_bar()
         me = self.end_mass if self.end_mass_absolute else self.end_mass * bar.bar_mass
-        if me == 0:
+        if me == 0 and bar.mass == self.mass:
             return bar
-        return replace(bar, point_masses=bar.point_masses + ((bar.length, me),))
+        return replace(bar, mass=self.mass, point_masses=bar.point_masses + (((bar.length, me),) if me else ()))
 
     def _base_bar(self) -> Bar:
+        mass = "consistent" if self.mass == "redistributed" else self.mass
         if self.model == "chain":
             return chain(self.n_eff, self.m, self.k)
         if self.mesh_file:
@@ -245,12 +251,12 @@ class Case:
 
             nodes = read_nodes(self.mesh_file)
             try:
-                return Bar(nodes, self.element, self.mass, self.EA, self.rhoA, self.point_masses,
+                return Bar(nodes, self.element, mass, self.EA, self.rhoA, self.point_masses,
                            f"fe-{self.element}-{self.mass}-{len(nodes) - 1}")
             except InputError as exc:
                 raise InputError(f"mesh file {self.mesh_file!r}: {exc}") from None
         nodes = graded_nodes(self.n_eff, self.length, self.grading)
-        return Bar(nodes, self.element, self.mass, self.EA, self.rhoA, self.point_masses,
+        return Bar(nodes, self.element, mass, self.EA, self.rhoA, self.point_masses,
                    f"fe-{self.element}-{self.mass}-{len(nodes) - 1}")
 
     def load(self) -> Load:

@@ -5,6 +5,8 @@
 
 from __future__ import annotations
 
+from ..model.bar import MASSES
+
 __all__ = ["FORMATS", "SCHEMA", "REQUIRED", "HELP", "TYPES", "schema_table"]
 
 FORMATS = ("pvd", "xdmf", "both")
@@ -13,7 +15,7 @@ FORMATS = ("pvd", "xdmf", "both")
 SCHEMA = {
     "": {"title": "str", "bar": "table", "load": "tables", "search": "table", "output": "table"},
     "bar": {"model": ("choice", ("chain", "fe")), "n": "int", "element": ("choice", ("P1", "P2")),
-            "mass": ("choice", ("lumped", "consistent")), "length": "float", "EA": "float", "rhoA": "float",
+            "mass": ("choice", MASSES), "length": "float", "EA": "float", "rhoA": "float",
             "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs",
             "end_mass": "float", "end_mass_absolute": "bool", "modes": "int", "rayleigh": "pair",
             "damping_ratio": "float", "damping_at": "pair", "restitution": "float"},
@@ -34,7 +36,8 @@ HELP = {
          "search": "where to look for paths (optional)", "output": "what to write (optional)"},
     "bar": {"model": "the paper's chain of N masses (L = N) or a finite-element bar; required",
             "n": "masses of the chain / elements of the FE bar [5 / 8]; not with `mesh_file`",
-            "element": "FE element [P1]; FE only", "mass": "FE mass matrix [lumped]; FE only",
+            "element": "FE element [P1]; FE only",
+            "mass": "FE mass matrix [lumped]; FE only; `redistributed` needs `end_mass` > 0",
             "length": "bar length L [1]; FE only, not with `mesh_file`", "EA": "axial stiffness [1]; FE only",
             "rhoA": "mass per length [1]; FE only", "m": "chain mass [1]; chain only",
             "k": "chain spring stiffness [1]; chain only",

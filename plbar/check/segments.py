@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, PlbarError
 from .viscous import damped_flow, flow_rate, modal_ratios
 
 __all__ = ["duhamel", "modal_flow", "OPEN", "IMPACT", "SAMPLES_PER_RAD"]
@@ -22,8 +22,13 @@ OPEN = 1      #: event kind: the gap opens (state I -> II)
 IMPACT = 2    #: event kind: plastic impact (state II -> I)
 
 SAMPLES_PER_RAD = 2.5   #: event-search samples per radian of the fastest frequency (~16 per period)
+ROUNDOFF = 1e-12        #: a margin within ROUNDOFF of its size (:func:`_tolerance`) is zero: no event
 _WINDOW = 512           #: samples evaluated at once in the event search
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(24)
+
+
+class SimulationError(PlbarError):
+    """The simulation cannot continue (chattering contact, or a map left its orbit class)."""
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -48,6 +53,7 @@ class _Model:
     Mrr_inv: np.ndarray
     zeta: tuple | None = None       # (zeta1, zeta2) modal ratios of C = alpha M + beta K, None undamped
     rho_v: np.ndarray | None = None  # damped: R = rho_eta . eta + rho_v . eta' + r_q cos(W t - phi)
+    floor: tuple = (0.0, 0.0)       # each state's margin under the static load: the size of a bar at rest
 
     @property
     def n(self) -> int:
@@ -82,8 +88,10 @@ def _model(prob) -> _Model:
         C = alpha * M + beta * K
         zeta = (modal_ratios(C[:-1, :-1], V1, w1), modal_ratios(C, V2, w2))
         rho_v = (C[-1, :-1] - H @ C[:-1, :-1]) @ V1
-    return _Model(M, K, q, (w1, w2), (V1, V2), (B1, B2), (V1.T @ q[:-1], V2.T @ q), rho @ V1, r_q,
-                  Mrr_inv @ M[:-1, :], np.linalg.inv(M), Mrr_inv, zeta, rho_v)
+    f1, f2 = V1.T @ q[:-1], V2.T @ q
+    floor = (float(np.sum(np.abs((rho @ V1) * f1) / w1**2) + abs(r_q)), float(np.sum(np.abs(V2[-1] * f2) / w2**2)))
+    return _Model(M, K, q, (w1, w2), (V1, V2), (B1, B2), (f1, f2), rho @ V1, r_q,
+                  Mrr_inv @ M[:-1, :], np.linalg.inv(M), Mrr_inv, zeta, rho_v, floor)
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -228,11 +236,29 @@ def _scale(mod: _Model, seg: _Seg) -> float:
     return float(np.abs(mod.V[1][-1]) @ np.abs(seg.eta))
 
 
+def _tolerance(mod: _Model, seg: _Seg, m: np.ndarray) -> float:
+    """Round-off level of the segment's margin: ``ROUNDOFF`` times the largest of its terms at the start, its
+    samples ``m`` and the state's margin under the static load (a bar at rest, whose margin is zero in exact
+    arithmetic far from the load, has no size of its own: its modal sums cancel to ~1e-17, of either sign)."""
+    return ROUNDOFF * max(_scale(mod, seg), float(np.abs(m).max(initial=0.0)), mod.floor[seg.state - 1], 1e-300)
+
+
 def _refine(g, a, b):
-    """Root of ``g`` on ``[a, b]`` with ``g(a) >= 0 > g(b)``, to round-off."""
+    """Root of ``g`` on ``[a, b]`` with ``g(a) >= 0 > g(b)``, to round-off.
+
+    The bracket comes from a batched evaluation of the margin; ``g`` evaluates it alone, with another
+    summation order.  Brackets are chosen beyond the margin's round-off level, so the two agree on the
+    signs; if they did not, the event is reported as a :class:`SimulationError`, never as a root finder's
+    error.
+    """
     ga = g(a)
     if ga <= 0.0:
         return a
+    gb = g(b)
+    if not gb < 0.0:
+        raise SimulationError(f"no sign change of the contact margin on [{a:.15g}, {b:.15g}] of a segment "
+                              f"(margins {ga:.3g}, {gb:.3g}): an event at round-off level this simulator "
+                              "does not resolve")
     from scipy.optimize import brentq       # lazily: plbar's import stays light
 
     return brentq(g, a, b, xtol=1e-15 * max(abs(b), 1e-300), rtol=4 * np.finfo(float).eps, maxiter=200)
@@ -242,10 +268,15 @@ def _next_event(mod: _Model, W, phi, seg: _Seg, tau_max: float):
     """Local time of the first event of ``seg`` in ``[0, tau_max]``, or None.
 
     The margin is sampled on a grid of step :func:`_step`; the first sample
-    below zero brackets the root with its predecessor.  Right at the segment
+    below its round-off level (:func:`_tolerance`) brackets the root with its
+    predecessor: a margin within round-off of zero is zero, no event (a bar at
+    rest loaded far from its contact has a margin that vanishes to a high order
+    in time, whose modal sums are noise of either sign).  A last sample in that band is
+    an event if the margin one step later is below it (a crossing just before ``tau_max``,
+    e.g. an impact at the end of a run).  Right at the segment
     start the margin is zero up to round-off (both switches start on the
     constraint), so the first interval is resolved on a geometric grid and
-    a margin below ``-1e-12`` of its scale there is an immediate event.
+    a margin below the round-off level there is an immediate event.
     """
     g = lambda t: float(_margin(mod, W, phi, seg, t))  # noqa: E731
     h = _step(mod, W, seg.state)
@@ -253,14 +284,15 @@ def _next_event(mod: _Model, W, phi, seg: _Seg, tau_max: float):
     a = 0.0
     first = True
     size = 32
+    m = np.zeros(1)
     while a < tau_max:
         taus = a + h * np.arange(1, size + 1)
         taus = taus[taus < tau_max]
         taus = np.append(taus, tau_max) if taus.size < size else taus
         size = min(2 * size, _WINDOW)
         m = _margin(mod, W, phi, seg, taus)
+        tol = _tolerance(mod, seg, np.append(m, m0))
         if first:
-            tol = 1e-12 * max(np.abs(m).max(), abs(m0), _scale(mod, seg), 1e-300)
             if m0 < -tol:
                 return 0.0
             if m[0] < 0 and m0 <= tol:
@@ -271,15 +303,17 @@ def _next_event(mod: _Model, W, phi, seg: _Seg, tau_max: float):
                 if neg.size:
                     k = int(neg[0])
                     return 0.0 if k == 0 else _refine(g, geo[k - 1], geo[k])
-                # below zero by round-off only (a tiny window at the end of a run): no event there
-                m = np.where(np.abs(m) <= tol, 0.0, m)
             first = False
-        neg = np.flatnonzero(m < 0)
+        neg = np.flatnonzero(m < -tol)      # below zero by round-off only: no event there
         if neg.size:
             k = int(neg[0])
-            lo = taus[k - 1] if k > 0 else a
+            up = np.flatnonzero(m[:k] >= 0)     # the last sample not below zero (not one in the round-off band)
+            lo = taus[up[-1]] if up.size else a
             return _refine(g, lo, taus[k])
         a = float(taus[-1])
+    if m[-1] < 0 and g(tau_max) < 0 and g(tau_max + h) < -tol:   # a crossing just before the end, in the band
+        up = np.flatnonzero(m >= 0)
+        return _refine(g, taus[up[-1]] if up.size else taus[0], tau_max)
     return None
 
 

@@ -41,20 +41,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from ..errors import InputError, PlbarError
+from ..errors import InputError
 from ..util.reprs import build, rng
-from .segments import (IMPACT, OPEN, SAMPLES_PER_RAD, _at, _energy, _Model, _model, _next_event, _physical, _Seg,
-                       _switch, _viscous, _work)
+from .segments import (IMPACT, OPEN, SAMPLES_PER_RAD, SimulationError, _at, _energy, _Model, _model, _next_event,
+                       _physical, _Seg, _switch, _viscous, _work)
 
 __all__ = ["Simulation", "History", "SimulationError", "simulate", "period_map", "OPEN", "IMPACT",
            "SNAP", "SAMPLES_PER_RAD"]
 
 SNAP = 1e-9             #: events within ``SNAP * T`` after a sample time count as before it (see simulate)
 _MAX_ZERO_SEGMENTS = 50  #: consecutive zero-length segments before a chattering error
-
-
-class SimulationError(PlbarError):
-    """The simulation cannot continue (chattering contact, or a map left its orbit class)."""
 
 
 # ---------------------------------------------------------------------------------------------------------------

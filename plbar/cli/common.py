@@ -20,7 +20,7 @@ import json
 
 from ..app import Case, load_case
 from ..errors import InputError
-from ..model import rayleigh_from_ratio
+from ..model import MASSES, rayleigh_from_ratio
 
 __all__ = ["output_args", "yes_arg", "case_args", "case_from_args", "case_flags", "progress", "report", "hidden",
            "plural"]
@@ -74,7 +74,8 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
                        metavar="N", help="masses of the chain / elements of the FE bar, coarse to fine "
                                          f"[{' '.join(str(n) for n in sizes) or 'the case: 5 / 8'}]")
     g.add_argument("--element", choices=("P1", "P2"), default=None, help="FE element [P1]")
-    g.add_argument("--mass", choices=("lumped", "consistent"), default=None, help="FE mass matrix [lumped]")
+    g.add_argument("--mass", choices=MASSES, default=None,
+                   help="FE mass matrix; redistributed needs --end-mass > 0 [lumped]")
     g.add_argument("--mesh-file", default=None, help="meshio-readable 1D line mesh for --model fe")
     g.add_argument("--grading", type=float, default=None,
                    help="FE mesh grading: last/first element length [1 = uniform]")

@@ -17,10 +17,11 @@ from ..util.check import choice, finite, integer, pairs, positive, show
 from ..util.reprs import build, rng
 from ..errors import InputError
 
-__all__ = ["Bar", "Assembled", "assemble", "chain", "uniform_bar", "graded_nodes", "uniform_nodes"]
+__all__ = ["Bar", "Assembled", "assemble", "chain", "uniform_bar", "graded_nodes", "uniform_nodes",
+           "redistributed_block"]
 
 ELEMENTS = ("P1", "P2")
-MASSES = ("lumped", "consistent")
+MASSES = ("lumped", "consistent", "redistributed")
 
 
 #: smallest allowed element length, relative to the bar length
@@ -121,8 +122,10 @@ class Bar:
         Strictly increasing vertex coordinates starting at 0.
     element : {"P1", "P2"}
         Lagrange element order.
-    mass : {"lumped", "consistent"}
-        Mass matrix type (lumped = row sum, equal to nodal quadrature).
+    mass : {"lumped", "consistent", "redistributed"}
+        Mass matrix type (lumped = row sum, equal to nodal quadrature; redistributed = consistent, with the
+        contact element's mass moved off the contact node, see :func:`redistributed_block`: it needs a
+        point mass on the contact node, the end mass, so that the contact DOF keeps an inertia).
     EA, rhoA : float or ndarray, shape (n_elements,)
         Axial stiffness and mass per length, constant or per element.
     point_masses : tuple of (x, m)
@@ -163,6 +166,10 @@ class Bar:
                                  f"of the mesh in (0, {x[-1]:g}]")
             pm.append((float(x[j[0]]), mp))
         object.__setattr__(self, "point_masses", tuple(pm))
+        if self.mass == "redistributed" and not any(xp == x[-1] for xp, _ in pm):
+            raise InputError("mass = 'redistributed' leaves the contact node without the bar's inertia, so it "
+                             "needs an end mass there: give end_mass > 0 (--end-mass M, or a point mass at "
+                             f"x = L = {x[-1]:g}), or use mass = 'consistent' or 'lumped'")
         x.setflags(write=False)
         object.__setattr__(self, "nodes", x)
 
@@ -209,6 +216,49 @@ def chain(n: int, m: float = 1.0, k: float = 1.0) -> Bar:
     k = positive("k", k)
     x = np.arange(n + 1, dtype=float)
     return Bar(x, "P1", "lumped", k, m, ((float(n), m / 2.0),), f"chain-{n}", paper_chain=True)
+
+
+def redistributed_block(element: str, h: float, rhoA: float) -> np.ndarray:
+    """Mass of the contact element over its other nodes, by the mass redistribution method.
+
+    Khenous, Laborde & Renard (2008, Eur. J. Mech. A/Solids 27, 918-932): the contact node carries no
+    inertia of the element; the element's mass goes to its other nodes so that its total mass, its centre
+    of mass and (where the nodes allow) its moment of inertia are kept.  P1 (one other node, the vertex at
+    ``xi = 0``): ``rhoA h``, the total mass only.  P2 (the vertex ``xi = 0`` and the midside node
+    ``xi = h/2``): the one symmetric block with ``1^T B 1 = rhoA h``, ``1^T B xi = rhoA h^2 / 2`` and
+    ``xi^T B xi = rhoA h^3 / 3``, ``B = rhoA h / 3 [[1, -1], [-1, 4]]`` (positive definite).
+
+    Parameters
+    ----------
+    element : {"P1", "P2"}
+    h, rhoA : float
+        The contact element's length and mass per length.
+
+    Returns
+    -------
+    ndarray, shape (1, 1) or (2, 2)
+        Over the element's nodes other than the contact node, sorted from the clamp.
+    """
+    if element == "P1":
+        return np.array([[rhoA * h]])
+    return rhoA * h / 3.0 * np.array([[1.0, -1.0], [-1.0, 4.0]])
+
+
+def _redistribute(M: np.ndarray, bar: Bar, basis, e: int, contact_mass: np.ndarray) -> np.ndarray:
+    """``M`` (consistent, all DOFs) with the mass of element ``e``, the contact element, redistributed.
+
+    ``contact_mass`` is the consistent mass of element ``e`` alone (all DOFs, as ``M``); it is replaced by
+    :func:`redistributed_block`, and the contact node's row and column are exactly zero.
+    """
+    xd = basis.doflocs[0]
+    dofs = np.asarray(basis.element_dofs[:, e])
+    dofs = dofs[np.argsort(xd[dofs], kind="stable")]
+    rhoA = bar.rhoA[e] if np.ndim(bar.rhoA) else bar.rhoA
+    M = M - contact_mass
+    M[dofs[-1], :] = 0.0
+    M[:, dofs[-1]] = 0.0
+    M[np.ix_(dofs[:-1], dofs[:-1])] += redistributed_block(bar.element, float(np.diff(bar.nodes)[e]), float(rhoA))
+    return M
 
 
 @dataclass(frozen=True)
@@ -280,6 +330,11 @@ def assemble(bar: Bar) -> Assembled:
     M = asm(mass, basis, ra=per_elem(bar.rhoA)).toarray()
     if bar.mass == "lumped":
         M = np.diag(M.sum(axis=1))
+    elif bar.mass == "redistributed":
+        e = int(np.argmax(mesh.p[0, mesh.t].max(axis=0)))          # the contact element, by position
+        only = np.zeros(mesh.t.shape[1])
+        only[e] = 1.0
+        M = _redistribute(M, bar, basis, e, asm(mass, basis, ra=per_elem(only * bar.rhoA)).toarray())
     xd = basis.doflocs[0]
     for xp, mp in bar.point_masses:
         j = int(np.argmin(np.abs(xd - xp)))

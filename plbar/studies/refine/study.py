@@ -21,6 +21,7 @@ from pathlib import Path
 
 from ...app import Case
 from ...errors import InputError
+from ...model import ELEMENTS, MASSES
 from ...util.check import show
 from ...util.files import write_json
 from ...util.outputs import claim_folder, fingerprint
@@ -85,9 +86,8 @@ def parse_series(name: str) -> dict:
     if name == "chain":
         return {"model": "chain"}
     parts = name.split("-")
-    if len(parts) != 3 or parts[0] != "fe" or parts[1] not in ("P1", "P2") or parts[2] not in ("lumped",
-                                                                                               "consistent"):
-        raise InputError(f"series = {name!r} must be 'chain' or 'fe-<P1|P2>-<lumped|consistent>'")
+    if len(parts) != 3 or parts[0] != "fe" or parts[1] not in ELEMENTS or parts[2] not in MASSES:
+        raise InputError(f"series = {name!r} must be 'chain' or 'fe-<{'|'.join(ELEMENTS)}>-<{'|'.join(MASSES)}>'")
     return {"model": "fe", "element": parts[1], "mass": parts[2]}
 
 
