@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-__all__ = ["Piece", "free", "opening", "impact", "lowest", "SAMPLES"]
+__all__ = ["Piece", "free", "opening", "impact", "lowest", "stored_line", "SAMPLES"]
 
 #: samples per piece for the sign and extremum scans of the event search
 SAMPLES = 8
@@ -119,3 +119,29 @@ def lowest(p: Piece, h: float) -> float:
     for i in np.flatnonzero((vs[:-1] < 0) & (vs[1:] > 0)):
         low = min(low, float(p.u(brentq(p.v, taus[i], taus[i + 1], xtol=1e-15))))
     return low
+
+
+_GX, _GW = np.polynomial.legendre.leggauss(8)
+
+
+def stored_line(p: Piece, h: float, l0: float, l1: float, C: float, D: float) -> tuple[float, float]:
+    """The linear part ``(a0, a1)`` stored for ``w_out = 2 v - w_in`` over a free piece ``[0, h]``.
+
+    ``w_out`` is linear + harmonic except the end mass's transient ``2 K exp(-lam tau)``.  That is stored as its
+    L2 projection on linear functions, scaled by ``beta = 1 + O(h^4)`` so that ``int w_out^2`` (the energy the
+    wave carries, ``Z / 4`` times it) is kept exactly: the delay line then conserves energy to round-off and
+    the solution stays second order."""
+    lin0, lin1 = 2 * p.l0p - l0, 2 * p.l1p - l1
+    if not p.lam or p.K == 0.0 or h <= 0:
+        return lin0, lin0 + lin1 * h
+    tau = 0.5 * h * (_GX + 1)
+    wt = 0.5 * h * _GW
+    t = p.ta + tau
+    base = lin0 + lin1 * tau + (2 * p.a - C) * np.cos(p.w * t) + (2 * p.b - D) * np.sin(p.w * t)
+    r = 2 * p.K * np.exp(-p.lam * tau)
+    c0, c1 = wt @ r / h, 3 * (wt @ (r * _GX)) / h
+    pr = c0 + c1 * _GX
+    A, B, Cq, E = wt @ base ** 2, wt @ (base * pr), wt @ pr ** 2, wt @ (base + r) ** 2
+    disc = B * B - Cq * (A - E)
+    beta = (-B + math.copysign(math.sqrt(disc), B + Cq)) / Cq if disc >= 0 and Cq > 0 else 1.0
+    return lin0 + beta * (c0 - c1), lin0 + lin1 * h + beta * (c0 + c1)

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..errors import InputError
 from .bar import ContinuumBar
-from .end import free, impact, lowest, opening
+from .end import free, impact, lowest, opening, stored_line
 from .history import History
 
 __all__ = ["Start", "March", "OPENING", "IMPACT", "MAX_EVENTS_PER_STEP"]
@@ -152,8 +152,8 @@ class March:
         p = free(k * self.dt + sa, self.u, self.v, l0, l1, C + load[0], D + load[1], self.omega, b.Z, b.end_mass)
         tau = None if self.hold == "open" else impact(p, h)
         te = h if tau is None else tau
-        lin = lambda x: 2 * (p.l0p + p.l1p * x + (p.K * math.exp(-p.lam * x) if p.lam else 0.0)) - (l0 + l1 * x)
-        self.hist.add(k, sa, sa + te, lin(0.0), lin(te), 2 * p.a - C, 2 * p.b - D)
+        a0, a1 = stored_line(p, te, l0, l1, C, D)
+        self.hist.add(k, sa, sa + te, a0, a1, 2 * p.a - C, 2 * p.b - D)
         self.amp[-1] = max(self.amp[-1], -lowest(p, te))
         self.u, self.v = float(p.u(te)), float(p.v(te))
         if tau is None:
