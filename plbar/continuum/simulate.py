@@ -145,8 +145,8 @@ def simulate(bar: ContinuumBar, T: float, periods: int = 20, steps_per_L: int = 
     bounds = T * np.arange(periods + 1)
     energy = np.array([bar_energy(ln, t) for t in bounds]) + 0.5 * bar.end_mass * end[:, 1] ** 2
     grid = [strobe(ln, t, steps_per_L) for t in bounds[periods - record:]]
-    return ContinuumRun(bar, float(T), float(phi), int(periods), record, int(steps_per_L), mc.dt,
-                        _per_period(ev, T, periods, IMPACT).astype(int), _per_period(ev, T, periods, OPENING).astype(int),
+    impacts, openings = (_per_period(ev, T, periods, kd).astype(int) for kd in (IMPACT, OPENING))
+    return ContinuumRun(bar, float(T), float(phi), int(periods), record, int(steps_per_L), mc.dt, impacts, openings,
                         _per_period(ev, T, periods, IMPACT, "loss"), work(ln, T, periods), np.array(mc.amp[:periods]),
                         energy, velocity_square(ln, T, periods - record, periods, steps_per_L),
                         np.array([g[0] for g in grid]), np.array([g[1] for g in grid]), end, ev,
