@@ -108,6 +108,11 @@ def impact(p: Piece, h: float, start: float = 0.0):
         return None
     i = int(neg[0])
     lo = start if i == 0 else taus[i - 1]
+    if i == 0 and f(lo) <= 0:
+        # leaving the wall from rest (u = v = 0): the end first moves away if u dips below 0 before the sample
+        lo = _argmin(p.u, start, taus[0])
+        if f(lo) <= 0:
+            return float(start)
     return brentq(f, lo, taus[i], xtol=1e-15, rtol=1e-15) if f(lo) >= 0 else float(lo)
 
 
