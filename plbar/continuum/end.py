@@ -41,8 +41,15 @@ class Piece:
     def u(self, tau):
         t, ta, w = self.ta + tau, self.ta, self.w
         e = -self.K * np.expm1(-self.lam * tau) / self.lam if self.lam else 0.0
-        return (self.u0 + self.l0p * tau + 0.5 * self.l1p * tau ** 2 + self.a / w * (np.sin(w * t) - np.sin(w * ta))
-                - self.b / w * (np.cos(w * t) - np.cos(w * ta)) + e)
+        half = 2 * np.sin(0.5 * w * tau) / w  # sin wt - sin wta = half w cos(w (t + ta) / 2), no cancellation
+        mid = 0.5 * w * (t + ta)
+        return (self.u0 + self.l0p * tau + 0.5 * self.l1p * tau ** 2 + half * (self.a * np.cos(mid)
+                + self.b * np.sin(mid)) + e)
+
+    def tol(self, h: float) -> float:
+        """Round-off of ``u`` on a piece of length ``h`` (its terms' size times a few ulps)."""
+        return 64 * np.finfo(float).eps * (abs(self.u0) + (abs(self.l0p) + abs(self.K)) * h + abs(self.l1p) * h * h
+                                           + (abs(self.a) + abs(self.b)) * min(h, 2 / self.w))
 
 
 def free(ta, u0, v0, l0, l1, C, D, w, Z, m) -> Piece:
@@ -93,7 +100,8 @@ def impact(p: Piece, h: float, start: float = 0.0):
 
     A sign change of ``u`` is bracketed on the samples; a return between samples shows as a maximum of ``u``
     (a ``+ -`` sign change of ``v``), located by root finding on ``v`` and tested."""
-    f = lambda t: -p.u(t)  # noqa: E731 -- >= 0 while free
+    tol = p.tol(h)
+    f = lambda t: tol - p.u(t)  # noqa: E731 -- > 0 while free; a return is u reaching the wall within round-off
     taus = np.linspace(start, h, SAMPLES + 1)[1:]
     vals = f(taus)
     neg = np.flatnonzero(vals < 0)
