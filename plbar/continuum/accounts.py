@@ -42,8 +42,11 @@ def work(ln: Line, T: float, periods: int) -> np.ndarray:
 
 def _x_cuts(ln: Line, t: float) -> np.ndarray:
     P = 2 * ln.L / ln.c
-    xs = np.concatenate([ln.L - ln.c * (t - ln.t0), ln.L - ln.c * (ln.t0 + P - t),
-                         ln.L - ln.c * (t - ln.t1), ln.L - ln.c * (ln.t1 + P - t)])
+    lo = max(int(np.searchsorted(ln.t0, t - P)) - 1, 0)
+    hi = int(np.searchsorted(ln.t0, t, side="right")) + 1
+    t0, t1 = ln.t0[lo:hi], ln.t1[lo:hi]  # only the pieces of the last 2L/c are in the bar at time t
+    xs = np.concatenate([ln.L - ln.c * (t - t0), ln.L - ln.c * (t0 + P - t), ln.L - ln.c * (t - t1),
+                         ln.L - ln.c * (t1 + P - t)])
     more = [ln.s, ln.s - ln.c * t, 2 * ln.L - ln.c * t - ln.s, ln.c * t - ln.s]
     return _cuts(xs, 0.0, ln.L, *more)
 
