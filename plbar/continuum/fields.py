@@ -1,0 +1,71 @@
+"""The fields of the bar rebuilt from the delay line (d'Alembert), as pure array functions.
+
+With ``d = (L - x) / c`` and ``P = 2L/c``: ``w-(x, t) = w_out(t - d) + [x < s] F(t - (s - x)/c) / Z`` and
+``w+(x, t) = w_in(t + d) - [x < s] F(t + (s - x)/c) / Z``, ``w_in(t) = -w_out(t - P) + Fterm(t) / Z``;
+``v = (w+ + w-) / 2``, ``c u_x = (w- - w+) / 2``, energy density ``rhoA (w+^2 + w-^2) / 4``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Line", "w_out", "load", "w_in", "invariants"]
+
+
+@dataclass(frozen=True)
+class Line:
+    """The stored delay line and what evaluating it needs (arrays from :meth:`History.arrays`)."""
+
+    t0: np.ndarray
+    t1: np.ndarray
+    a0: np.ndarray
+    a1: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    omega: float
+    phi: float
+    q: float
+    L: float
+    c: float
+    Z: float
+    s: float
+    from_rest: bool
+
+
+def w_out(ln: Line, t):
+    """``w_out(t)``, right-continuous at the jumps; shape of ``t``."""
+    t = np.asarray(t, float)
+    i = np.clip(np.searchsorted(ln.t0, t, side="right") - 1, 0, ln.t0.size - 1)
+    f = (t - ln.t0[i]) / (ln.t1[i] - ln.t0[i])
+    return ln.a0[i] + (ln.a1[i] - ln.a0[i]) * f + ln.C[i] * np.cos(ln.omega * t) + ln.D[i] * np.sin(ln.omega * t)
+
+
+def load(ln: Line, t):
+    """The load ``F(t) = q cos(omega t - phi)`` (0 before ``t = 0`` from rest)."""
+    t = np.asarray(t, float)
+    F = ln.q * np.cos(ln.omega * t - ln.phi)
+    return np.where(t >= 0, F, 0.0) if ln.from_rest else F
+
+
+def w_in(ln: Line, t):
+    """``w_in(t)`` at the end: the reflected ``-w_out(t - 2L/c)`` plus the load crossed twice."""
+    t = np.asarray(t, float)
+    out = -w_out(ln, t - 2 * ln.L / ln.c)
+    if ln.s < ln.L:
+        out = out + (load(ln, t - (ln.L - ln.s) / ln.c) - load(ln, t - (ln.L + ln.s) / ln.c)) / ln.Z
+    return out
+
+
+def invariants(ln: Line, x, t):
+    """``(w+, w-)`` at points ``x`` and times ``t`` (broadcast), taking right limits at ``x = s``."""
+    x, t = np.broadcast_arrays(np.asarray(x, float), np.asarray(t, float))
+    d = (ln.L - x) / ln.c
+    wm, wp = w_out(ln, t - d), w_in(ln, t + d)
+    left = x < ln.s
+    if ln.s < ln.L and np.any(left):
+        e = (ln.s - x) / ln.c
+        wm = wm + np.where(left, load(ln, t - e), 0.0) / ln.Z
+        wp = wp - np.where(left, load(ln, t + e), 0.0) / ln.Z
+    return wp, wm
