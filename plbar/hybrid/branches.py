@@ -31,8 +31,8 @@ from ..paths import FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING
 from ..util.reprs import build, count, rng
 from .floquet import monodromy, multipliers
 from .follow import END_DWELL, FollowSettings, follow
-from .seeds import ONE_REBOUND, doubled, split, zero_dwell
-from .signature import PAPER, ZERO_DWELL, Signature
+from .seeds import doubled, split, zero_dwell
+from .signature import ONE_REBOUND, PAPER, ZERO_DWELL, Signature
 from .solve import HybridOrbit, NotConverged, orbit_at, polish
 from .verify import admissible
 

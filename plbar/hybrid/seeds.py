@@ -21,15 +21,15 @@ import numpy as np
 
 from ..model import Problem
 from .chain import evaluate, layout
-from .signature import ONE_REBOUND, ZERO_DWELL, Signature
+from .signature import ZERO_DWELL, Signature
 from .solve import HybridOrbit, NotConverged, orbit_at, polish
 
-__all__ = ["zero_dwell", "doubled", "from_motion", "split", "ONE_REBOUND"]
+__all__ = ["zero_dwell", "doubled", "from_motion", "split"]
 
 
 def zero_dwell(prob: Problem, T: float, sig: Signature = ZERO_DWELL) -> list[HybridOrbit]:
     """The responses of class ``1Z`` at period ``T`` (both phase roots; checked, not yet for admissibility); with
-    ``sig = ONE_REBOUND`` those of class ``1R`` (one rebound per period, restitution ``e > 0``: the same
+    ``sig = plbar.hybrid.ONE_REBOUND`` those of class ``1R`` (one rebound per period, restitution ``e > 0``: the same
     structure, the start state in state II)."""
     nz, q, nX = layout(prob, sig)
     T = float(T)
@@ -149,7 +149,7 @@ def _pairs(seq_t, seq_k, T: float, m: int) -> tuple[Signature, list]:
     i = 0
     while i < n:                                     # one pair per impact: what follows it, then the free phase
         if seq_k[i] == 3:                            # a rebound: the free phase at once
-            if i + 1 > n or seq_k[i + 1] < 2:
+            if seq_k[i + 1] < 2:
                 raise ValueError("an opening after a rebound")
             dwell.append(False)
             rebound.append(True)
