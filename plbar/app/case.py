@@ -21,7 +21,9 @@ from ..util.check import grid as check_grid
 
 __all__ = ["Case", "MODELS", "SIGNATURES"]
 
-MODELS = ("chain", "fe")
+MODELS = ("chain", "fe", "continuum")
+#: grid steps per travel time L / c of the continuum's characteristics (its ``n``) when not given
+CONTINUUM_STEPS = 32
 SIGNATURES = ("default", "paper", "all")    #: which periodic responses a solve finds (see Case.signatures)
 #: default load of an FE bar: a unit point force at this fraction of the length (mid-bar, whatever the mesh)
 DEFAULT_FE_LOAD = 0.5
@@ -45,10 +47,13 @@ class Case:
 
     Parameters
     ----------
-    model : {"chain", "fe"}
-        The paper's mass-spring chain, or a finite-element bar.
+    model : {"chain", "fe", "continuum"}
+        The paper's mass-spring chain, a finite-element bar, or the uniform continuum bar solved exactly by
+        characteristics (:mod:`plbar.continuum`: the N = infinity limit of the FE bar; a survey and its motions
+        only, undamped and plastic, one point load, no FE options).
     n : int, optional
-        Masses of the chain / elements of the FE bar (default 5 / 8).
+        Masses of the chain / elements of the FE bar / grid steps per travel time ``L / c`` of the continuum (its
+        fields are sampled on ``n + 1`` points) (default 5 / 8 / 32).
     element, mass : str
         FE element (``P1``/``P2``) and mass (``lumped``/``consistent``/``redistributed``, the last with
         ``end_mass > 0``, see :class:`plbar.Bar`); the chain is P1 lumped.
@@ -142,7 +147,8 @@ class Case:
         object.__setattr__(self, "rayleigh", check_rayleigh(self.rayleigh))
         object.__setattr__(self, "restitution", check_restitution(self.restitution))
         if self.n is not None:
-            object.__setattr__(self, "n", integer("n" if self.model == "fe" else "chain size N", self.n, 2))
+            what = {"fe": "n", "chain": "chain size N", "continuum": "continuum steps per L/c n"}[self.model]
+            object.__setattr__(self, "n", integer(what, self.n, 2))
         for nm in ("length", "EA", "rhoA", "m", "k", "grading"):
             object.__setattr__(self, nm, positive(nm, getattr(self, nm)))
         if self.mesh_file is not None and not isinstance(self.mesh_file, (str, os.PathLike)):
@@ -182,7 +188,7 @@ class Case:
         """Masses of the chain / elements of the FE bar (a mesh file's own count; default 5 / 8)."""
         if self.mesh_file is not None and "_bar" in self.__dict__:
             return self.bar().n_elements
-        return self.n if self.n is not None else (5 if self.model == "chain" else 8)
+        return self.n if self.n is not None else {"chain": 5, "fe": 8, "continuum": CONTINUUM_STEPS}[self.model]
 
     def bar(self) -> Bar:
         """The bar of this case (built once, when the case was made)."""
@@ -221,9 +227,33 @@ class Case:
                 k, v = given[0]
                 raise InputError(f"{k} = {show(v)} conflicts with mesh_file = {self.mesh_file!r}, which fixes the "
                                  f"mesh (its elements, grading and length); drop {k} ({_flag(k)}) or the mesh file")
+        if self.model == "continuum":
+            self._check_continuum()
         if self.end_mass_absolute and self.end_mass == 0:
             raise InputError("end_mass_absolute = True needs an end mass: give end_mass > 0 (--end-mass M), or drop "
                              "end_mass_absolute (--end-mass-absolute)")
+
+    def _check_continuum(self) -> None:
+        """What the continuum solver takes (:mod:`plbar.continuum`): a uniform undamped bar, plastic contact, one
+        point load; an option it would ignore is refused."""
+        fe = [(k, getattr(self, k)) for k in ("element", "mass", "grading", "mesh_file", "point_masses")
+              if getattr(self, k) != FE_ONLY[k]]
+        if fe:
+            k, v = fe[0]
+            raise InputError(f"{k} = {show(v)} does not apply to model = 'continuum' (the exact uniform bar, no mesh); "
+                             f"drop {k} ({_flag(k)}) or use model = 'fe'")
+        if self.modes is not None:
+            raise InputError("modes does not apply to model = 'continuum' (it has every mode); drop --modes")
+        if self.rayleigh is not None:
+            raise InputError("model = 'continuum' is undamped: Rayleigh damping (Kelvin-Voigt) breaks its "
+                             "characteristics. The damped limit is the FE bar under refinement: plbar survey --model "
+                             "fe -N 16 32 64 ... with the damping")
+        if self.restitution:
+            raise InputError(f"model = 'continuum' has a plastic contact (restitution 0), got {self.restitution:g}; "
+                             "use model = 'fe' for e > 0")
+        if self.load_nodes or len(self.load_points) > 1:
+            raise InputError("model = 'continuum' takes one point load (--load-at S), not DOF loads (--load-node) "
+                             "nor several points")
 
     @property
     def end_mass_value(self) -> float:
@@ -265,7 +295,17 @@ class Case:
 
     def problem(self) -> Problem:
         """Assemble the bar, solve both eigenproblems and attach the load (the expensive step: call once)."""
+        if self.model == "continuum":
+            raise InputError("model = 'continuum' has no matrices: it is simulated by characteristics, in a survey "
+                             "(plbar survey --model continuum, and export/render of its motions); periodic "
+                             "responses (run, refine, sweep-loads) need model = 'chain' or 'fe'")
         return problem(self.bar(), self.load(), modes=self.modes, rayleigh=self.rayleigh, restitution=self.restitution)
+
+    def continuum(self):
+        """The :class:`plbar.continuum.ContinuumBar` of a uniform FE or continuum case (one point load, end mass)."""
+        from ..continuum import from_case
+
+        return from_case(replace(self, model="fe") if self.model == "continuum" else self)
 
     def domain(self, prob: Problem) -> Domain:
         """The search domain: ``T1``, ``T2`` if given, else the paper's ``(0, T0^alpha / 2]``."""
@@ -284,6 +324,8 @@ class Case:
         d["length"] = self.bar().length
         d.pop("label")
         drop = tuple(FE_ONLY) if self.model == "chain" else ("m", "k")
+        if self.model == "continuum":
+            drop += ("element", "mass", "grading", "mesh_file", "point_masses")
         if self.mesh_file is not None:
             drop += ("n", "grading", "length")
         if not d["restitution"]:

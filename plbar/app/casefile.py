@@ -4,7 +4,7 @@ A case file::
 
     title = "paper Sec. 4.1"            # optional
     [bar]                               # required
-    model = "chain"                     # chain | fe
+    model = "chain"                     # chain | fe | continuum
     n = 5
     [[load]]                            # optional: without one, the default load of Case (as the CLI)
     node = 1                            # free DOF K (1-based from the clamp) ...
@@ -270,7 +270,7 @@ def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
         if sec not in data:
             raise ctx.err("", f"missing required section [{sec}]")
     if "model" not in bar:
-        raise ctx.err("bar", 'missing required key "model"; choose "chain" or "fe"')
+        raise ctx.err("bar", 'missing required key "model"; choose "chain", "fe" or "continuum"')
     if "mesh_file" in bar:
         bar["mesh_file"] = _mesh_path(ctx, bar["mesh_file"], base)
     _damping_keys(ctx, bar)

@@ -64,8 +64,9 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
     g = p.add_argument_group("model")
     g.add_argument("--case", default=None, metavar="FILE.toml",
                    help="a TOML case file (examples/cases/); then no model, load or search option may be given")
-    g.add_argument("--model", choices=("chain", "fe"), default=None,
-                   help="the paper's mass-spring chain (L = N) or a finite-element bar (L = 1) [chain]")
+    g.add_argument("--model", choices=("chain", "fe", "continuum"), default=None,
+                   help="the paper's chain (L = N), a finite-element bar (L = 1), or the exact uniform bar by "
+                        "characteristics (survey, export, render; -N: its steps per L/c [32]) [chain]")
     if sizes is None:
         g.add_argument("--elements", "-N", type=int, default=None, metavar="N",
                        help="masses of the chain / elements of the FE bar [5 / 8]")

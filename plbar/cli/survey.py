@@ -166,15 +166,29 @@ def _refine(a, case, T, out) -> int:
     with get_executor(kind, a.scheduler, a.workers) as ex:
         r = run_survey_refine(case, a.sizes, T, a.periods, a.record, out, ex, progress(a), a.overwrite,
                               plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
-    lines = [f"plbar survey over N = {', '.join(str(n) for n in sorted(set(a.sizes)))}:"]
+    inf = 0 in r.surveys
+    lines = [f"plbar survey over N = {', '.join(str(n) for n in sorted(set(a.sizes)))}"
+             + (", infinity (the continuum, plbar.continuum)" if inf else "") + ":"]
     for key, d in r.rates.items():
-        lines.append(f"  {key}: kinds {', '.join(d['kinds'])}")
+        cont = d.get("continuum")
+        lines.append(f"  {key}: kinds {', '.join(d['kinds'])}"
+                     + (f"; continuum {cont['kind']}" if isinstance(cont, dict) else f"; no continuum: {cont}"))
         for q in ("loss_per_T", "xi_eq", "xi_w"):
             c = d[q]
             vals = ", ".join(f"{v:.4g}" for v in c["values"])
             rate = (f"-> {c['limit']:.4g}, rate {c['rate']:.2f} ({len(c['h'])} meshes)" if c["rate"] is not None
                     and c["limit"] is not None else f"no rate: {c['why']}")
             lines.append(f"    {q:10s} {vals}  {rate}")
+            ac = c.get("against_continuum")
+            if ac and ac.get("continuum") is not None:
+                z = ", ".join("-" if v is None else f"{v:+.1f}" for v in ac["z"])
+                order = f"order {ac['order']:.2f}" if ac.get("order") is not None else f"no order: {ac['orders_why']}"
+                lines.append(f"    {'':10s} continuum {ac['continuum']:.4g}" + (f" +- {ac['continuum_se']:.2g}"
+                             if ac["continuum_se"] else "") + f"; errors "
+                             + ", ".join(f"{v:+.3g}" if v is not None else "-" for v in ac["error"])
+                             + (f" (z {z})" if ac["continuum_se"] else "") + f"; {order}")
+            elif ac:
+                lines.append(f"    {'':10s} continuum: {ac['why']}")
     lines.append("  wrote " + ", ".join(str(f) for v in r.files.values() for f in (v if isinstance(v, list)
                                                                                       else [v])))
     report(a, r.summary, r.files, "\n".join(lines), rates=r.rates)

@@ -9,9 +9,9 @@ Front door: :class:`ContinuumBar`, :func:`from_case`, :func:`simulate` -> :class
 and the closed-form harmonic states :func:`held_closed`, :func:`held_open`.
 """
 
-from .bar import ContinuumBar, from_case
+from .bar import ContinuumBar, from_case, natural_periods
 from .harmonic import Harmonic, held_closed, held_open
 from .simulate import ContinuumRun, simulate
 from .stepper import Start
 
-__all__ = ["ContinuumBar", "from_case", "simulate", "ContinuumRun", "Start", "Harmonic", "held_closed", "held_open"]
+__all__ = ["ContinuumBar", "from_case", "natural_periods", "simulate", "ContinuumRun", "Start", "Harmonic", "held_closed", "held_open"]

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from ..errors import InputError
 
-__all__ = ["ContinuumBar", "from_case"]
+__all__ = ["ContinuumBar", "from_case", "natural_periods"]
 
 
 def _positive(name: str, v, zero: bool = False) -> float:
@@ -91,3 +91,16 @@ def from_case(case) -> ContinuumBar:
     (x, a), = pts
     me = sum(m for xp, m in bar.point_masses if xp == bar.length)
     return ContinuumBar(bar.length, float(bar.EA), float(bar.rhoA), me, x, a)
+
+
+def natural_periods(bar: ContinuumBar) -> tuple[float, float]:
+    """The fundamental periods ``(T0^I, T0^II)`` of the bar held closed (clamped-clamped: ``2 L / c``) and held open
+    (clamped, end mass ``m_e``: ``kL tan kL = rhoA L / m_e``, ``T = 2 pi / (c k)``; ``4 L / c`` without a mass)."""
+    from scipy.optimize import brentq
+
+    TI = 2 * bar.L / bar.c
+    if bar.end_mass == 0:
+        return TI, 2 * TI
+    mu = bar.rhoA * bar.L / bar.end_mass
+    z = brentq(lambda z: z * math.sin(z) - mu * math.cos(z), 0.0, 0.5 * math.pi, xtol=1e-15, rtol=1e-15)
+    return TI, 2 * math.pi * bar.L / (bar.c * z)

@@ -18,7 +18,7 @@ import numpy as np
 
 from ...app import Case
 from ...motion import KINDS, Padded, Start, padded, run, steady
-from ...errors import PlbarError
+from ...errors import InputError, PlbarError
 from ...response import NoResponseError, find_response
 from .settle import Approach, approach, orbit_of, settle
 
@@ -81,6 +81,24 @@ def _polish_paper(prob, r, b: int, m: int, loss: float) -> dict:
     return {"exact_loss": float(o.dPL), "exact_xi": float(o.xi), "signature": "1P"}
 
 
+def _continuum_rows(case: Case, T, periods: int, record: int, start, progress) -> list[dict]:
+    """The rows of the continuum (:mod:`.continuum`): no exact orbit, ``xi_eq`` blank (not defined)."""
+    from .continuum import NO_XI_EQ, continuum_run
+
+    if start is not None:
+        raise InputError("model = 'continuum' starts from rest only (no sweeps: drop --continue)")
+    T = np.asarray(T, float)
+    r = continuum_run(case, T, periods, record, progress)
+    s = steady(r)
+    rows = []
+    for i in range(T.size):
+        row = {c: float(getattr(s, c)[i]) for c in COLUMNS if hasattr(s, c) and c not in ("kind", "m")}
+        row.update(kind=KINDS[int(s.kind[i])], m=int(s.m[i]), status=int(r.status[i]), signature="",
+                   steady=int(s.steady[i]), viscous_per_T=0.0)
+        rows.append({k: v for k, v in row.items() if k not in NO_XI_EQ and v == v})   # blanks: never a nan
+    return rows
+
+
 def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None = None, pad: Padded | None = None,
                  progress=None) -> tuple[list[dict], Start]:
     """Simulate the forcing periods ``T`` together and characterise each; returns ``(rows, final states)``.
@@ -94,6 +112,8 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
     start : Start, optional
         Initial states (default: at rest against the wall, load ``q cos(2 pi t / T)``).
     """
+    if case.model == "continuum":                      # the exact bar by characteristics: no exact orbits to polish
+        return _continuum_rows(case, T, periods, record, start, progress), None
     prob = case.problem()
     pad = pad or padded(prob)
     T = np.asarray(T, float)

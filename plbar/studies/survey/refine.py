@@ -8,6 +8,12 @@ spread.  ``DIR/survey_refine.json`` holds observed rates and Richardson limits
 of the three means (:func:`plbar.studies.refine.convergence.converge`, with the
 standard error of each mean as its noise floor: an irregular motion's mean is a
 statistic), or the reason where there is none.
+
+The continuum is the N = infinity row (``N = 0, h = 0`` in the table, ``DIR/continuum/``): where the case has one
+(an undamped uniform FE bar with a plastic contact and one point load, :func:`continuum_case`) the same survey runs on
+:mod:`plbar.continuum`, and for every mean ``survey_refine.json`` gives each mesh's error against it, its z-score
+(the error over the two means' standard errors, ``std / sqrt(record)``: periods taken as independent, so a screen)
+and the observed orders between successive meshes (:func:`plbar.studies.refine.known_limit`).
 """
 
 from __future__ import annotations
@@ -24,14 +30,14 @@ from ...util.files import write_csv, write_json
 from ...util.outputs import claim_folder, fingerprint
 from ...util.reprs import build
 from ...util.version import __version__
-from ..refine import MIN_MESHES, converge
+from ..refine import MIN_MESHES, converge, known_limit
 from .study import default_record, run_survey
 
-__all__ = ["SurveyRefinement", "run_survey_refine", "REFINED", "REFINE_COLUMNS", "MIN_MESHES"]
+__all__ = ["SurveyRefinement", "run_survey_refine", "continuum_case", "REFINED", "REFINE_COLUMNS", "MIN_MESHES"]
 
 #: what a survey refinement owns in its folder (each size's survey is in its own folder, owned by ``survey``)
 REFINE_OWNED = ("survey_refine.csv", "survey_refine.json", "survey_refine.png", "survey_refine.pdf", "N[0-9]*",
-                ".*.part.*")
+                "continuum", ".*.part.*")
 
 #: the means whose convergence is measured (with their spread column)
 REFINED = (("loss_per_T", "loss_std"), ("xi_eq", "xi_std"), ("xi_w", None))
@@ -80,10 +86,31 @@ def _case_at(case: Case, n: int) -> Case:
     return replace(case, n=n)
 
 
+def continuum_case(case: Case, steps: int | None = None) -> tuple[Case | None, str]:
+    """The continuum of an FE ``case`` (``model = "continuum"``, ``steps`` per ``L/c``), or None and why not."""
+    if case.model != "fe":
+        return None, "the chain is not a discretised continuum here (model = 'fe' is)"
+    if case.rayleigh is not None:
+        return None, ("damped: Rayleigh (Kelvin-Voigt) damping has no characteristic solution; the damped limit is "
+                      "the meshes' Richardson limit")
+    if case.restitution:
+        return None, "restitution > 0: the continuum solver has a plastic contact"
+    if case.point_masses:
+        return None, "point masses away from the end have no continuum counterpart here"
+    try:
+        bar = case.bar()
+        return Case(model="continuum", n=steps, length=bar.length, EA=case.EA, rhoA=case.rhoA,
+                    end_mass=case.end_mass, end_mass_absolute=case.end_mass_absolute,
+                    load_points=case.load_points), ""
+    except InputError as exc:
+        return None, str(exc)
+
+
 def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | None = None,
                       out="plbar-survey-refine", executor=None, progress: bool = False, overwrite: bool = False,
                       plot: bool = True) -> SurveyRefinement:
-    """Surveys of ``case`` at every size in ``sizes`` and the convergence of their means.
+    """Surveys of ``case`` at every size in ``sizes`` and the convergence of their means, with the continuum's
+    survey as the N = infinity row where the case has a continuum (:func:`continuum_case`).
 
     ``T`` are forcing periods of ``case`` (its own ``N``); for the chain they scale with ``N / N0``.
     """
@@ -112,7 +139,17 @@ def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | N
                          "T": float(t["T"][i]), "T_L": float(t["T"][i] / L),
                          **{k: (t[k][i].item() if hasattr(t[k][i], "item") else t[k][i])
                             for k in REFINE_COLUMNS[4:]}})
-    rates = _rates(rows, T / L0, record)
+    cont, why = continuum_case(case)
+    if cont is not None:
+        s = run_survey(cont, T, periods, record, folder / "continuum", executor=executor, progress=progress,
+                       overwrite=overwrite, plot=plot)
+        surveys[0] = s
+        t = s.rows("rest")
+        for i in range(t["T"].size):
+            rows.append({"N": 0, "h": 0.0, "T": float(t["T"][i]), "T_L": float(t["T"][i] / L0),
+                         **{k: (t[k][i].item() if hasattr(t[k][i], "item") else t[k][i])
+                            for k in REFINE_COLUMNS[4:]}})
+    rates = _rates(rows, T / L0, record, why)
     files = _write(folder, rows, rates)
     if plot:
         files["figure"] = _plot(folder, rates)
@@ -120,10 +157,34 @@ def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | N
     return SurveyRefinement(case, rows, rates, surveys, summary, files)
 
 
-def _rates(rows: list[dict], TL, record: int) -> dict:
+def _against(sel: list[dict], c: dict, q: str, spread, record: int) -> dict:
+    """Each mesh's error against the continuum's mean ``c[q]``, its z-score and the orders (``known_limit``)."""
+    if not np.isfinite(c[q]):
+        return {"continuum": None, "why": f"{q} is not defined for the continuum (plbar.studies.survey.continuum)"}
+    se = lambda r: (r[spread] / np.sqrt(record)) if spread else 0.0  # noqa: E731
+    vals = np.array([r[q] for r in sel], float)
+    err = vals - c[q]
+    sd = np.array([np.hypot(se(r), se(c)) for r in sel])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = np.where(sd > 0, err / sd, np.nan)
+    plain = lambda a: [float(x) if np.isfinite(x) else None for x in a]  # noqa: E731
+    out = {"continuum": float(c[q]), "continuum_se": float(se(c)), "error": plain(err), "z": plain(z)}
+    if len(sel) >= 2:
+        k = known_limit(q, [r["h"] for r in sel], vals, float(c[q]), n=[r["N"] for r in sel],
+                        noise=float(sd.max())).as_dict()
+        why = k.get("why") or ""
+        if sd.max() > 0:
+            why = why.replace("(|q - limit| at round-off)", "(the error is within the standard errors)")
+        out.update(orders=k.get("rates"), order=k.get("rate"), orders_why=why)
+    return out
+
+
+def _rates(rows: list[dict], TL, record: int, no_continuum: str = "") -> dict:
     out = {}
     for tl in TL:
-        sel = sorted((r for r in rows if abs(r["T_L"] - tl) <= 1e-12 * tl), key=lambda r: r["N"])
+        at = [r for r in rows if abs(r["T_L"] - tl) <= 1e-12 * tl]
+        cont = next((r for r in at if r["N"] == 0), None)
+        sel = sorted((r for r in at if r["N"] > 0), key=lambda r: r["N"])
         h = np.array([r["h"] for r in sel])
         n = [r["N"] for r in sel]
         key = f"T/L={tl:.6g}"
@@ -139,6 +200,12 @@ def _rates(rows: list[dict], TL, record: int) -> dict:
                 c.update(rate=None, limit=None, error=None, fitted=None,
                          why=f"{len(sel)} meshes: a rate needs at least {MIN_MESHES}")
             out[key][q] = {"values": vals.tolist(), "meshes": len(sel), **c}
+            if cont is not None:
+                out[key][q]["against_continuum"] = _against(sel, cont, q, spread, record)
+        if cont is None:
+            out[key]["continuum"] = no_continuum or "none"
+        else:
+            out[key]["continuum"] = {"kind": cont["kind"], "impacts_per_T": float(cont["impacts_per_T"])}
     return out
 
 

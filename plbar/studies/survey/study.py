@@ -94,6 +94,9 @@ def survey_study(case: Case, T, periods: int = 1000, record: int | None = None, 
     if int(record) != record or not 1 <= record < periods:
         raise InputError(f"record = {record!r} must be an integer in [1, periods - 1] (the last periods, "
                          "after the transient)")
+    if case.model == "continuum" and tuple(modes) != ("rest",):
+        raise InputError("model = 'continuum' is surveyed from rest only: drop --continue (a sweep carries the "
+                         "state of a mesh from period to period)")
     tasks = make_tasks(case, T, int(periods), int(record), tuple(modes), chunks, checkpoints)
     params = {"periods": int(periods), "record": int(record), "modes": list(modes), "T": [float(t) for t in T]}
     return Study("survey", survey_task, tuple(tasks), params, task_units, "period")
@@ -179,6 +182,11 @@ def default_periods(case: Case, num: int = 161) -> np.ndarray:
 
     if case_fields(replace(case, restitution=0.0)) == case_fields(Case()):
         return np.linspace(6.0, 14.0, num)
+    if case.model == "continuum":                # the same window as the FE bar's, from the exact natural periods
+        from ...continuum import natural_periods
+
+        TI, TII = natural_periods(case.continuum())
+        return np.linspace(0.75 * TI, min(2.25 * TI, 0.5 * (TI + TII)), num)
     prob = case.problem()
     T0 = prob.system.T0[0]
     lo, hi = (0.6, 1.4) if case.model == "chain" else (0.75, 2.25)
@@ -204,9 +212,9 @@ def run_survey(case: Case, T, periods: int = 1000, record: int | None = None, ou
     study = survey_study(case, T, periods, record, modes, chunks, checkpoints=folder / "sweeps")
     claim = _claim(folder, study, overwrite)
     try:
-        if progress and not compiled(case.problem()):
+        if progress and case.model != "continuum" and not compiled(case.problem()):
             message(f"plbar: {COMPILE_NOTE}")
-        if executor is not None and not isinstance(executor, SerialExecutor):
+        if executor is not None and not isinstance(executor, SerialExecutor) and case.model != "continuum":
             prepare(case.problem())              # forked workers inherit the loaded (or first compiled) kernel
         results = run_study(folder, study, executor, progress=progress, overwrite=True)
     except BaseException:
@@ -228,5 +236,8 @@ def case_title(case: Case) -> str:
     """A figure title naming the model: ``chain N = 5``, ``FE P1 lumped, N = 16, end mass 0.5``."""
     if case.model == "chain":
         return f"chain N = {case.n_eff}"
+    if case.model == "continuum":
+        return f"continuum (characteristics, {case.n_eff} steps per L/c)" + (
+            f", end mass {case.end_mass:g}" if case.end_mass else "")
     s = f"FE {case.element} {case.mass}, N = {case.n_eff}"
     return s + (f", end mass {case.end_mass:g}" if case.end_mass else "")

@@ -1,0 +1,96 @@
+"""The survey of the continuum bar (``--model continuum``): :func:`plbar.continuum.simulate` at every forcing period,
+its accounts as a :class:`plbar.motion.Run`, so that the survey characterises it as it does a mesh.
+
+The continuum is the N = infinity row of ``plbar survey -N ...``.  Its motions are characterised exactly as the
+FE bar's (:func:`plbar.motion.steady`: periodicity of the stroboscopic grid states, loss, ``xi_w``, contact
+amplitude, time stuck, the drift test), with two differences that are results, not gaps:
+
+* ``xi_eq`` (Eq. (22)) is not defined: its denominator ``sum_j omega_j Psi_j`` is ``int <v, (-c^2 d^2/dx^2)^(1/2)
+  v>`` over the continuum's infinitely many modes, infinite as soon as the velocity has a jump (an impact's front is
+  not in ``H^(1/2)``), so on a mesh ``xi_eq -> 0`` under refinement; the columns are blank (nan);
+* no exact periodic orbit is polished: with an end mass every plastic impact emits a velocity jump that the undamped
+  continuum carries forever (docs/continuum.md), so it has no periodic response with an impact loss.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...app import Case
+from ...errors import PlbarError
+from ...motion import CHATTER, FREE, OK, STUCK, Run, Start
+from ...util.progress import message
+
+__all__ = ["continuum_run", "continuum_runs", "as_run", "NO_XI_EQ"]
+
+#: the survey's columns that the continuum leaves blank (``xi_eq`` is not defined: see the module's docstring)
+NO_XI_EQ = ("xi_eq", "xi_min", "xi_max", "xi_std", "xi_total")
+
+
+def continuum_runs(case: Case, T, periods: int, record: int, progress=None) -> list:
+    """:func:`plbar.continuum.simulate` from rest at every forcing period (None where the march stopped: chatter)."""
+    from ...continuum import simulate
+
+    bar = case.continuum()
+    out = []
+    for t in np.asarray(T, float):
+        try:
+            out.append(simulate(bar, float(t), periods=int(periods), steps_per_L=case.n_eff, record=int(record)))
+        except (RuntimeError, PlbarError) as exc:          # the march stops where switches accumulate
+            message(f"plbar: continuum at T = {t:g}: {exc}")
+            out.append(None)
+        if progress is not None:
+            progress(int(periods))
+    return out
+
+
+def _stuck_time(cr, p: int) -> float:
+    """Time stuck in period ``p`` of a continuum run: from its state at the period's start and its switches."""
+    T = cr.T
+    t, stuck, total = p * T, bool(cr.end[p, 2]), 0.0
+    ev = cr.events
+    sel = (ev["time"] >= p * T) & (ev["time"] < (p + 1) * T)
+    for te, k in zip(ev["time"][sel], ev["kind"][sel]):
+        if stuck:
+            total += te - t
+        t, stuck = te, k == 2                        # 2 an impact (plastic: stuck), 1 an opening
+    return total + ((p + 1) * T - t if stuck else 0.0)
+
+
+def as_run(runs, T, periods: int, record: int, n: int) -> Run:
+    """The continuum runs as one :class:`plbar.motion.Run` of ``B = len(T)`` trajectories (stroboscopic states on
+    the ``n`` free grid points; a stopped march has status ``CHATTER`` and nan accounts)."""
+    T = np.asarray(T, float)
+    B, R = T.size, int(record)
+    nan = lambda *shape: np.full(shape, np.nan)  # noqa: E731
+    f = {k: nan(B, R) for k in ("loss", "d_eq", "d_w", "work_rec", "stuck", "amp")}
+    imp, opn = np.zeros((B, R), int), np.zeros((B, R), int)
+    sx, sv, ss = nan(B, R + 1, n), nan(B, R + 1, n), np.full((B, R + 1), STUCK)
+    status = np.full(B, OK)
+    work, losses, e0, e1 = (np.zeros(B) for _ in range(4))
+    ev = {k: [] for k in ("traj", "time", "kind", "loss")}
+    for b, cr in enumerate(runs):
+        if cr is None:
+            status[b] = CHATTER
+            continue
+        f["loss"][b], f["work_rec"][b], f["amp"][b] = cr.loss[-R:], cr.work[-R:], cr.amp[-R:]
+        f["d_w"][b] = cr.v2
+        f["stuck"][b] = [_stuck_time(cr, p) for p in range(periods - R, periods)]
+        imp[b], opn[b] = cr.impacts[-R:], cr.openings[-R:]
+        sx[b], sv[b] = cr.strobe_u[:, 1:], cr.strobe_v[:, 1:]
+        ss[b] = np.where(cr.end[-(R + 1):, 2] > 0, STUCK, FREE)
+        work[b], losses[b], e0[b], e1[b] = cr.work.sum(), cr.loss.sum(), cr.energy[0], cr.energy[-1]
+        keep = cr.events["time"] >= (periods - R) * cr.T
+        ev["traj"].append(np.full(int(keep.sum()), b))
+        for k in ("time", "kind", "loss"):
+            ev[k].append(cr.events[k][keep])
+    events = {k: (np.concatenate(v) if v else np.zeros(0)) for k, v in ev.items()}
+    zero = np.zeros(B)
+    return Run(T, zero, int(periods), R, status, imp, opn, f["loss"], f["d_eq"], f["d_w"], f["work_rec"], f["stuck"],
+               f["amp"], sx, sv, ss, events, work, losses, e0, e1,
+               Start(ss[:, -1], np.zeros((B, 0)), np.zeros((B, 0))), 0, zero, np.zeros((B, R)))
+
+
+def continuum_run(case: Case, T, periods: int, record: int, progress=None) -> Run:
+    """The continuum of ``case`` simulated from rest at forcing periods ``T``, as one :class:`Run`."""
+    return as_run(continuum_runs(case, T, periods, record, progress), T, periods, record, case.n_eff)
