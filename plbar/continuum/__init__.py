@@ -11,7 +11,8 @@ and the closed-form harmonic states :func:`held_closed`, :func:`held_open`.
 
 from .bar import ContinuumBar, from_case, natural_periods
 from .harmonic import Harmonic, held_closed, held_open
+from .series import ContinuumSeries
 from .simulate import ContinuumRun, simulate
 from .stepper import Start
 
-__all__ = ["ContinuumBar", "from_case", "natural_periods", "simulate", "ContinuumRun", "Start", "Harmonic", "held_closed", "held_open"]
+__all__ = ["ContinuumBar", "from_case", "natural_periods", "simulate", "ContinuumRun", "ContinuumSeries", "Start", "Harmonic", "held_closed", "held_open"]

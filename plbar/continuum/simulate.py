@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -36,6 +36,8 @@ class ContinuumRun:
         ``u(L), v(L)`` and stuck (1) / free (0) at every period boundary.
     events : dict of ndarray
         ``time``, ``kind`` (1 opening, 2 impact), ``v`` (impact velocity), ``loss``.
+    line : Line
+        The stored delay line: the whole solution (:mod:`.fields` evaluates it anywhere, :class:`.ContinuumSeries`).
     """
 
     bar: ContinuumBar
@@ -57,6 +59,7 @@ class ContinuumRun:
     end: np.ndarray
     events: dict
     elapsed: float
+    line: Line = field(default=None, repr=False)
 
     @property
     def omega(self) -> float:
@@ -150,4 +153,4 @@ def simulate(bar: ContinuumBar, T: float, periods: int = 20, steps_per_L: int = 
                         _per_period(ev, T, periods, IMPACT, "loss"), work(ln, T, periods), np.array(mc.amp[:periods]),
                         energy, velocity_square(ln, T, periods - record, periods, steps_per_L),
                         np.array([g[0] for g in grid]), np.array([g[1] for g in grid]), end, ev,
-                        time.perf_counter() - t0)
+                        time.perf_counter() - t0, ln)

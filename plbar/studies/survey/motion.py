@@ -11,7 +11,7 @@ it, read from the sweep's checkpoints).
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -37,7 +37,7 @@ class SurveyMotion:
     """One motion of a survey: its case, the series of its last periods and what the survey said of it."""
 
     case: Case
-    series: MotionSeries
+    series: MotionSeries        # or a plbar.continuum.ContinuumSeries (model = "continuum")
     row: dict
     start: str
 
@@ -93,9 +93,15 @@ def survey_motion(folder, T: float, periods: int = 10, start: str = "rest") -> S
                 s0 = start_of([json.loads(ck.read_text())["final"]])
             except (OSError, ValueError, KeyError):
                 raise InputError(f"the sweep's checkpoint {str(ck)!r} is missing: rerun the survey") from None
+    row = _row(folder, T, start)
+    if case.model == "continuum":                  # the same march again (deterministic), its line kept
+        from ...continuum import ContinuumSeries, simulate
+
+        cr = simulate(case.continuum(), T, periods=total, steps_per_L=case.n_eff, record=int(periods))
+        grid = replace(case, model="fe").problem()     # P1 on the continuum's grid: the mesh the samples sit on
+        return SurveyMotion(case, ContinuumSeries(cr, int(periods), grid), row, start)
     prob = case.problem()
     r = run(padded(prob), np.array([T]), 0.0, total, int(periods), s0)
-    row = _row(folder, T, start)
     return SurveyMotion(case, MotionSeries(prob, r, 0, int(periods)), row, start)
 
 
