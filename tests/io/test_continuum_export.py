@@ -23,7 +23,7 @@ def folder(tmp_path_factory):
 def test_the_motion_is_the_runs(folder):
     """Period boundaries: the exported u, v are the run's strobes (1e-13); the bar's energy is the run's there
     (1e-12, another quadrature of the same line), the end mass's velocity is the line's ``v(L)``, which is the mass's
-    closed-form velocity to the line's order (the transient stored linearly per piece: 6 % at n = 16,
+    closed-form velocity to the line's order (the transient stored linearly per piece: 6 % of the largest end velocity at n = 16,
     0.04 % at n = 128); the impact losses over the window are the
     row's loss."""
     sm = survey_motion(folder, T, RECORD)
@@ -38,7 +38,7 @@ def test_the_motion_is_the_runs(folder):
     v_line, v_mass = v[:, -1], cr.end[-RECORD - 1:, 1]
     bar = cr.energy[-RECORD - 1:] - 0.25 * v_mass ** 2
     np.testing.assert_allclose(e - 0.25 * v_line ** 2, bar, rtol=1e-12)
-    assert 0 < np.abs(v_line - v_mass).max() <= 0.1 * np.abs(v_mass).max()
+    assert 0 < np.abs(v_line - v_mass).max() <= 0.1 * np.abs(cr.end[:, 1]).max()
     assert d.field_data["impact_loss"].sum() / RECORD == pytest.approx(sm.row["loss_per_T"], rel=1e-12)
     # at an impact the gap is closed, and while the gap is open the wall holds nothing
     imp = d.field_data["event"] == 2
