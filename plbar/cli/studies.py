@@ -116,12 +116,28 @@ def _cmd_refine(a) -> int:
         r = run_refine(cases, a.sizes, a.family or ["T0_II/2"], st, a.out, ex, progress=progress(a),
                        overwrite=a.overwrite, plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None,
                        rates_always=a.rates_always)
-    lines = _refine_lines(r, a.rates_always) + [f"done in {r.time:.1f} s; wrote " + ", ".join(
+    note = _no_continuum_row(cases[0])
+    lines = _refine_lines(r, a.rates_always) + ([note] if note else []) + [f"done in {r.time:.1f} s; wrote " + ", ".join(
         str(f) for v in r.files.values() for f in (v if isinstance(v, list) else [v]))]
     rows = [{k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in row.items()}
             for row in r.rows]
     report(a, r.summary, r.files, "\n".join(lines), rates=r.rates, rows=rows)
     return 0
+
+
+def _no_continuum_row(case) -> str:
+    """Why ``refine`` (the paper's class, a periodic response) has no N = infinity row (docs/continuum.md)."""
+    if case.model != "fe":
+        return ""
+    if case.rayleigh is not None:
+        return ("N = infinity: none computed: Rayleigh (Kelvin-Voigt) damping has no characteristic solution; the "
+                "Richardson limits above are the estimate")
+    if case.end_mass_value == 0:
+        return ("N = infinity: without an end mass the continuum's plastic impact costs nothing (the bare end stops "
+                "without inertia), so Delta_PL and xi_eq tend to 0 under refinement")
+    return ("N = infinity: the undamped continuum has no periodic response with an impact loss (each plastic impact "
+            "sends a velocity jump that the bar carries forever: docs/continuum.md), so the limits above are the "
+            "meshes' orbits', not the continuum's; the real motion's continuum row: plbar survey -N ...")
 
 
 def _cmd_figures(a) -> int:

@@ -104,3 +104,13 @@ def test_cli_survey_continuum_writes_its_table(tmp_path):
     assert out["summary"]["case"]["model"] == "continuum" and out["summary"]["rows"] == 1
     assert "xi_eq" in (tmp_path / "s" / "survey.csv").read_text().splitlines()[0]
     run_survey(CASE, [2.5], periods=12, record=4, out=tmp_path / "s", plot=False)    # the same survey resumes
+
+
+def test_refine_says_why_it_has_no_continuum_row():
+    from plbar.cli.studies import _no_continuum_row
+
+    fe = dict(model="fe", load_points=((0.37, 1.0),))
+    assert "no periodic response with an impact loss" in _no_continuum_row(plbar.Case(end_mass=0.5, **fe))
+    assert "tend to 0" in _no_continuum_row(plbar.Case(**fe))
+    assert "Kelvin-Voigt" in _no_continuum_row(plbar.Case(end_mass=0.5, rayleigh=(0.01, 0.001), **fe))
+    assert _no_continuum_row(plbar.Case()) == ""
