@@ -28,6 +28,17 @@ has a tiny remainder, lands on the crossing to round-off.  ``k`` tells a zero-dw
 reaction pulls at once: ``k = 0``, ``g < 0``) from a normal opening (the gap grows like ``u^3``)
 and a bar at rest loaded far from its contact (the reaction vanishes to order ``2 (N - 1)`` on
 the paper's chain) from a crossing.
+
+**Small but real lower orders.**  "Significant" (``SIGNIFICANT`` of the size of a derivative's
+terms) is far above round-off (``REAL``).  An order between the two below ``k`` is real: a P2
+bar's contact before the load's front arrives moves at 1e-10 of the size of its terms (issue 29).
+Such an order is not dropped: the step from ``k`` is cut where the dropped orders' negative parts
+could pull the margin down by its round-off level, and ``g^(k) < 0`` is no event where the first
+real order is positive (the margin grows first: after an opening the contact's free acceleration
+``a_c = lambda / S`` has the sign of the reaction that opened it, whatever a higher order says).
+Without either, a step crossed such an opening, and the free state then decided an impact at once
+against its real positive acceleration: impacts and openings at one instant until the chatter
+guard.  Where no order lies in that band the decision and the step are those of before, bit for bit.
 """
 
 from __future__ import annotations
