@@ -43,11 +43,10 @@ guard.  Where no order lies in that band the decision and the step are those of 
 
 from __future__ import annotations
 
-from math import cos, exp, lgamma, log, sin, sqrt
-
-import numpy as np
+from math import exp, log, sqrt
 
 from .jit import jit
+from .orders import INV_FACT, KMAX, REAL, real_order, within
 
 __all__ = [
     "INV_FACT",
@@ -67,10 +66,7 @@ __all__ = [
 
 ZERO = 1e-13          #: ``|g|`` below ZERO times the size of its terms is round-off: the crossing is located to this
 SIGNIFICANT = 1e-9    #: a derivative counts when ``|g^(k)|`` exceeds SIGNIFICANT times the size of its terms
-REAL = 1e-13          #: a derivative is not round-off when ``|g^(k)|`` exceeds REAL times the size of its terms
 MAX_SHIFTS = 2        #: re-expansions of the lower bound per step (its first root is reached in a few near a crossing)
-KMAX = 42             #: largest order of a Taylor model (+ 2)
-INV_FACT = np.exp(-np.array([lgamma(i + 1.0) for i in range(KMAX + 2)]))   #: 1 / i!
 
 
 @jit
@@ -271,54 +267,6 @@ def step_from(d, K, k, lead, rem, vmax, s):
 
 
 @jit
-def real_order(d, scale, k):
-    """The first order in ``1 .. k - 1`` whose derivative is not round-off (above ``REAL`` times the size of its
-    terms), ``k`` where none is: an order below the first significant one (:func:`first_order`) that is small but
-    real (issue 29: an FE bar's contact before the load's front arrives moves at 1e-10 of the size of its terms)."""
-    for i in range(1, k):
-        if abs(d[i]) > REAL * scale[i]:
-            return i
-    return k
-
-
-@jit
-def _dropped(d, k, v):
-    """``sum_{1 <= i < k} max(-g^(i), 0) v^i / i!``: how far the orders dropped below ``k`` can pull the margin down
-    over ``[0, v]`` (increasing and convex in ``v``)."""
-    out = 0.0
-    for i in range(k - 1, 0, -1):
-        out = (out + max(-d[i], 0.0) * INV_FACT[i]) * v
-    return out
-
-
-@jit
-def _within(d, k, v, level):
-    """The largest ``x <= v`` over which the orders dropped below ``k`` pull the margin down by at most ``level``
-    (:func:`_dropped`; Newton from the right on the increasing convex function, then checked)."""
-    if _dropped(d, k, v) <= level:
-        return v
-    x = v
-    for _ in range(60):
-        p, dp = 0.0, 0.0
-        for i in range(k - 1, 0, -1):
-            a = max(-d[i], 0.0) * INV_FACT[i]
-            dp = dp * x + p
-            p = p * x + a
-        p, dp = p * x, p + x * dp                  # (sum a_i x^i and its derivative)
-        if not dp > 0:
-            return 0.0
-        xn = x - (p - level) / dp
-        if not xn < x:
-            break
-        x = xn
-    for _ in range(20):
-        if _dropped(d, k, x) <= level:
-            return x
-        x *= 0.5
-    return 0.0
-
-
-@jit
 def decide_step(d, rem, scale, K, vmax, floor, s):
     """The decision at a point from its Taylor model: ``(event, step, found)`` (scaled step ``v = Om u``).
 
@@ -344,7 +292,7 @@ def decide_step(d, rem, scale, K, vmax, floor, s):
     if go and d[k] > 0:
         v = step_from(d, K, k, d[k] * INV_FACT[k], rem, vmax, s)
         if j < k:                                   # real orders were dropped: no further than they allow
-            v = _within(d, k, v, level)
+            v = within(d, k, v, level)
     if (go and k > 0) or not found:
         shifted = max(d[0], 0.0) + level
         v = max(v, step_from(d, K, 0, shifted, rem, vmax, s))
