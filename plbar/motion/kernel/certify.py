@@ -28,26 +28,38 @@ has a tiny remainder, lands on the crossing to round-off.  ``k`` tells a zero-dw
 reaction pulls at once: ``k = 0``, ``g < 0``) from a normal opening (the gap grows like ``u^3``)
 and a bar at rest loaded far from its contact (the reaction vanishes to order ``2 (N - 1)`` on
 the paper's chain) from a crossing.
+
+**Small but real lower orders.**  "Significant" (``SIGNIFICANT`` of the size of a derivative's
+terms) is far above round-off (``REAL``).  An order between the two below ``k`` is real: a P2
+bar's contact before the load's front arrives moves at 1e-10 of the size of its terms (issue 29).
+Such an order is not dropped: the step from ``k`` is cut where the dropped orders' negative parts
+could pull the margin down by its round-off level, and ``g^(k) < 0`` is no event where the first
+real order is positive (the margin grows first: after an opening the contact's free acceleration
+``a_c = lambda / S`` has the sign of the reaction that opened it, whatever a higher order says).
+Without either, a step crossed such an opening, and the free state then decided an impact at once
+against its real positive acceleration: impacts and openings at one instant until the chatter
+guard.  Where no order lies in that band the decision and the step are those of before, bit for bit.
 """
 
 from __future__ import annotations
 
-from math import cos, exp, lgamma, log, sin, sqrt
-
-import numpy as np
+from math import exp, log, sqrt
 
 from .jit import jit
+from .orders import INV_FACT, KMAX, REAL, real_order, within
 
 __all__ = [
     "INV_FACT",
     "KMAX",
     "MAX_SHIFTS",
+    "REAL",
     "SIGNIFICANT",
     "ZERO",
     "bracket",
     "decide_step",
     "first_order",
     "polynomial_step",
+    "real_order",
     "step_from",
     "taylor",
 ]
@@ -55,8 +67,6 @@ __all__ = [
 ZERO = 1e-13          #: ``|g|`` below ZERO times the size of its terms is round-off: the crossing is located to this
 SIGNIFICANT = 1e-9    #: a derivative counts when ``|g^(k)|`` exceeds SIGNIFICANT times the size of its terms
 MAX_SHIFTS = 2        #: re-expansions of the lower bound per step (its first root is reached in a few near a crossing)
-KMAX = 42             #: largest order of a Taylor model (+ 2)
-INV_FACT = np.exp(-np.array([lgamma(i + 1.0) for i in range(KMAX + 2)]))   #: 1 / i!
 
 
 @jit
@@ -260,23 +270,31 @@ def step_from(d, K, k, lead, rem, vmax, s):
 def decide_step(d, rem, scale, K, vmax, floor, s):
     """The decision at a point from its Taylor model: ``(event, step, found)`` (scaled step ``v = Om u``).
 
-    * ``event``: the first significant derivative is negative (the state ends here);
+    * ``event``: the first significant derivative is negative (the state ends here), unless a lower order is
+      real and positive (:func:`real_order`): the margin grows first, so the state holds here;
     * ``step``: the first root of the model's lower bound, certified (:func:`polynomial_step`), from the first
-      significant order; where the margin is round-off small but not crossing (``k > 0``, or no derivative
-      significant at all), also for the margin shifted by its round-off level ``ZERO * max(scale, floor)`` (no
-      crossing below that level is missed); ``floor`` is the problem's own size of the margin (a bar at rest
-      has none of its own);
+      significant order ``k`` (the lower orders dropped as round-off: the step is cut where their negative
+      parts could have pulled the margin down by its round-off level); where the margin is round-off small but
+      not crossing (``k > 0``, or no derivative significant at all), also for the margin shifted by its
+      round-off level ``ZERO * max(scale, floor)`` (no crossing below that level is missed); ``floor`` is the
+      problem's own size of the margin (a bar at rest has none of its own);
     * ``found``: some derivative up to the model's order is significant, or the shifted margin certified a step.
 
     ``s`` is work space of at least ``2 (K + 2)`` entries.
     """
     k = first_order(d, scale, K, floor)
     found = k <= K
-    event = found and d[k] < 0
+    level = ZERO * max(scale[0], floor)
+    j = real_order(d, scale, min(k, K + 1))
+    event = found and d[k] < 0 and not (j < k and d[j] > 0)
     go = found and not event
-    v = step_from(d, K, k, d[k] * INV_FACT[k], rem, vmax, s) if go else 0.0
+    v = 0.0
+    if go and d[k] > 0:
+        v = step_from(d, K, k, d[k] * INV_FACT[k], rem, vmax, s)
+        if j < k:                                   # real orders were dropped: no further than they allow
+            v = within(d, k, v, level)
     if (go and k > 0) or not found:
-        shifted = max(d[0], 0.0) + ZERO * max(scale[0], floor)
+        shifted = max(d[0], 0.0) + level
         v = max(v, step_from(d, K, 0, shifted, rem, vmax, s))
     return event, v, found or v > 0
 
