@@ -8,19 +8,24 @@ from __future__ import annotations
 
 import numpy as np
 
-from .fields import Line, invariants, load, w_in, w_out
+from .fields import Line, invariants, load
 
 __all__ = ["gauss", "work", "bar_energy", "velocity_square", "strobe"]
 
 _X, _W = np.polynomial.legendre.leggauss(6)
 
 
-def gauss(f, edges: np.ndarray) -> np.ndarray:
-    """Integrals of ``f`` over each interval of the sorted ``edges`` (6-point Gauss-Legendre), shape (len - 1,)."""
-    a, b = edges[:-1], edges[1:]
-    h = 0.5 * (b - a)
-    pts = (0.5 * (a + b))[:, None] + h[:, None] * _X[None, :]
-    return h * (f(pts) @ _W)
+def gauss(f, edges: np.ndarray, chunk: int = 1 << 16) -> np.ndarray:
+    """Integrals of ``f`` over each interval of the sorted ``edges`` (6-point Gauss-Legendre), shape (len - 1,);
+    ``chunk`` intervals at a time (memory)."""
+    out = np.empty(max(edges.size - 1, 0))
+    for lo in range(0, out.size, chunk):
+        hi = min(lo + chunk, out.size)
+        a, b = edges[lo:hi], edges[lo + 1:hi + 1]
+        h = 0.5 * (b - a)
+        pts = (0.5 * (a + b))[:, None] + h[:, None] * _X[None, :]
+        out[lo:hi] = h * (f(pts) @ _W)
+    return out
 
 
 def _cuts(values, lo: float, hi: float, *extra) -> np.ndarray:
@@ -32,7 +37,7 @@ def _cuts(values, lo: float, hi: float, *extra) -> np.ndarray:
 def work(ln: Line, T: float, periods: int) -> np.ndarray:
     """Work of the load per period, ``int F(t) v(s, t) dt``, shape (periods,)."""
     d, P = (ln.L - ln.s) / ln.c, 2 * ln.L / ln.c
-    v_s = lambda t: 0.5 * (w_in(ln, t + d) + w_out(ln, t - d))  # noqa: E731 -- right limit at s
+    v_s = lambda t: 0.5 * np.add(*invariants(ln, ln.s, t))  # noqa: E731 -- right limit at s
     bounds = T * np.arange(periods + 1)
     edges = _cuts(np.concatenate([ln.t0 + d, ln.t0 + P - d]), 0.0, bounds[-1], bounds, 2 * ln.s / ln.c)
     parts = gauss(lambda t: load(ln, t) * v_s(t), edges)

@@ -7,9 +7,11 @@ With ``d = (L - x) / c`` and ``P = 2L/c``: ``w-(x, t) = w_out(t - d) + [x < s] F
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 __all__ = ["Line", "w_out", "load", "w_in", "invariants"]
 
@@ -34,12 +36,80 @@ class Line:
     from_rest: bool
 
 
+_jit = njit(cache=True, error_model="numpy", nogil=True)
+#: helpers inlined where called: a call passing arrays would cost reference counting on every point
+_inline = njit(cache=True, error_model="numpy", nogil=True, inline="always")
+
+
+@_inline
+def _find(t0, x, i):
+    """The piece holding ``x`` (the last ``t0 <= x``, 0 before the first), walked from piece ``i`` (sorted
+    queries cost O(pieces + queries)) or by bisection where the query is far from it."""
+    n = t0.size
+    if x >= t0[i]:
+        for _ in range(32):
+            if i + 1 < n and t0[i + 1] <= x:
+                i += 1
+            else:
+                return i
+    elif i > 0:
+        for _ in range(32):
+            i -= 1
+            if t0[i] <= x or i == 0:
+                return i
+    return max(np.searchsorted(t0, x, side="right") - 1, 0)
+
+
+@_inline
+def _wo(t0, t1, a0, a1, C, D, omega, x, i):
+    """``w_out(x)`` on piece ``i``."""
+    f = (x - t0[i]) / (t1[i] - t0[i])
+    return a0[i] + (a1[i] - a0[i]) * f + C[i] * math.cos(omega * x) + D[i] * math.sin(omega * x)
+
+
+@_jit
+def _w_out(t0, t1, a0, a1, C, D, omega, t, out):
+    """``out = w_out(t)`` for the flat ``t``."""
+    i = 0
+    for j in range(t.size):
+        i = _find(t0, t[j], i)
+        out[j] = _wo(t0, t1, a0, a1, C, D, omega, t[j], i)
+
+
+@_inline
+def _load(t, omega, phi, q, from_rest):
+    return 0.0 if from_rest and t < 0 else q * math.cos(omega * t - phi)
+
+
+@_jit
+def _invariants(t0, t1, a0, a1, C, D, omega, phi, q, L, c, Z, s, from_rest, x, t, wp, wm):
+    """``wp, wm = w+, w-`` at the flat points ``x``, times ``t`` (see :func:`invariants`)."""
+    i = k = 0
+    P = 2 * L / c
+    for j in range(x.size):
+        d = (L - x[j]) / c
+        i = _find(t0, t[j] - d, i)
+        wm[j] = _wo(t0, t1, a0, a1, C, D, omega, t[j] - d, i)
+        ti = t[j] + d
+        k = _find(t0, ti - P, k)
+        w = _wo(t0, t1, a0, a1, C, D, omega, ti - P, k)
+        if s < L:
+            w -= (_load(ti - (L - s) / c, omega, phi, q, from_rest) - _load(ti - (L + s) / c, omega, phi, q,
+                                                                             from_rest)) / Z
+        wp[j] = -w
+        if s < L and x[j] < s:
+            e = (s - x[j]) / c
+            wm[j] += _load(t[j] - e, omega, phi, q, from_rest) / Z
+            wp[j] -= _load(t[j] + e, omega, phi, q, from_rest) / Z
+
+
 def w_out(ln: Line, t):
     """``w_out(t)``, right-continuous at the jumps; shape of ``t``."""
     t = np.asarray(t, float)
-    i = np.clip(np.searchsorted(ln.t0, t, side="right") - 1, 0, ln.t0.size - 1)
-    f = (t - ln.t0[i]) / (ln.t1[i] - ln.t0[i])
-    return ln.a0[i] + (ln.a1[i] - ln.a0[i]) * f + ln.C[i] * np.cos(ln.omega * t) + ln.D[i] * np.sin(ln.omega * t)
+    flat = np.ascontiguousarray(t).ravel()
+    out = np.empty_like(flat)
+    _w_out(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, flat, out)
+    return out.reshape(t.shape)
 
 
 def load(ln: Line, t):
@@ -61,11 +131,8 @@ def w_in(ln: Line, t):
 def invariants(ln: Line, x, t):
     """``(w+, w-)`` at points ``x`` and times ``t`` (broadcast), taking right limits at ``x = s``."""
     x, t = np.broadcast_arrays(np.asarray(x, float), np.asarray(t, float))
-    d = (ln.L - x) / ln.c
-    wm, wp = w_out(ln, t - d), w_in(ln, t + d)
-    left = x < ln.s
-    if ln.s < ln.L and np.any(left):
-        e = (ln.s - x) / ln.c
-        wm = wm + np.where(left, load(ln, t - e), 0.0) / ln.Z
-        wp = wp - np.where(left, load(ln, t + e), 0.0) / ln.Z
-    return wp, wm
+    xf, tf = np.ascontiguousarray(x).ravel(), np.ascontiguousarray(t).ravel()
+    wp, wm = np.empty_like(xf), np.empty_like(xf)
+    _invariants(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, ln.phi, ln.q, ln.L, ln.c, ln.Z, ln.s, ln.from_rest,
+                xf, tf, wp, wm)
+    return wp.reshape(x.shape), wm.reshape(x.shape)

@@ -21,7 +21,7 @@ One kernel, :func:`march`, does the whole march; its pieces are pure ``@njit(cac
   jumps by ``-2 v``; the load's arrival from rest; the jumps carried in by the delay line) stay breakpoints.  So a
   step holds one piece plus one per jump in it, and the delay line still conserves energy to round-off.
 
-The arrays grow by doubling; every function allocates nothing but them.
+The arrays grow by doubling; nothing else is allocated in the loop.
 """
 
 from __future__ import annotations
@@ -46,6 +46,20 @@ jit = njit(cache=True, error_model="numpy", nogil=True)
 
 
 # ----------------------------------------------------------------------------------------------- closed forms
+@jit
+def _beta(B, Cq, dE):
+    """The root nearest 1 of ``Cq beta^2 + 2 B beta = dE`` (``int (base + beta pr)^2 = int (base + r)^2`` with
+    ``B = int base pr``, ``Cq = int pr^2``, ``dE = int r (2 base + r)``), without cancellation; ``ok`` False if
+    none is real."""
+    disc = B * B + Cq * dE
+    if not (disc >= 0 and Cq > 0):
+        return False, 1.0
+    qq = -(B + math.copysign(math.sqrt(disc), B))
+    r1 = qq / Cq
+    r2 = -dE / qq if qq != 0 else r1
+    return True, r1 if abs(r1 - 1) < abs(r2 - 1) else r2
+
+
 @jit
 def free(ta, u0, v0, l0, l1, C, D, w, Z, m):
     """The free end from ``(u0, v0)`` at ``ta`` under ``g = Z (l0 + l1 tau) + Z (C cos + D sin)`` (``F_L`` folded
@@ -163,12 +177,10 @@ def argmin(kind, p, x, lo, hi):
 
 
 @jit
-def opening(gp, h):
+def opening(gp, h, taus, vals):
     """First time in ``[0, h]`` at which the stuck end's compression ``g`` turns to tension (-1 if never): samples
     and the minimum between them where the samples turn up, so a dip below zero between samples is not missed."""
     S = SAMPLES
-    taus = np.empty(S + 1)
-    vals = np.empty(S + 1)
     for i in range(S + 1):
         taus[i] = i * (h / S) if i < S else h
         vals[i] = fval(0, gp, 0.0, taus[i])
@@ -192,13 +204,11 @@ def opening(gp, h):
 
 
 @jit
-def impact(p, h):
+def impact(p, h, taus, vals):
     """First time in ``(0, h]`` at which the free end ``u <= 0`` returns to the wall (-1 if never).  A sign change
     of ``u`` on the samples, or a return between samples: a maximum of ``u`` (``v`` from + to -) located and tested."""
     S = SAMPLES
     tol = ptol(p, h)
-    taus = np.empty(S)
-    vals = np.empty(S)
     first = -1
     for i in range(S):
         taus[i] = (i + 1) * (h / S) if i < S - 1 else h
@@ -253,7 +263,7 @@ def stored_line(p, h, l0, l1, C, D):
     lin0, lin1 = 2 * l0p - l0, 2 * l1p - l1
     if lam == 0 or K == 0.0 or h <= 0:
         return lin0, lin0 + lin1 * h
-    s0 = s1 = A = B0 = B1 = E = 0.0
+    s0 = s1 = B0 = B1 = dE = 0.0
     for j in range(_GX.size):
         tau = 0.5 * h * (_GX[j] + 1)
         wt = 0.5 * h * _GW[j]
@@ -262,28 +272,15 @@ def stored_line(p, h, l0, l1, C, D):
         r = 2 * K * math.exp(-lam * tau)
         s0 += wt * r
         s1 += wt * r * _GX[j]
-        A += wt * base * base
         B0 += wt * base
         B1 += wt * base * _GX[j]
-        E += wt * (base + r) ** 2
+        dE += wt * r * (2 * base + r)
     c0, c1 = s0 / h, 3 * s1 / h
-    B = c0 * B0 + c1 * B1
-    Cq = h * (c0 * c0 + c1 * c1 / 3)
-    disc = B * B - Cq * (A - E)
-    beta = (-B + math.copysign(math.sqrt(disc), B + Cq)) / Cq if disc >= 0 and Cq > 0 else 1.0
+    ok, beta = _beta(c0 * B0 + c1 * B1, h * (c0 * c0 + c1 * c1 / 3), dE)
     return lin0 + beta * (c0 - c1), lin0 + lin1 * h + beta * (c0 + c1)
 
 
 # ----------------------------------------------------------------------------------------------- the record
-@jit
-def _grow(a, size):
-    if size < a.size:
-        return a
-    b = np.empty(max(2 * a.size, size + 1), a.dtype)
-    b[:a.size] = a
-    return b
-
-
 @jit
 def merge_run(hk, t0, t1, a0, a1, C, D, i0, i1, dtk, w):
     """Pieces ``i0 .. i1 - 1`` (a jump-free run of one step, times local to ``dtk = k dt``) as one piece
@@ -300,7 +297,7 @@ def merge_run(hk, t0, t1, a0, a1, C, D, i0, i1, dtk, w):
         Cs, Ds = C[i0], D[i0]
     else:
         Cs, Ds = Cs / H, Ds / H
-    m0 = m1 = A = B0 = B1 = E = 0.0
+    m0 = m1 = A = B0 = B1 = dE = 0.0
     for i in range(i0, i1):
         h = t1[i] - t0[i]
         sl = (a1[i] - a0[i]) / h
@@ -317,16 +314,15 @@ def merge_run(hk, t0, t1, a0, a1, C, D, i0, i1, dtk, w):
             A += wt * base * base
             B0 += wt * base
             B1 += wt * base * x
-            E += wt * (base + r) ** 2
+            dE += wt * r * (2 * base + r)
     c0, c1 = m0 / H, 3 * m1 / H
     B = c0 * B0 + c1 * B1
     Cq = H * (c0 * c0 + c1 * c1 / 3)
-    disc = B * B - Cq * (A - E)
-    if disc >= 0 and Cq > 0:
-        beta = (-B + math.copysign(math.sqrt(disc), B + Cq)) / Cq
+    ok, beta = _beta(B, Cq, dE)
+    if ok:
         return True, beta * (c0 - c1), beta * (c0 + c1), Cs, Ds
-    G = A + 2 * B + Cq  # the whole projection scaled instead (a run whose field is nearly zero)
-    if G > 0:
+    E, G = A + dE, A + 2 * B + Cq  # the whole projection scaled instead (a run whose field is nearly zero)
+    if G > 0 and E >= 0:
         gam = math.sqrt(E / G)
         return True, gam * (c0 - c1), gam * (c0 + c1), gam * Cs, gam * Ds
     return E == 0, 0.0, 0.0, 0.0, 0.0
@@ -407,6 +403,7 @@ def march(L, c, Z, m, s, q, omega, phi, n, hold, from_rest, su, sv, sstuck, sC, 
     na = 1
     u, v, stuck = su, sv, sstuck
     amp[0] = -u
+    taus, vals = np.empty(SAMPLES + 1), np.empty(SAMPLES + 1)  # the event searches' scratch
     ncut = int(dt / T) + 3
     cutv = np.empty(ncut)
     pts = np.empty(ncut + 2)
@@ -479,13 +476,13 @@ def march(L, c, Z, m, s, q, omega, phi, n, hold, from_rest, su, sv, sstuck, sC, 
                     h = sb - x
                     gp = (tk + x, omega, l0, l1, Ci + LC, Di + LD, Z, 0.0, 0.0)
                     if stuck:
-                        tau = -1.0 if hold == 1 else opening(gp, h)
+                        tau = -1.0 if hold == 1 else opening(gp, h, taus, vals)
                         te = h if tau < 0 else tau
                         xe = sb if tau < 0 else x + te
                         b0, b1, Cs, Ds = -l0, -(l0 + l1 * te), -Ci, -Di
                     else:
                         p = free(tk + x, u, v, l0, l1, Ci + LC, Di + LD, omega, Z, m)
-                        tau = -1.0 if hold == 2 else impact(p, h)
+                        tau = -1.0 if hold == 2 else impact(p, h, taus, vals)
                         te = h if tau < 0 else tau
                         xe = sb if tau < 0 else x + te
                         b0, b1 = stored_line(p, te, l0, l1, Ci, Di)
