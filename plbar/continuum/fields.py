@@ -103,6 +103,48 @@ def _invariants(t0, t1, a0, a1, C, D, omega, phi, q, L, c, Z, s, from_rest, x, t
             wp[j] -= _load(t[j] + e, omega, phi, q, from_rest) / Z
 
 
+@_inline
+def _lw(t0, t1, a0, a1, i, x):
+    """The linear part of ``w_out`` on piece ``i`` at ``x``."""
+    return a0[i] + (a1[i] - a0[i]) * ((x - t0[i]) / (t1[i] - t0[i]))
+
+
+@_inline
+def _F(tau, cw, sw, cphi, sphi, q, from_rest):
+    """``F(tau) = q cos(omega tau - phi)`` from ``cw, sw = cos, sin(omega tau)`` (0 before 0 from rest)."""
+    return 0.0 if from_rest and tau < 0 else q * (cw * cphi + sw * sphi)
+
+
+@_inline
+def point(t0, t1, a0, a1, C, D, x, t, ct, st, cd, sd, i, k, L, c, Z, s, P, cP, sP, c1, s1, c2, s2, cphi, sphi, q,
+          from_rest):
+    """``(w+, w-)`` at ``(x, t)`` given ``ct, st = cos, sin(omega t)`` and ``cd, sd`` of ``omega d``, ``d = (L-x)/c``:
+    every other harmonic by rotation (``cP, sP`` of ``omega P``; ``c1, s1``, ``c2, s2`` of ``omega (L -+ s)/c``), two
+    sines per point at most.  ``i, k``: the pieces last found for ``w-`` and ``w+`` (walks), returned updated after
+    ``(w+, w-)``."""
+    d = (L - x) / c
+    tm, tp = t - d, t + d - P
+    cm, sm = ct * cd + st * sd, st * cd - ct * sd            # omega (t - d)
+    cq, sq = ct * cd - st * sd, st * cd + ct * sd            # omega (t + d)
+    cpp, spp = cq * cP + sq * sP, sq * cP - cq * sP          # omega (t + d - P)
+    i = _find(t0, tm, i)
+    k = _find(t0, tp, k)
+    wm = _lw(t0, t1, a0, a1, i, tm) + C[i] * cm + D[i] * sm
+    wp = -(_lw(t0, t1, a0, a1, k, tp) + C[k] * cpp + D[k] * spp)
+    if s < L:
+        # F(t + d - (L - s)/c) = F(t + e), e = (s - x)/c, and F(t + d - (L + s)/c)
+        ca, sa = cq * c1 + sq * s1, sq * c1 - cq * s1
+        cb, sb = cq * c2 + sq * s2, sq * c2 - cq * s2
+        Fa = _F(t + d - (L - s) / c, ca, sa, cphi, sphi, q, from_rest)
+        wp += (Fa - _F(t + d - (L + s) / c, cb, sb, cphi, sphi, q, from_rest)) / Z
+        if x < s:
+            # F(t - e) = F(t - d + (L - s)/c)
+            ce, se = cm * c1 - sm * s1, sm * c1 + cm * s1
+            wm += _F(t - d + (L - s) / c, ce, se, cphi, sphi, q, from_rest) / Z
+            wp -= Fa / Z
+    return wp, wm, i, k
+
+
 def w_out(ln: Line, t):
     """``w_out(t)``, right-continuous at the jumps; shape of ``t``."""
     t = np.asarray(t, float)

@@ -128,7 +128,7 @@ def simulate(bar: ContinuumBar, T: float, periods: int = 20, steps_per_L: int = 
     st = start or Start()
     end = np.concatenate([[(st.u, st.v, float(st.stuck))], mc.strobes[:periods]])
     bounds = T * np.arange(periods + 1)
-    energy = np.array([bar_energy(ln, t) for t in bounds]) + 0.5 * bar.end_mass * end[:, 1] ** 2
+    energy = bar_energy(ln, bounds) + 0.5 * bar.end_mass * end[:, 1] ** 2
     grid = [strobe(ln, t, steps_per_L) for t in bounds[periods - record:]]
     impacts, openings = (_per_period(ev, T, periods, kd).astype(int) for kd in (IMPACT, OPENING))
     return ContinuumRun(bar, float(T), float(phi), int(periods), record, int(steps_per_L), mc.dt, impacts, openings,
