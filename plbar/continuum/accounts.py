@@ -2,8 +2,7 @@
 
 Integrals over time and space are Gauss-Legendre on intervals cut at every jump and kink the delay line can
 carry (the piece ends, mapped along the characteristics), so each is exact to round-off for the stored fields.
-The work and the space integrals (bar energy, ``int rhoA v^2 dx``) are compiled (:func:`_space`, :func:`_work`):
-the fields at the Gauss points by :func:`plbar.continuum.fields.point` (two sines a point).
+The work and the space integrals (bar energy, ``int rhoA v^2 dx``) are compiled (:mod:`.kernel.accounts`).
 """
 
 from __future__ import annotations
@@ -11,88 +10,20 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
-from .fields import Line, invariants, point
+from .fields import Line, invariants
+from .kernel.accounts import space_into, work_into
 
 __all__ = ["gauss", "work", "bar_energy", "velocity_square", "strobe"]
 
 _X, _W = np.polynomial.legendre.leggauss(6)
-_jit = njit(cache=True, error_model="numpy", nogil=True)
-
-
 def _consts(ln: Line):
-    """The constants :func:`~plbar.continuum.fields.point` takes after ``i, k``."""
+    """The constants :func:`~plbar.continuum.kernel.fields.point` takes after ``i, k``."""
     w, P = ln.omega, 2 * ln.L / ln.c
     d1, d2 = (ln.L - ln.s) / ln.c, (ln.L + ln.s) / ln.c
     return (ln.L, ln.c, ln.Z, ln.s, P, math.cos(w * P), math.sin(w * P), math.cos(w * d1), math.sin(w * d1),
             math.cos(w * d2), math.sin(w * d2), math.cos(ln.phi), math.sin(ln.phi), ln.q, bool(ln.from_rest))
 
-
-@_jit
-def _space(t0, t1, a0, a1, C, D, omega, ts, kind, L, c, Z, s, P, cP, sP, c1, s1, c2, s2, cphi, sphi, q, from_rest,
-           out):
-    """``out[j] = int_0^L`` of the energy density ``rhoA (w+^2 + w-^2) / 4`` (``kind`` 0) or ``rhoA v^2`` (1) at
-    ``ts[j]``, on the intervals cut at the mapped ends of the pieces of the last ``2L/c`` and the load's fronts."""
-    rhoA = Z / c
-    n = t0.size
-    for j in range(ts.size):
-        t = ts[j]
-        lo = max(np.searchsorted(t0, t - P) - 1, 0)
-        hi = min(np.searchsorted(t0, t, side="right") + 1, n)
-        m = hi - lo
-        xs = np.empty(4 * m + 6)
-        for i in range(m):
-            xs[4 * i] = L - c * (t - t0[lo + i])
-            xs[4 * i + 1] = L - c * (t0[lo + i] + P - t)
-            xs[4 * i + 2] = L - c * (t - t1[lo + i])
-            xs[4 * i + 3] = L - c * (t1[lo + i] + P - t)
-        xs[4 * m], xs[4 * m + 1], xs[4 * m + 2], xs[4 * m + 3] = s, s - c * t, 2 * L - c * t - s, c * t - s
-        xs[4 * m + 4], xs[4 * m + 5] = 0.0, L
-        xs = np.sort(xs)
-        ct, st = math.cos(omega * t), math.sin(omega * t)
-        i, k = lo, hi - 1
-        tot = 0.0
-        prev = 0.0
-        for e in range(xs.size):
-            b = min(xs[e], L)
-            if b <= prev:
-                continue
-            h = 0.5 * (b - prev)
-            mid = 0.5 * (b + prev)
-            acc = 0.0
-            for g in range(_X.size):
-                x = mid + h * _X[g]
-                wd = omega * (L - x) / c
-                wp, wm, i, k = point(t0, t1, a0, a1, C, D, x, t, ct, st, math.cos(wd), math.sin(wd), i, k, L, c, Z,
-                                     s, P, cP, sP, c1, s1, c2, s2, cphi, sphi, q, from_rest)
-                acc += _W[g] * (0.25 * (wp * wp + wm * wm) if kind == 0 else 0.25 * (wp + wm) ** 2)
-            tot += h * acc
-            prev = b
-        out[j] = rhoA * tot
-
-
-@_jit
-def _work(t0, t1, a0, a1, C, D, omega, edges, T, out, L, c, Z, s, P, cP, sP, c1, s1, c2, s2, cphi, sphi, q,
-          from_rest):
-    """``out[p] += int F(t) v(s, t) dt`` over the intervals of ``edges`` (period ``p`` of each by its middle)."""
-    periods = out.size
-    d = (L - s) / c
-    cd, sd = math.cos(omega * d), math.sin(omega * d)
-    i = k = 0
-    for e in range(edges.size - 1):
-        a, b = edges[e], edges[e + 1]
-        h, mid = 0.5 * (b - a), 0.5 * (a + b)
-        p = min(int(math.floor(mid / T)), periods - 1)
-        acc = 0.0
-        for g in range(_X.size):
-            t = mid + h * _X[g]
-            ct, st = math.cos(omega * t), math.sin(omega * t)
-            wp, wm, i, k = point(t0, t1, a0, a1, C, D, s, t, ct, st, cd, sd, i, k, L, c, Z, s, P, cP, sP, c1, s1, c2,
-                                 s2, cphi, sphi, q, from_rest)
-            F = 0.0 if from_rest and t < 0 else q * (ct * cphi + st * sphi)
-            acc += _W[g] * F * 0.5 * (wp + wm)
-        out[p] += h * acc
 
 
 def gauss(f, edges: np.ndarray, chunk: int = 1 << 16) -> np.ndarray:
@@ -120,14 +51,14 @@ def work(ln: Line, T: float, periods: int) -> np.ndarray:
     bounds = T * np.arange(periods + 1)
     edges = _cuts(np.concatenate([ln.t0 + d, ln.t0 + P - d]), 0.0, bounds[-1], bounds, 2 * ln.s / ln.c)
     out = np.zeros(periods)
-    _work(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, edges, float(T), out, *_consts(ln))
+    work_into(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, edges, float(T), out, *_consts(ln))
     return out
 
 
 def _integrals(ln: Line, ts, kind: int) -> np.ndarray:
     ts = np.ascontiguousarray(ts, float)
     out = np.empty(ts.size)
-    _space(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, ts, kind, *_consts(ln), out)
+    space_into(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, ts, kind, *_consts(ln), out)
     return out
 
 
