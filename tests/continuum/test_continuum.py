@@ -131,7 +131,7 @@ def test_merged_march_agrees_with_the_full_one():
 @pytest.mark.slow
 def test_energy_balance_over_1000_periods():
     """|work - losses - dE| <= 1e-9 of the work over 1,000 periods (m_e = 0.5, s = 0.37, T = 2.5, n = 32): the
-    issue's line (about 30 s on 2 busy cores)."""
+    issue's line (30-55 s on 2 busy cores)."""
     r = pc.simulate(pc.ContinuumBar(end_mass=0.5, s=0.37), 2.5, periods=1000, steps_per_L=32, record=10)
     assert abs(r.energy_residual) < 1e-9
     assert r.impacts.sum() > 4000
