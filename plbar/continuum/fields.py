@@ -66,6 +66,6 @@ def invariants(ln: Line, x, t):
     x, t = np.broadcast_arrays(np.asarray(x, float), np.asarray(t, float))
     xf, tf = np.ascontiguousarray(x).ravel(), np.ascontiguousarray(t).ravel()
     wp, wm = np.empty_like(xf), np.empty_like(xf)
-    invariants_into(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, ln.phi, ln.q, ln.L, ln.c, ln.Z, ln.s, ln.from_rest,
-                xf, tf, wp, wm)
+    invariants_into(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, ln.phi, ln.q, ln.L, ln.c, ln.Z, ln.s,
+                    ln.from_rest, xf, tf, wp, wm)
     return wp.reshape(x.shape), wm.reshape(x.shape)
