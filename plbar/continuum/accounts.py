@@ -2,25 +2,41 @@
 
 Integrals over time and space are Gauss-Legendre on intervals cut at every jump and kink the delay line can
 carry (the piece ends, mapped along the characteristics), so each is exact to round-off for the stored fields.
+The work and the space integrals (bar energy, ``int rhoA v^2 dx``) are compiled (:mod:`.kernel.accounts`).
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from .fields import Line, invariants, load, w_in, w_out
+from .fields import Line, invariants
+from .kernel.accounts import space_into, work_into
 
 __all__ = ["gauss", "work", "bar_energy", "velocity_square", "strobe"]
 
 _X, _W = np.polynomial.legendre.leggauss(6)
+def _consts(ln: Line):
+    """The constants :func:`~plbar.continuum.kernel.fields.point` takes after ``i, k``."""
+    w, P = ln.omega, 2 * ln.L / ln.c
+    d1, d2 = (ln.L - ln.s) / ln.c, (ln.L + ln.s) / ln.c
+    return (ln.L, ln.c, ln.Z, ln.s, P, math.cos(w * P), math.sin(w * P), math.cos(w * d1), math.sin(w * d1),
+            math.cos(w * d2), math.sin(w * d2), math.cos(ln.phi), math.sin(ln.phi), ln.q, bool(ln.from_rest))
 
 
-def gauss(f, edges: np.ndarray) -> np.ndarray:
-    """Integrals of ``f`` over each interval of the sorted ``edges`` (6-point Gauss-Legendre), shape (len - 1,)."""
-    a, b = edges[:-1], edges[1:]
-    h = 0.5 * (b - a)
-    pts = (0.5 * (a + b))[:, None] + h[:, None] * _X[None, :]
-    return h * (f(pts) @ _W)
+
+def gauss(f, edges: np.ndarray, chunk: int = 1 << 16) -> np.ndarray:
+    """Integrals of ``f`` over each interval of the sorted ``edges`` (6-point Gauss-Legendre), shape (len - 1,);
+    ``chunk`` intervals at a time (memory)."""
+    out = np.empty(max(edges.size - 1, 0))
+    for lo in range(0, out.size, chunk):
+        hi = min(lo + chunk, out.size)
+        a, b = edges[lo:hi], edges[lo + 1:hi + 1]
+        h = 0.5 * (b - a)
+        pts = (0.5 * (a + b))[:, None] + h[:, None] * _X[None, :]
+        out[lo:hi] = h * (f(pts) @ _W)
+    return out
 
 
 def _cuts(values, lo: float, hi: float, *extra) -> np.ndarray:
@@ -32,12 +48,18 @@ def _cuts(values, lo: float, hi: float, *extra) -> np.ndarray:
 def work(ln: Line, T: float, periods: int) -> np.ndarray:
     """Work of the load per period, ``int F(t) v(s, t) dt``, shape (periods,)."""
     d, P = (ln.L - ln.s) / ln.c, 2 * ln.L / ln.c
-    v_s = lambda t: 0.5 * (w_in(ln, t + d) + w_out(ln, t - d))  # noqa: E731 -- right limit at s
     bounds = T * np.arange(periods + 1)
     edges = _cuts(np.concatenate([ln.t0 + d, ln.t0 + P - d]), 0.0, bounds[-1], bounds, 2 * ln.s / ln.c)
-    parts = gauss(lambda t: load(ln, t) * v_s(t), edges)
-    idx = np.minimum(np.floor(0.5 * (edges[:-1] + edges[1:]) / T).astype(int), periods - 1)
-    return np.bincount(idx, parts, minlength=periods)
+    out = np.zeros(periods)
+    work_into(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, edges, float(T), out, *_consts(ln))
+    return out
+
+
+def _integrals(ln: Line, ts, kind: int) -> np.ndarray:
+    ts = np.ascontiguousarray(ts, float)
+    out = np.empty(ts.size)
+    space_into(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, ts, kind, *_consts(ln), out)
+    return out
 
 
 def _x_cuts(ln: Line, t: float) -> np.ndarray:
@@ -51,34 +73,21 @@ def _x_cuts(ln: Line, t: float) -> np.ndarray:
     return _cuts(xs, 0.0, ln.L, *more)
 
 
-def bar_energy(ln: Line, t: float) -> float:
-    """Kinetic plus strain energy of the bar at time ``t``: ``rhoA / 4 int (w+^2 + w-^2) dx``."""
-    rhoA = ln.Z / ln.c
-
-    def dens(x):
-        wp, wm = invariants(ln, x, t)
-        return 0.25 * rhoA * (wp ** 2 + wm ** 2)
-
-    return float(gauss(dens, _x_cuts(ln, t)).sum())
+def bar_energy(ln: Line, t):
+    """Kinetic plus strain energy of the bar at time(s) ``t``: ``rhoA / 4 int (w+^2 + w-^2) dx`` (float for a
+    float, else an array)."""
+    out = _integrals(ln, np.atleast_1d(t), 0)
+    return float(out[0]) if np.ndim(t) == 0 else out
 
 
 def velocity_square(ln: Line, T: float, first: int, periods: int, n: int) -> np.ndarray:
     """``int int rhoA v^2 dx dt`` per period for periods ``first .. periods - 1`` (Gauss in ``x`` at each time,
     trapezoid in ``t`` on ``n`` samples per ``L / c``: second order, the space integral is continuous in ``t``)."""
-    rhoA = ln.Z / ln.c
+    m = max(2, int(np.ceil(T * ln.c / ln.L * n)))
     out = []
     for p in range(first, periods):
-        m = max(2, int(np.ceil(T * ln.c / ln.L * n)))
         ts = np.linspace(p * T, (p + 1) * T, m + 1)
-        vals = []
-        for t in ts:
-
-            def dens(x, t=t):
-                wp, wm = invariants(ln, x, t)
-                return rhoA * (0.5 * (wp + wm)) ** 2
-
-            vals.append(gauss(dens, _x_cuts(ln, t)).sum())
-        out.append(np.trapezoid(vals, ts))
+        out.append(np.trapezoid(_integrals(ln, ts, 1), ts))
     return np.asarray(out)
 
 

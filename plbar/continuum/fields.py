@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .kernel.fields import invariants_into, w_out_into
+
 __all__ = ["Line", "w_out", "load", "w_in", "invariants"]
 
 
@@ -37,9 +39,10 @@ class Line:
 def w_out(ln: Line, t):
     """``w_out(t)``, right-continuous at the jumps; shape of ``t``."""
     t = np.asarray(t, float)
-    i = np.clip(np.searchsorted(ln.t0, t, side="right") - 1, 0, ln.t0.size - 1)
-    f = (t - ln.t0[i]) / (ln.t1[i] - ln.t0[i])
-    return ln.a0[i] + (ln.a1[i] - ln.a0[i]) * f + ln.C[i] * np.cos(ln.omega * t) + ln.D[i] * np.sin(ln.omega * t)
+    flat = np.ascontiguousarray(t).ravel()
+    out = np.empty_like(flat)
+    w_out_into(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, flat, out)
+    return out.reshape(t.shape)
 
 
 def load(ln: Line, t):
@@ -61,11 +64,8 @@ def w_in(ln: Line, t):
 def invariants(ln: Line, x, t):
     """``(w+, w-)`` at points ``x`` and times ``t`` (broadcast), taking right limits at ``x = s``."""
     x, t = np.broadcast_arrays(np.asarray(x, float), np.asarray(t, float))
-    d = (ln.L - x) / ln.c
-    wm, wp = w_out(ln, t - d), w_in(ln, t + d)
-    left = x < ln.s
-    if ln.s < ln.L and np.any(left):
-        e = (ln.s - x) / ln.c
-        wm = wm + np.where(left, load(ln, t - e), 0.0) / ln.Z
-        wp = wp - np.where(left, load(ln, t + e), 0.0) / ln.Z
-    return wp, wm
+    xf, tf = np.ascontiguousarray(x).ravel(), np.ascontiguousarray(t).ravel()
+    wp, wm = np.empty_like(xf), np.empty_like(xf)
+    invariants_into(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, ln.phi, ln.q, ln.L, ln.c, ln.Z, ln.s,
+                    ln.from_rest, xf, tf, wp, wm)
+    return wp.reshape(x.shape), wm.reshape(x.shape)

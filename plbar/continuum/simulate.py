@@ -12,7 +12,7 @@ from ..errors import InputError
 from .accounts import bar_energy, strobe, velocity_square, work
 from .bar import ContinuumBar
 from .fields import Line
-from .stepper import IMPACT, OPENING, March, Start
+from .stepper import IMPACT, OPENING, Start, march
 
 __all__ = ["ContinuumRun", "simulate"]
 
@@ -82,19 +82,6 @@ class ContinuumRun:
                 f"{self.impacts[-self.record:].mean():.3g}, loss/period={self.loss[-self.record:].mean():.6g})")
 
 
-def _march(bar, T, periods, n, phi, hold, start) -> March:
-    mc = March(bar, 2 * math.pi / T, phi, n, hold, start)
-    dt, t_end = mc.dt, periods * T
-    p = 1
-    for k in range(int(math.ceil(t_end / dt - 1e-12))):
-        cuts = []
-        while p <= periods and p * T <= (k + 1) * dt * (1 + 1e-15):
-            cuts.append(min(p * T - k * dt, dt))
-            p += 1
-        mc.step(k, cuts)
-    return mc
-
-
 def _per_period(ev: dict, T: float, periods: int, kind: int, what: str | None = None) -> np.ndarray:
     sel = ev["kind"] == kind
     idx = np.minimum((ev["time"][sel] / T).astype(int), periods - 1)
@@ -135,18 +122,16 @@ def simulate(bar: ContinuumBar, T: float, periods: int = 20, steps_per_L: int = 
     if not 1 <= record <= periods:
         raise InputError(f"record = {record} must lie in [1, periods = {periods}]")
     t0 = time.perf_counter()
-    mc = _march(bar, T, periods, steps_per_L, phi, hold, start)
-    h = mc.hist.arrays()
+    mc = march(bar, T, periods, steps_per_L, phi, hold, start)
+    h = mc.line
     ln = Line(h["t0"], h["t1"], h["a0"], h["a1"], h["C"], h["D"], mc.omega, phi, bar.q, bar.L, bar.c, bar.Z,
               bar.s, start is None)
-    ev = {k: np.array([e[i] for e in mc.events], dtype=float) for i, k in enumerate(("time", "kind", "v", "loss"))}
-    keep = ev["time"] <= periods * T
-    ev = {k: v[keep] for k, v in ev.items()}
-    ev["kind"] = ev["kind"].astype(int)
+    keep = mc.events["time"] <= periods * T
+    ev = {k: v[keep] for k, v in mc.events.items()}
     st = start or Start()
-    end = np.array([(st.u, st.v, float(st.stuck))] + [(u, v, float(s)) for _, u, v, s in mc.strobes[:periods]])
+    end = np.concatenate([[(st.u, st.v, float(st.stuck))], mc.strobes[:periods]])
     bounds = T * np.arange(periods + 1)
-    energy = np.array([bar_energy(ln, t) for t in bounds]) + 0.5 * bar.end_mass * end[:, 1] ** 2
+    energy = bar_energy(ln, bounds) + 0.5 * bar.end_mass * end[:, 1] ** 2
     grid = [strobe(ln, t, steps_per_L) for t in bounds[periods - record:]]
     impacts, openings = (_per_period(ev, T, periods, kd).astype(int) for kd in (IMPACT, OPENING))
     return ContinuumRun(bar, float(T), float(phi), int(periods), record, int(steps_per_L), mc.dt, impacts, openings,
