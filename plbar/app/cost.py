@@ -82,8 +82,16 @@ def estimate_cost(case: Case) -> Cost:
                 max(_loglog(modes, MEMORY, MEMORY_EXPONENT), dense), modes, dofs, tuple(case.grid), sig)
 
 
+#: the continuum's seconds per motion per periods^2 at 32 steps per L/c (its fronts accumulate, so a motion's cost
+#: grows with the square of its periods): 1,000 periods at T/L = 2.5 in 30-31 s, 2 busy cores
+#: (tests/bench/results_continuum_speed.txt)
+CONTINUUM_PERIOD2 = 3.1e-5
+
+
 def survey_seconds(case: Case, motions: int, periods: int) -> float:
     """The estimated CPU time of simulating ``motions`` motions of ``case`` over ``periods`` forcing periods each."""
+    if case.model == "continuum":
+        return motions * CONTINUUM_PERIOD2 * periods ** 2 * case.n_eff / 32
     return motions * periods * _loglog(case.bar().n_dofs, SURVEY_PERIOD, SURVEY_EXPONENT)
 
 

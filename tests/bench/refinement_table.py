@@ -54,8 +54,10 @@ def contact_history(prob, T, periods=20, samples=400):
     t = np.linspace(0.0, periods * T, samples + 1)[1:]
     x, _, _ = ms.response(t)
     ev = r.events
-    imp = ev["time"][(ev["kind"] >= 2)][:10]
+    sel = ev["kind"] >= 2
+    imp, loss = ev["time"][sel][:200], ev["loss"][sel][:200]     # P2: precursor flights before the front
     return {"status": int(r.status[0]), "impact_times": [float(v) for v in imp],
+            "impact_losses": [float(v) for v in loss],
             "t": [float(v) for v in t], "u_c": [float(v) for v in x[:, -1]]}
 
 

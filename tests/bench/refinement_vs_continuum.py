@@ -98,7 +98,9 @@ def _first_errors(row, ref):
     if "error" in f:
         return np.nan, np.nan, np.nan
     ti, tc = np.array(f["impact_times"]), np.array(ref["impact_times"])
-    e_t = float(abs(ti[0] - tc[0])) if ti.size and tc.size else np.nan
+    # the reference's first impact against the mesh's nearest (P2 touches the wall before it: precursor flights of
+    # its spurious fast waves, energies of 1e-35 to 1e-4, counted apart)
+    e_t = float(np.abs(ti - tc[0]).min()) if ti.size and tc.size else np.nan
     d = np.abs(np.array(f["u_c"]) - np.array(ref["u_c"]))
     early = np.array(f["t"]) <= 2 * row["T"]
     return e_t, float(d[early].max()), float(d.max())
@@ -108,8 +110,10 @@ def table():
     fe = json.loads(FE.read_text())
     c = json.loads(OUT.read_text())
     lines = ["# Refinement table (issue 29): FE bars against the exact continuum", "",
-             "Bar L = c = 1, end mass 0.5, unit force at s = 0.37, from rest. **First 20 periods**: the first impact's "
-             "time and the contact displacement's largest error over the first 2 periods and over all 20 (400 "
+             "Bar L = c = 1, end mass 0.5, unit force at s = 0.37, from rest. **First 20 periods**: the error of the "
+             "first impact's time (the reference's first impact against the mesh's nearest; *precursors*: the mesh's "
+             "impacts before it, among its first 10: P2's spurious fast waves lift the end off the wall before the "
+             "load's front arrives, with energies of 1e-35 to 1e-4) and the contact displacement's largest error over the first 2 periods and over all 20 (400 "
              "samples), against the continuum at n = 512 steps per L/c (its own error: the n = 256 / 512 difference "
              "below), with the observed orders between successive meshes. **Long run**: 1,000 periods, loss per "
              "period over the last 999 +- its standard error (20 batch means), z-score against the continuum "
@@ -137,7 +141,7 @@ def table():
             else:
                 L0, S0, fref = lc["loss_per_T"], lc["loss_se"], ref
             lines += [f"### {'undamped, against the continuum' if not xi else '1 % Rayleigh damping, against P2 redistributed N = 256'}",
-                      "", "| mesh | N | motion | 1st impact at | error | order | u_c err, 2 periods | order | "
+                      "", "| mesh | N | motion | precursors | 1st impact err | order | u_c err, 2 periods | order | "
                       "u_c err, 20 periods | order | loss +- se | z |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
             for el, mass in (("P1", "lumped"), ("P2", "consistent"), ("P2", "redistributed")):
                 sel = sorted((r for r in rows if r["element"] == el and r["mass"] == mass), key=lambda r: r["N"])
@@ -151,8 +155,9 @@ def table():
                     sd = np.hypot(r["loss_se"], S0)
                     z = (r["loss_per_T"] - L0) / sd if ok and sd else np.nan
                     f = lambda v, p=".1e": "-" if not np.isfinite(v) else format(v, p)  # noqa: E731
-                    t1 = r["first"].get("impact_times", [np.nan])[:1] or [np.nan]
-                    lines.append(f"| {el} {mass} | {r['N']} | {r['kind']} | {f(t1[0], '.4f')} | {f(e[0])} | "
+                    ti = np.array(r["first"].get("impact_times", []))
+                    pre = int(np.sum(ti < fref["impact_times"][0] - 0.05)) if "impact_times" in r["first"] else -1
+                    lines.append(f"| {el} {mass} | {r['N']} | {r['kind']} | {pre if pre >= 0 else '-'} | {f(e[0])} | "
                                  f"{f(o[0][j], '.2f')} | {f(e[1])} | {f(o[1][j], '.2f')} | {f(e[2])} | "
                                  f"{f(o[2][j], '.2f')} | "
                                  + (f"{r['loss_per_T']:.4f} +- {r['loss_se']:.4f}" if ok else "-") + f" | {f(z, '+.1f')} |")

@@ -145,7 +145,7 @@ def survey_task(task: dict) -> dict:
     is reported in :func:`task_units`."""
     case = case_of(task["case"])
     if task["mode"] == "rest":
-        B = len(task["T"])
+        B = 1 if case.model == "continuum" else len(task["T"])     # the continuum reports one trajectory at a time
         rows, _ = survey_chunk(case, task["T"], task["periods"], task["record"], progress=lambda n: report(n * B))
     else:
         rows = _sweep(task, case)
