@@ -142,7 +142,7 @@ def table():
                 L0, S0, fref = lc["loss_per_T"], lc["loss_se"], ref
             lines += [f"### {'undamped, against the continuum' if not xi else '1 % Rayleigh damping, against P2 redistributed N = 256'}",
                       "", "| mesh | N | motion | precursors | 1st impact err | order | u_c err, 2 periods | order | "
-                      "u_c err, 20 periods | order | loss +- se | z |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+                      "u_c err, 20 periods | order | loss +- se | z | impacts / T |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
             for el, mass in (("P1", "lumped"), ("P2", "consistent"), ("P2", "redistributed")):
                 sel = sorted((r for r in rows if r["element"] == el and r["mass"] == mass), key=lambda r: r["N"])
                 if not sel:
@@ -160,7 +160,8 @@ def table():
                     lines.append(f"| {el} {mass} | {r['N']} | {r['kind']} | {pre if pre >= 0 else '-'} | {f(e[0])} | "
                                  f"{f(o[0][j], '.2f')} | {f(e[1])} | {f(o[1][j], '.2f')} | {f(e[2])} | "
                                  f"{f(o[2][j], '.2f')} | "
-                                 + (f"{r['loss_per_T']:.4f} +- {r['loss_se']:.4f}" if ok else "-") + f" | {f(z, '+.1f')} |")
+                                 + (f"{r['loss_per_T']:.4f} +- {r['loss_se']:.4f}" if ok else "-") + f" | {f(z, '+.1f')} | "
+                                 + f"{r['impacts_per_T']:.2f} |")
             lines.append("")
     TABLE.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
