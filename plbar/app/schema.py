@@ -34,7 +34,7 @@ HELP = {
          "load": "one `[[load]]` table per force (optional: without one, the default load: DOF 1 of the chain, "
                  "a unit force at s = L/2 of an FE bar)",
          "search": "where to look for paths (optional)", "output": "what to write (optional)"},
-    "bar": {"model": "the paper's chain of N masses (L = N) or a finite-element bar; required",
+    "bar": {"model": "the paper's chain of N masses (L = N), a finite-element bar, or the exact uniform bar by characteristics (survey, export, render; n its steps per L/c); required",
             "n": "masses of the chain / elements of the FE bar [5 / 8]; not with `mesh_file`",
             "element": "FE element [P1]; FE only",
             "mass": "FE mass matrix [lumped]; FE only; `redistributed` needs `end_mass` > 0",
