@@ -72,7 +72,8 @@ class MotionSeries:
         self._x = np.asarray(r.strobe_x[b, k0:], float)
         self._v = np.asarray(r.strobe_v[b, k0:], float)
         self._s = np.asarray(r.strobe_state[b, k0:], int)
-        sel = (r.events["traj"] == b) & (r.events["time"] > self.t0 + SNAP * self.T)
+        after = r.events["time"] > self.t0 + SNAP * self.T if self.t0 > 0 else r.events["time"] >= 0.0
+        sel = (r.events["traj"] == b) & after        # the run's start is before its events at t = 0 (see _carry)
         self.events = {k: np.asarray(r.events[k][sel]) for k in ("time", "kind", "loss")}
 
     # -- modal <-> physical ------------------------------------------------------------------------------------
@@ -130,7 +131,9 @@ class MotionSeries:
         s, e, v = self._modal(k)
         t = self.t0 + k * self.T
         ev = self.events
-        lo = np.searchsorted(ev["time"], t + SNAP * self.T, side="right")
+        # a boundary state is recorded after the events at it, but the run's start is its initial state: an event
+        # at t = 0 (a contact that opens at once: P2's wall reaction is round-off there) is still to come
+        lo = np.searchsorted(ev["time"], t + SNAP * self.T, side="right") if t > 0 else 0
         hi = np.searchsorted(ev["time"], t_end, side="right")
         for i in range(lo, hi):
             te, kind = float(ev["time"][i]), int(ev["kind"][i])

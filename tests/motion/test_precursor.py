@@ -12,7 +12,7 @@ of the reaction's size), which the flights exceed from t ~ 0.12 on.
 import numpy as np
 
 import plbar
-from plbar.motion import OK, padded, run
+from plbar.motion import OK, MotionSeries, padded, run
 
 #: (time, kind 1 opening / 2 impact, loss) from tests/bench/p2_precursor_reference.py, 0.129 < t < 0.7
 REFERENCE = [
@@ -53,3 +53,14 @@ def test_p2_consistent_from_rest_follows_the_precursor_and_runs_on():
     np.testing.assert_allclose(time[sel], ref[:, 0], rtol=0, atol=1e-6)
     np.testing.assert_allclose(loss[sel], ref[:, 2], rtol=1e-4, atol=1e-20)
     assert r.impacts.sum() > 40                   # it runs on through the 40 periods (2.6 impacts a period)
+
+
+def test_a_series_from_rest_replays_an_opening_at_t_zero():
+    """P2 redistributed N = 32 opens at t = 0 exactly (its wall reaction is round-off there): the run's first boundary
+    state is its initial state, before that event, and the series replays it (before: "an impact recorded in
+    contact"); every boundary state is carried to the next to round-off."""
+    case = plbar.Case(model="fe", n=32, element="P2", mass="redistributed", end_mass=0.5, load_points=((0.37, 1.0),))
+    prob = case.problem()
+    r = run(padded(prob), np.array([2.5]), 0.0, 6, 6)
+    assert r.events["time"][0] == 0.0 and r.events["kind"][0] == 1
+    assert MotionSeries(prob, r, 0).boundary_mismatch() <= 1e-12
