@@ -81,6 +81,14 @@ def _polish_paper(prob, r, b: int, m: int, loss: float) -> dict:
     return {"exact_loss": float(o.dPL), "exact_xi": float(o.xi), "signature": "1P"}
 
 
+def _row(s, r, i: int) -> dict:
+    """The simulated columns of trajectory ``i`` (the steady statistics ``s`` of the run ``r``)."""
+    row = {c: float(getattr(s, c)[i]) for c in COLUMNS if hasattr(s, c) and c not in ("kind", "m")}
+    row.update(kind=KINDS[int(s.kind[i])], m=int(s.m[i]), status=int(r.status[i]), signature="",
+               steady=int(s.steady[i]), viscous_per_T=float(s.viscous_per_T[i]))
+    return row
+
+
 def _continuum_rows(case: Case, T, periods: int, record: int, start, progress) -> list[dict]:
     """The rows of the continuum (:mod:`.continuum`): no exact orbit, ``xi_eq`` blank (not defined)."""
     from .continuum import NO_XI_EQ, continuum_run
@@ -92,9 +100,7 @@ def _continuum_rows(case: Case, T, periods: int, record: int, start, progress) -
     s = steady(r)
     rows = []
     for i in range(T.size):
-        row = {c: float(getattr(s, c)[i]) for c in COLUMNS if hasattr(s, c) and c not in ("kind", "m")}
-        row.update(kind=KINDS[int(s.kind[i])], m=int(s.m[i]), status=int(r.status[i]), signature="",
-                   steady=int(s.steady[i]), viscous_per_T=0.0)
+        row = _row(s, r, i)
         rows.append({k: v for k, v in row.items() if k not in NO_XI_EQ and v == v})   # blanks: never a nan
     return rows
 
@@ -126,11 +132,8 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
         s = steady(r, settled=[settled[b].orbit.sig.m if b in settled else 0 for b in range(T.size)])
     rows = []
     for i in range(T.size):
-        row = {c: float(getattr(s, c)[i]) for c in COLUMNS if hasattr(s, c) and c not in ("kind", "m")}
-        row.update(kind=KINDS[int(s.kind[i])], m=int(s.m[i]), status=int(r.status[i]), signature="",
-                   steady=int(s.steady[i]),
-                   viscous_per_T=float(s.viscous_per_T[i]),
-                   xi_total=float(prob.system.rayleigh_ratio(2 * np.pi / T[i]) + s.xi_eq[i])
+        row = _row(s, r, i)
+        row.update(xi_total=float(prob.system.rayleigh_ratio(2 * np.pi / T[i]) + s.xi_eq[i])
                    if getattr(prob.system, "damped", False) else float(s.xi_eq[i]))
         if i in settled:
             row.update(_orbit_fields(settled[i]))
