@@ -6,13 +6,17 @@ crossed twice by the load, so wave transport and the load are exact; the end mas
 piece of a grid step, switches (opening, plastic impact) are located by root finding on that closed form.
 
 Front door: :class:`ContinuumBar`, :func:`from_case`, :func:`simulate` -> :class:`ContinuumRun`, :class:`Start`
-and the closed-form harmonic states :func:`held_closed`, :func:`held_open`.
+and the closed-form harmonic states :func:`held_closed`, :func:`held_open`.  With Rayleigh damping (a Kelvin-Voigt
+bar: no characteristics) :func:`simulate_modal` -> :class:`ModalRun` superposes the exact modes of each contact
+state (:mod:`.modal`).
 """
 
 from .bar import ContinuumBar, from_case, natural_periods
 from .harmonic import Harmonic, held_closed, held_open
+from .modal import ModalRun, simulate_modal
 from .series import ContinuumSeries
 from .simulate import ContinuumRun, simulate
 from .stepper import Start
 
-__all__ = ["ContinuumBar", "from_case", "natural_periods", "simulate", "ContinuumRun", "ContinuumSeries", "Start", "Harmonic", "held_closed", "held_open"]
+__all__ = ["ContinuumBar", "from_case", "natural_periods", "simulate", "ContinuumRun", "ContinuumSeries", "Start", "Harmonic", "held_closed", "held_open",
+           "simulate_modal", "ModalRun"]

@@ -17,7 +17,8 @@ import pytest
 
 import plbar
 from plbar.continuum import ContinuumBar
-from plbar.continuum.modal import (_Segment, _state, closed_modes, open_modes, overlap, simulate_modal)
+from plbar.continuum.modal import simulate_modal
+from plbar.continuum.modes import Segment, closed_modes, open_modes, overlap, state
 
 BAR = ContinuumBar(end_mass=0.5, s=0.37)
 RAY = plbar.rayleigh_from_ratio(0.01, 2.0, 4.0)
@@ -81,7 +82,7 @@ def test_held_states_equal_the_kelvin_voigt_closed_form(T):
         field = {}
         for K in (50, 100, 200):
             m = (closed_modes if closed else open_modes)(BAR, K, RAY)
-            st = _state(BAR, m, w, RAY)
+            st = state(BAR, m, w, RAY)
             errs[closed, K] = abs(st.amp_f - target) / abs(target)
             field[K] = np.abs(m.shapes(x) @ st.A - U(x)) / np.abs(U(x)).max()
         # the plain modal sum of the field: like K^-2 away from the load, K^-1 at its kink
@@ -97,9 +98,9 @@ def test_accounts_are_exact_on_a_segment():
     """The closed-form integrals of one segment against Gauss quadrature of the modal velocities."""
     w = 2 * math.pi / 2.5
     m = open_modes(BAR, 40, RAY)
-    st = _state(BAR, m, w, RAY)
+    st = state(BAR, m, w, RAY)
     rng = np.random.default_rng(3)
-    sg = _Segment(st, 0.3, rng.normal(size=40) * 1e-2, rng.normal(size=40) * 1e-1, w, 0.2)
+    sg = Segment(st, 0.3, rng.normal(size=40) * 1e-2, rng.normal(size=40) * 1e-1, w, 0.2)
     tau = 0.7
     x, wt = np.polynomial.legendre.leggauss(60)
     edges = np.linspace(0, tau, 201)
