@@ -53,9 +53,10 @@ class ModalRun:
     Attributes
     ----------
     impacts, openings : ndarray of int, shape (P,)
-    loss, work, dissipation, transfer, v2 : ndarray, shape (P,)
+    loss, work, dissipation, transfer, v2, psi : ndarray, shape (P,)
         Impact loss ``m_e v_L^2 / 2`` (Eq. (14)), work of the load, Rayleigh dissipation, the truncation's energy
-        change at the switches, ``int v^T M v dt``.
+        change at the switches, ``int v^T M v dt`` and ``sum_j omega_j int qdot_j^2 dt`` over the segments of each
+        state (Eqs. (20), (22)).
     energy : ndarray, shape (P + 1,)
         Bar and end-mass energy at the period boundaries.
     events : dict of ndarray
@@ -77,6 +78,7 @@ class ModalRun:
     dissipation: np.ndarray
     transfer: np.ndarray
     v2: np.ndarray
+    psi: np.ndarray
     energy: np.ndarray
     events: dict
     elapsed: float
@@ -99,6 +101,12 @@ class ModalRun:
         n = self.periods if last is None else last
         return float(self.loss[-n:].mean() / (2 * self.omega * self.v2[-n:].mean()))
 
+    def xi_eq(self, last: int | None = None) -> float:
+        """``mean loss / (2 mean sum_j omega_j int qdot_j^2 dt)`` over the ``last`` periods (Eq. (22) for any motion:
+        finite here, the damping smooths the jump an impact leaves, so the modes' sum converges like ``K^-2``)."""
+        n = self.periods if last is None else last
+        return float(self.loss[-n:].mean() / (2 * self.psi[-n:].mean()))
+
     def contact(self, t) -> np.ndarray:
         """``u(L)`` at the times ``t`` (up to :attr:`kept_until`; 0 while closed)."""
         t = np.atleast_1d(np.asarray(t, float))
@@ -118,17 +126,18 @@ class _Books:
     """The per-period accounts and the event list of a run (filled in place)."""
 
     def __init__(self, periods: int, bar: ContinuumBar, max_events: int):
-        self.acc = {n: np.zeros(periods) for n in ("loss", "work", "dissipation", "transfer", "v2")}
+        self.acc = {n: np.zeros(periods) for n in ("loss", "work", "dissipation", "transfer", "v2", "psi")}
         self.counts = {IMPACT: np.zeros(periods, int), OPENING: np.zeros(periods, int)}
         self.energy = np.zeros(periods + 1)
         self.events = {"time": [], "kind": [], "v": [], "loss": []}
         self.bar, self.max_events = bar, max_events
 
     def segment(self, sg: Segment, tau: float, p: int):
-        w, d, v2 = sg.accounts(tau, sg.st.modes.at_s, self.bar.q)
+        w, d, v2, psi = sg.accounts(tau, sg.st.modes.at_s, self.bar.q)
         self.acc["work"][p] += w
         self.acc["dissipation"][p] += d
         self.acc["v2"][p] += v2
+        self.acc["psi"][p] += psi
 
     def event(self, p: int, t: float, kind: int, v: float, loss: float, transfer: float):
         self.acc["loss"][p] += loss
@@ -157,7 +166,10 @@ def _bracket(sg: Segment, closed: bool, fresh: bool, span: float, dt: float, chu
         for j in np.flatnonzero((sgn * df[:-1] > 0) & (sgn * df[1:] <= 0)):
             if cand is not None and tt[j] >= cand[0]:
                 break
-            tm = brentq(lambda x: sg.switch(x)[1][0], tt[j], tt[j + 1], xtol=1e-15)
+            d = lambda x: sg.switch(x)[1][0]  # noqa: E731
+            if sgn * d(tt[j]) <= 0 or sgn * d(tt[j + 1]) > 0:
+                continue                           # the turn was round-off of a zero derivative
+            tm = brentq(d, tt[j], tt[j + 1], xtol=1e-15)
             if sgn * sg.switch(tm)[0][0] >= 0:
                 cand = (tt[j], tm)
                 break
@@ -261,5 +273,5 @@ def simulate_modal(bar: ContinuumBar, T: float, periods: int = 20, rayleigh=(0.0
             kept.append(sg)
     ev = {k: np.array(v) for k, v in books.events.items()}
     return ModalRun(bar, float(T), float(phi), (a, b), int(modes), int(periods), books.counts[IMPACT],
-                    books.counts[OPENING], *(books.acc[n] for n in ("loss", "work", "dissipation", "transfer", "v2")),
+                    books.counts[OPENING], *(books.acc[n] for n in ("loss", "work", "dissipation", "transfer", "v2", "psi")),
                     books.energy, ev, time.perf_counter() - t_start, min(keep, periods) * T, tuple(kept))

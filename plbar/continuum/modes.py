@@ -178,8 +178,9 @@ class Segment:
         harm = 1j * self.omega * st.amp_f * np.exp(1j * (self.theta0 + self.omega * tau))
         return float((np.sum(self.al * st.coef_v * np.exp(st.lam * tau)) + harm).real)
 
-    def accounts(self, tau: float, phi_s: np.ndarray, q: float) -> tuple[float, float, float]:
-        """``int F v(s) dt``, ``sum_j c_j int qdot_j^2 dt`` and ``sum_j int qdot_j^2 dt`` over ``[t0, t0 + tau]``."""
+    def accounts(self, tau: float, phi_s: np.ndarray, q: float) -> tuple[float, float, float, float]:
+        """``int F v(s) dt``, ``sum_j c_j int qdot_j^2 dt``, ``sum_j int qdot_j^2 dt`` and
+        ``sum_j omega_j int qdot_j^2 dt`` (Eq. (22)'s denominator, Eq. (20)) over ``[t0, t0 + tau]``."""
         st = self.st
         e0 = np.exp(1j * self.theta0)
         # qdot_j = sum_m d_m exp(mu_m t'), t' in [0, tau]
@@ -196,7 +197,8 @@ class Segment:
         for fc, fm in ((fq, 1j * self.omega), (np.conj(fq), -1j * self.omega)):
             for i in range(4):
                 wk += (fc * d[i] * expint(fm + mu[i], tau)).real
-        return float(np.sum(phi_s * wk)), float(np.sum(st.modes.damping * sq)), float(sq.sum())
+        m = st.modes
+        return float(np.sum(phi_s * wk)), float(np.sum(m.damping * sq)), float(sq.sum()), float(np.sum(m.omega * sq))
 
 
 def energy(m: Modes, q, v) -> float:

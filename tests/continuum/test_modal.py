@@ -104,7 +104,7 @@ def test_accounts_are_exact_on_a_segment():
     tau = 0.7
     x, wt = np.polynomial.legendre.leggauss(60)
     edges = np.linspace(0, tau, 201)
-    work = dis = v2 = 0.0
+    work = dis = v2 = psi = 0.0
     for lo, hi in zip(edges[:-1], edges[1:]):
         for xi, wi in zip(x, wt):
             t = 0.5 * (lo + hi) + 0.5 * (hi - lo) * xi
@@ -114,8 +114,9 @@ def test_accounts_are_exact_on_a_segment():
             work += c * F * (m.at_s @ v)
             dis += c * (m.damping @ v ** 2)
             v2 += c * (v @ v)
+            psi += c * (m.omega @ v ** 2)
     got = sg.accounts(tau, m.at_s, BAR.q)
-    assert np.allclose(got, (work, dis, v2), rtol=1e-10, atol=1e-14)
+    assert np.allclose(got, (work, dis, v2, psi), rtol=1e-10, atol=1e-14)
 
 
 @pytest.fixture(scope="module")
