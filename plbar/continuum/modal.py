@@ -59,6 +59,12 @@ class ModalRun:
         state (Eqs. (20), (22)).
     energy : ndarray, shape (P + 1,)
         Bar and end-mass energy at the period boundaries.
+    amp : ndarray, shape (P,)
+        Largest ``-u(L)`` per period.
+    end : ndarray, shape (P + 1, 3)
+        ``u(L), v(L)`` and stuck (1) / free (0) at every period boundary.
+    strobe_u, strobe_v : ndarray, shape (R + 1, n + 1)
+        ``u, v`` on the grid ``x_j = j L / n`` at the boundaries of the last ``R = record`` periods.
     events : dict of ndarray
         ``time``, ``kind`` (1 opening, 2 impact), ``v`` (impact velocity), ``loss``.
     kept_until : float
@@ -80,6 +86,10 @@ class ModalRun:
     v2: np.ndarray
     psi: np.ndarray
     energy: np.ndarray
+    amp: np.ndarray
+    end: np.ndarray
+    strobe_u: np.ndarray
+    strobe_v: np.ndarray
     events: dict
     elapsed: float
     kept_until: float
@@ -125,14 +135,43 @@ class ModalRun:
 class _Books:
     """The per-period accounts and the event list of a run (filled in place)."""
 
-    def __init__(self, periods: int, bar: ContinuumBar, max_events: int):
+    def __init__(self, periods: int, bar: ContinuumBar, max_events: int, record: int, grid: int):
         self.acc = {n: np.zeros(periods) for n in ("loss", "work", "dissipation", "transfer", "v2", "psi")}
         self.counts = {IMPACT: np.zeros(periods, int), OPENING: np.zeros(periods, int)}
-        self.energy = np.zeros(periods + 1)
+        self.energy, self.amp = np.zeros(periods + 1), np.zeros(periods)
+        self.end = np.zeros((periods + 1, 3))
+        self.end[0, 2] = 1.0
+        if not 1 <= record <= periods:
+            raise InputError(f"record = {record} must lie in [1, periods = {periods}]")
+        self.grid, self.first = np.linspace(0.0, bar.L, int(grid) + 1), periods - record
+        self.strobes = [(np.zeros(self.grid.size),) * 2] if record == periods else []
         self.events = {"time": [], "kind": [], "v": [], "loss": []}
         self.bar, self.max_events = bar, max_events
 
-    def segment(self, sg: Segment, tau: float, p: int):
+    def boundary(self, sg: Segment, tau: float, p: int):
+        """The state at the end of period ``p - 1``: energy, the end, the grid state if recorded."""
+        q, v = sg.modal(tau)
+        self.energy[p] = energy(sg.st.modes, q, v)
+        if not sg.st.modes.closed:
+            self.end[p] = sg.switch(tau)[0][0], sg.end_velocity(tau), 0.0
+        else:
+            self.end[p, 2] = 1.0
+        if p >= self.first:
+            self.strobes.append(sg.fields(tau, self.grid))
+        return q, v
+
+    def result(self, T, phi, rayleigh, modes, elapsed, kept_until, kept) -> ModalRun:
+        ev = {k: np.array(v) for k, v in self.events.items()}
+        acc = (self.acc[n] for n in ("loss", "work", "dissipation", "transfer", "v2", "psi"))
+        return ModalRun(self.bar, float(T), float(phi), rayleigh, int(modes), self.amp.size, self.counts[IMPACT],
+                        self.counts[OPENING], *acc, self.energy, self.amp, self.end,
+                        np.array([u for u, _ in self.strobes]), np.array([v for _, v in self.strobes]), ev, elapsed,
+                        kept_until, kept)
+
+    def segment(self, sg: Segment, tau: float, p: int, low: list, dt: float):
+        """Book a segment ``[0, tau]`` in period ``p``: its integrals, and its end's excursion if free."""
+        if not sg.st.modes.closed:
+            self.amp[p] = max(self.amp[p], _lowest(sg, low, tau, dt))
         w, d, v2, psi = sg.accounts(tau, sg.st.modes.at_s, self.bar.q)
         self.acc["work"][p] += w
         self.acc["dissipation"][p] += d
@@ -149,15 +188,19 @@ class _Books:
             self.events[nm].append(val)
 
 
-def _bracket(sg: Segment, closed: bool, fresh: bool, span: float, dt: float, chunk: int):
+def _bracket(sg: Segment, closed: bool, fresh: bool, span: float, dt: float, chunk: int, low: list):
     """``(lo, hi)`` around the first switch of ``sg`` within ``span``, or None: a sign change of the switch
-    function on the grid, or a local extremum between grid points that reaches the threshold (a graze)."""
+    function on the grid, or a local extremum between grid points that reaches the threshold (a graze).
+    ``low`` gets the lowest grid sample ``[f, tau]`` of the switch function on the way (the end's amplitude)."""
     n = max(1, int(math.ceil(span / dt - 1e-9)))
     taus = np.linspace(0.0, span, n + 1)
     sgn = -1.0 if closed else 1.0                  # closed: R < 0 opens; open: u(L) >= 0 is an impact
     for lo in range(0, n, chunk):
         tt = taus[lo:min(lo + chunk, n) + 1]
         f, df = sg.switch(tt)
+        k = int(np.argmin(f))
+        if f[k] < low[0]:
+            low[:] = [float(f[k]), float(tt[k])]
         bad = (f < 0) if closed else (f >= 0)
         if fresh and lo == 0:
             bad[0] = False                         # the switch just made
@@ -176,6 +219,20 @@ def _bracket(sg: Segment, closed: bool, fresh: bool, span: float, dt: float, chu
         if cand is not None:
             return cand
     return None
+
+
+def _lowest(sg: Segment, low: list, tau: float, dt: float) -> float:
+    """The end's largest excursion ``-u(L)`` in an open segment ``[0, tau]``, refined from the lowest grid sample
+    to the turning point of ``u(L)`` (Brent's method on ``v(L)``)."""
+    f0, t0 = low
+    if not np.isfinite(f0):
+        return 0.0
+    a, b = max(t0 - dt, 0.0), min(t0 + dt, tau)
+    d = lambda x: sg.switch(x)[1][0]  # noqa: E731
+    if b > a and d(a) < 0 < d(b):
+        t0 = brentq(d, a, b, xtol=1e-14)
+        f0 = min(f0, sg.switch(t0)[0][0])
+    return max(-f0, 0.0)
 
 
 def _locate(sg: Segment, lo: float, hi: float) -> float:
@@ -217,26 +274,25 @@ def _checked(T, periods, rayleigh, modes) -> tuple[float, float]:
 
 def simulate_modal(bar: ContinuumBar, T: float, periods: int = 20, rayleigh=(0.0, 0.0), modes: int = 1024,
                    phi: float = 0.0, steps_per_period: int = 400, keep: int = 20, chunk: int = 128,
-                   max_events: int = 1000) -> ModalRun:
+                   max_events: int = 1000, record: int | None = None, grid: int = 32) -> ModalRun:
     """March the bar from rest against the wall under ``q cos(2 pi t / T - phi)`` by modal superposition.
 
     Parameters
     ----------
     bar : ContinuumBar
-    T, periods : float, int
-        Forcing period and periods to run.
+    T, periods, phi : float, int, float
+        Forcing period, periods to run, phase of the load.
     rayleigh : (float, float)
         ``(alpha, beta)`` of ``C = alpha M + beta K`` (``plbar.rayleigh_from_ratio``).
     modes : int
         Modes ``K`` kept in each contact state (1,024: the first 20 periods agree with 2,048 to 2e-4 in ``u(L)``).
-    phi : float
-        Phase of the load.
-    steps_per_period : int
-        The grid on which switches are looked for (sign changes and local extrema of the switch function).
-    keep, chunk : int
-        Periods whose segments are kept for :meth:`ModalRun.contact`; grid points evaluated at once.
-    max_events : int
-        Largest number of switches of one kind in one period (an accumulation is refused).
+    steps_per_period, chunk : int
+        The grid on which switches are looked for (sign changes and local extrema of the switch function), and
+        how many of its points are evaluated at once.
+    keep, max_events, record, grid : int
+        Periods whose segments :meth:`ModalRun.contact` keeps; largest number of switches of one kind in one period
+        (an accumulation is refused); the last periods whose boundary states are kept on ``grid`` steps of the bar
+        (default ``min(periods, 10)``).
 
     Returns
     -------
@@ -248,19 +304,18 @@ def simulate_modal(bar: ContinuumBar, T: float, periods: int = 20, rayleigh=(0.0
     mc, mo = closed_modes(bar, modes, (a, b)), open_modes(bar, modes, (a, b))
     P = overlap(bar, mc, mo)
     states = {True: state(bar, mc, omega, (a, b)), False: state(bar, mo, omega, (a, b))}
-    books = _Books(periods, bar, max_events)
-    closed, fresh, p = True, True, 0
+    books = _Books(periods, bar, max_events, min(periods, 10) if record is None else int(record), grid)
+    closed, fresh, p, dt = True, True, 0, T / steps_per_period
     sg = Segment(states[True], 0.0, np.zeros(modes), np.zeros(modes), omega, phi)
     kept = [sg]
     while True:
-        t_bound = (p + 1) * T
-        hit = _bracket(sg, closed, fresh, t_bound - sg.t0, T / steps_per_period, chunk)
+        t_bound, low = (p + 1) * T, [np.inf, 0.0]
+        hit = _bracket(sg, closed, fresh, t_bound - sg.t0, dt, chunk, low)
         tau = t_bound - sg.t0 if hit is None else _locate(sg, *hit)
-        books.segment(sg, tau, p)
+        books.segment(sg, tau, p, low, dt)
         if hit is None:                            # a period boundary: re-reference the segment
-            q, v = sg.modal(tau)
             p += 1
-            books.energy[p] = energy(sg.st.modes, q, v)
+            q, v = books.boundary(sg, tau, p)
             if p == periods:
                 break
             fresh = False
@@ -271,7 +326,4 @@ def simulate_modal(bar: ContinuumBar, T: float, periods: int = 20, rayleigh=(0.0
         sg = Segment(states[closed], sg.t0 + tau, q, v, omega, phi)
         if p < keep:
             kept.append(sg)
-    ev = {k: np.array(v) for k, v in books.events.items()}
-    return ModalRun(bar, float(T), float(phi), (a, b), int(modes), int(periods), books.counts[IMPACT],
-                    books.counts[OPENING], *(books.acc[n] for n in ("loss", "work", "dissipation", "transfer", "v2", "psi")),
-                    books.energy, ev, time.perf_counter() - t_start, min(keep, periods) * T, tuple(kept))
+    return books.result(T, phi, (a, b), modes, time.perf_counter() - t_start, min(keep, periods) * T, tuple(kept))

@@ -99,6 +99,7 @@ def expint(mu, tau):
 class State:
     """One contact state's constants for the run: modes, particular amplitudes, the switch function's parts."""
 
+    bar: ContinuumBar
     modes: Modes
     A: np.ndarray          #: particular amplitudes, q_p = Re(A e^{i theta})
     lam: np.ndarray        #: (2, K) roots lambda+-
@@ -130,7 +131,7 @@ def state(bar: ContinuumBar, m: Modes, omega: float, rayleigh) -> State:
         amp = q * Go + np.sum((A - static) * m.at_L)
         coef = np.broadcast_to(m.at_L, lam.shape).astype(complex)
         coef_v = lam * m.at_L
-    return State(m, A, lam, 2 * gam, coef, complex(amp), coef_v)
+    return State(bar, m, A, lam, 2 * gam, coef, complex(amp), coef_v)
 
 
 class Segment:
@@ -171,6 +172,18 @@ class Segment:
                 f += (E @ w[r, sel]).real
                 df += (E @ (w[r, sel] * st.lam[r, sel])).real
         return f, df
+
+    def fields(self, tau: float, x) -> tuple[np.ndarray, np.ndarray]:
+        """``u(x), v(x)`` at ``t0 + tau``: the static response to ``F(t)`` (clamped-free, minus its end's linear
+        part when closed) plus the modal remainder, as the switches sum it."""
+        st, m, bar = self.st, self.st.modes, self.st.bar
+        x = np.atleast_1d(np.asarray(x, float))
+        q, v = self.modal(tau)
+        th = self.theta0 + self.omega * tau
+        F, dF = bar.q * math.cos(th), -bar.q * self.omega * math.sin(th)
+        G = np.minimum(x, bar.s) / bar.EA - (x * bar.s / (bar.EA * bar.L) if m.closed else 0.0)
+        Phi, stat = m.shapes(x), m.at_s / m.omega ** 2
+        return F * G + Phi @ (q - stat * F), dF * G + Phi @ (v - stat * dF)
 
     def end_velocity(self, tau: float) -> float:
         """``v(L)`` with the quasi-static correction (open state)."""
