@@ -50,7 +50,8 @@ class Case:
     model : {"chain", "fe", "continuum"}
         The paper's mass-spring chain, a finite-element bar, or the uniform continuum bar solved exactly by
         characteristics (:mod:`plbar.continuum`: the N = infinity limit of the FE bar; a survey and its motions
-        only, undamped and plastic, one point load, no FE options).
+        only, plastic, one point load, no FE options); with Rayleigh damping (a Kelvin-Voigt bar) by the exact
+        modes of each contact state, ``modes`` of them (default 1024; a survey only).
     n : int, optional
         Masses of the chain / elements of the FE bar / grid steps per travel time ``L / c`` of the continuum (its
         fields are sampled on ``n + 1`` points) (default 5 / 8 / 32).
@@ -168,7 +169,7 @@ class Case:
             if getattr(self, nm) is not None:
                 object.__setattr__(self, nm, interval(f"search domain {nm}", getattr(self, nm)))
         bar = self._make_bar()                 # fail now on the mesh (file), point masses, section and load
-        if self.modes is not None and self.modes > bar.n_dofs:
+        if self.modes is not None and self.modes > bar.n_dofs and self.model != "continuum":
             raise InputError(f"modes = {self.modes} is more than the {bar.n_dofs} degrees of freedom of this bar; "
                              f"give at most {bar.n_dofs} (--modes M), or none for the full model")
         if not self.load_nodes and not self.load_points:     # the default load: a fixed physical position
@@ -242,12 +243,10 @@ class Case:
             k, v = fe[0]
             raise InputError(f"{k} = {show(v)} does not apply to model = 'continuum' (the exact uniform bar, no mesh); "
                              f"drop {k} ({_flag(k)}) or use model = 'fe'")
-        if self.modes is not None:
-            raise InputError("modes does not apply to model = 'continuum' (it has every mode); drop --modes")
-        if self.rayleigh is not None:
-            raise InputError("model = 'continuum' is undamped: Rayleigh damping (Kelvin-Voigt) breaks its "
-                             "characteristics. The damped limit is the FE bar under refinement: plbar survey --model "
-                             "fe -N 16 32 64 ... with the damping")
+        if self.modes is not None and self.rayleigh is None:
+            raise InputError("modes does not apply to the undamped model = 'continuum' (characteristics: it has every "
+                             "mode); drop --modes. With Rayleigh damping it sets the exact modes kept per contact "
+                             "state (default 1024)")
         if self.restitution:
             raise InputError(f"model = 'continuum' has a plastic contact (restitution 0), got {self.restitution:g}; "
                              "use model = 'fe' for e > 0")
@@ -305,7 +304,7 @@ class Case:
         """The :class:`plbar.continuum.ContinuumBar` of a uniform FE or continuum case (one point load, end mass)."""
         from ..continuum import from_case
 
-        return from_case(replace(self, model="fe") if self.model == "continuum" else self)
+        return from_case(replace(self, model="fe", modes=None) if self.model == "continuum" else self)
 
     def domain(self, prob: Problem) -> Domain:
         """The search domain: ``T1``, ``T2`` if given, else the paper's ``(0, T0^alpha / 2]``."""

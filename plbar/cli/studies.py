@@ -130,8 +130,9 @@ def _no_continuum_row(case) -> str:
     if case.model != "fe":
         return ""
     if case.rayleigh is not None:
-        return ("N = infinity: none computed: Rayleigh (Kelvin-Voigt) damping has no characteristic solution; the "
-                "Richardson limits above are the estimate")
+        return ("N = infinity: none computed: the damped continuum (a Kelvin-Voigt bar, plbar.continuum."
+                "simulate_modal) is simulated, but no periodic orbit of it is polished; the Richardson limits above "
+                "are the estimate; the real motion's continuum row: plbar survey -N ...")
     if case.end_mass_value == 0:
         return ("N = infinity: without an end mass the continuum's plastic impact costs nothing (the bare end stops "
                 "without inertia), so Delta_PL and xi_eq tend to 0 under refinement")

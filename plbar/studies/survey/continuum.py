@@ -5,11 +5,16 @@ The continuum is the N = infinity row of ``plbar survey -N ...``.  Its motions a
 FE bar's (:func:`plbar.motion.steady`: periodicity of the stroboscopic grid states, loss, ``xi_w``, contact
 amplitude, time stuck, the drift test), with two differences that are results, not gaps:
 
-* ``xi_eq`` (Eq. (22)) is not defined: its denominator ``sum_j omega_j Psi_j`` is ``int <v, (-c^2 d^2/dx^2)^(1/2)
+* undamped, ``xi_eq`` (Eq. (22)) is not defined: its denominator ``sum_j omega_j Psi_j`` is ``int <v, (-c^2 d^2/dx^2)^(1/2)
   v>`` over the continuum's infinitely many modes, infinite as soon as the velocity has a jump (an impact's front is
   not in ``H^(1/2)``), so on a mesh ``xi_eq -> 0`` under refinement; the columns are blank (nan);
 * no exact periodic orbit is polished: with an end mass every plastic impact emits a velocity jump that the undamped
   continuum carries forever (docs/continuum.md), so it has no periodic response with an impact loss.
+
+With Rayleigh damping (a Kelvin-Voigt bar) the motions come from :func:`plbar.continuum.simulate_modal` (exact
+modes of each contact state, ``case.modes`` of them, default :data:`MODAL_MODES`): the damping smooths the jumps,
+so ``xi_eq`` is defined and filled; the Rayleigh dissipation (and the truncation's energy change at the switches,
+1e-4 of the work) is the run's ``viscous`` term.
 """
 
 from __future__ import annotations
@@ -21,21 +26,38 @@ from ...errors import PlbarError
 from ...motion import CHATTER, FREE, OK, STUCK, Run, Start
 from ...util.progress import message
 
-__all__ = ["continuum_run", "continuum_runs", "as_run", "NO_XI_EQ"]
+__all__ = ["continuum_run", "continuum_runs", "as_run", "NO_XI_EQ", "MODAL_MODES", "blank_columns"]
+
+#: the modes per contact state of the damped continuum when ``case.modes`` is not given (docs/continuum.md: the
+#: 1,000-period loss agrees with 512 modes to 1e-9, the first 20 periods with 2,048 to 2e-4 in ``u(L)``)
+MODAL_MODES = 1024
 
 #: the survey's columns that the continuum leaves blank (``xi_eq`` is not defined: see the module's docstring)
 NO_XI_EQ = ("xi_eq", "xi_min", "xi_max", "xi_std", "xi_total")
 
 
-def continuum_runs(case: Case, T, periods: int, record: int, progress=None) -> list:
-    """:func:`plbar.continuum.simulate` from rest at every forcing period (None where the march stopped: chatter)."""
-    from ...continuum import simulate
+def blank_columns(case: Case) -> tuple:
+    """The survey's columns the continuum of ``case`` leaves blank: ``xi_eq`` undamped (not defined), none damped."""
+    return () if case.rayleigh is not None else NO_XI_EQ
 
+
+def _simulate(case: Case, bar, T: float, periods: int, record: int):
+    from ...continuum import simulate, simulate_modal
+
+    if case.rayleigh is None:
+        return simulate(bar, T, periods=periods, steps_per_L=case.n_eff, record=record)
+    return simulate_modal(bar, T, periods, case.rayleigh, modes=case.modes or MODAL_MODES, keep=0, record=record,
+                          grid=case.n_eff)
+
+
+def continuum_runs(case: Case, T, periods: int, record: int, progress=None) -> list:
+    """:func:`plbar.continuum.simulate` (damped: :func:`~plbar.continuum.simulate_modal`) from rest at every
+    forcing period (None where the march stopped: chatter)."""
     bar = case.continuum()
     out = []
     for t in np.asarray(T, float):
         try:
-            out.append(simulate(bar, float(t), periods=int(periods), steps_per_L=case.n_eff, record=int(record)))
+            out.append(_simulate(case, bar, float(t), int(periods), int(record)))
         except (RuntimeError, PlbarError) as exc:          # the march stops where switches accumulate
             message(f"plbar: continuum at T = {t:g}: {exc}")
             out.append(None)
@@ -67,14 +89,19 @@ def as_run(runs, T, periods: int, record: int, n: int) -> Run:
     imp, opn = np.zeros((B, R), int), np.zeros((B, R), int)
     sx, sv, ss = nan(B, R + 1, n), nan(B, R + 1, n), np.full((B, R + 1), STUCK)
     status = np.full(B, OK)
-    work, losses, e0, e1 = (np.zeros(B) for _ in range(4))
+    work, losses, e0, e1, visc = (np.zeros(B) for _ in range(5))
+    visc_rec = np.zeros((B, R))
     ev = {k: [] for k in ("traj", "time", "kind", "loss")}
     for b, cr in enumerate(runs):
         if cr is None:
             status[b] = CHATTER
             continue
         f["loss"][b], f["work_rec"][b], f["amp"][b] = cr.loss[-R:], cr.work[-R:], cr.amp[-R:]
-        f["d_w"][b] = cr.v2
+        f["d_w"][b] = cr.v2[-R:]
+        if hasattr(cr, "psi"):                              # damped (modal): xi_eq defined, viscous losses
+            f["d_eq"][b] = cr.psi[-R:]
+            vp = cr.dissipation + cr.transfer
+            visc[b], visc_rec[b] = vp.sum(), vp[-R:]
         f["stuck"][b] = [_stuck_time(cr, p) for p in range(periods - R, periods)]
         imp[b], opn[b] = cr.impacts[-R:], cr.openings[-R:]
         sx[b], sv[b] = cr.strobe_u[:, 1:], cr.strobe_v[:, 1:]
@@ -88,7 +115,7 @@ def as_run(runs, T, periods: int, record: int, n: int) -> Run:
     zero = np.zeros(B)
     return Run(T, zero, int(periods), R, status, imp, opn, f["loss"], f["d_eq"], f["d_w"], f["work_rec"], f["stuck"],
                f["amp"], sx, sv, ss, events, work, losses, e0, e1,
-               Start(ss[:, -1], np.zeros((B, 0)), np.zeros((B, 0))), 0, zero, np.zeros((B, R)))
+               Start(ss[:, -1], np.zeros((B, 0)), np.zeros((B, 0))), 0, visc, visc_rec)
 
 
 def continuum_run(case: Case, T, periods: int, record: int, progress=None) -> Run:

@@ -94,6 +94,10 @@ def survey_motion(folder, T: float, periods: int = 10, start: str = "rest") -> S
             except (OSError, ValueError, KeyError):
                 raise InputError(f"the sweep's checkpoint {str(ck)!r} is missing: rerun the survey") from None
     row = _row(folder, T, start)
+    if case.model == "continuum" and case.rayleigh is not None:
+        raise InputError("export and render of the damped continuum's motions are not built (its modal solution "
+                         "keeps no field history); export the motion of a fine FE mesh (--model fe -N 256 "
+                         "--element P2 --mass redistributed), which agrees with it to 1e-4 over 20 periods")
     if case.model == "continuum":                  # the same march again (deterministic), its line kept
         from ...continuum import ContinuumSeries, simulate
 

@@ -90,18 +90,19 @@ def _row(s, r, i: int) -> dict:
 
 
 def _continuum_rows(case: Case, T, periods: int, record: int, start, progress) -> list[dict]:
-    """The rows of the continuum (:mod:`.continuum`): no exact orbit, ``xi_eq`` blank (not defined)."""
-    from .continuum import NO_XI_EQ, continuum_run
+    """The rows of the continuum (:mod:`.continuum`): no exact orbit, ``xi_eq`` blank undamped (not defined)."""
+    from .continuum import blank_columns, continuum_run
 
     if start is not None:
         raise InputError("model = 'continuum' starts from rest only (no sweeps: drop --continue)")
     T = np.asarray(T, float)
     r = continuum_run(case, T, periods, record, progress)
     s = steady(r)
+    blank = blank_columns(case)
     rows = []
     for i in range(T.size):
         row = _row(s, r, i)
-        rows.append({k: v for k, v in row.items() if k not in NO_XI_EQ and v == v})   # blanks: never a nan
+        rows.append({k: v for k, v in row.items() if k not in blank and v == v})   # blanks: never a nan
     return rows
 
 

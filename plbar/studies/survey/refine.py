@@ -87,12 +87,10 @@ def _case_at(case: Case, n: int) -> Case:
 
 
 def continuum_case(case: Case, steps: int | None = None) -> tuple[Case | None, str]:
-    """The continuum of an FE ``case`` (``model = "continuum"``, ``steps`` per ``L/c``), or None and why not."""
+    """The continuum of an FE ``case`` (``model = "continuum"``, ``steps`` per ``L/c``; with its Rayleigh damping,
+    solved by exact modes), or None and why not."""
     if case.model != "fe":
         return None, "the chain is not a discretised continuum here (model = 'fe' is)"
-    if case.rayleigh is not None:
-        return None, ("damped: Rayleigh (Kelvin-Voigt) damping has no characteristic solution; the damped limit is "
-                      "the meshes' Richardson limit")
     if case.restitution:
         return None, "restitution > 0: the continuum solver has a plastic contact"
     if case.point_masses:
@@ -101,7 +99,7 @@ def continuum_case(case: Case, steps: int | None = None) -> tuple[Case | None, s
         bar = case.bar()
         return Case(model="continuum", n=steps, length=bar.length, EA=case.EA, rhoA=case.rhoA,
                     end_mass=case.end_mass, end_mass_absolute=case.end_mass_absolute,
-                    load_points=case.load_points), ""
+                    load_points=case.load_points, rayleigh=case.rayleigh), ""
     except InputError as exc:
         return None, str(exc)
 
