@@ -11,12 +11,14 @@ redistributed, N = 8 ... 256, undamped and with 1 % Rayleigh damping at T = 2 an
 
 and prints the table: per mesh, the first-20-periods errors (the first impacts' times while the sequences agree,
 the contact displacement's largest error) with the observed orders between successive meshes, and the long run's
-loss with its standard error and the z-score against the continuum.  The damped bar has no continuum here
-(Kelvin-Voigt damping breaks the characteristics): its reference is the finest P2 redistributed mesh, and its
-z-scores are against that.
+loss with its standard error and the z-score against the continuum.  The damped bar (a Kelvin-Voigt continuum:
+no characteristics) is compared with :func:`plbar.continuum.simulate_modal` (``--damped`` computes it: exact modes
+per contact state, the first 20 periods at K = 2048 and 4096, the long run at K = 512 and 1024;
+``--damped --first`` / ``--damped --long`` recompute the first 20 periods / the long runs only).
 
-Usage: ``python tests/bench/refinement_vs_continuum.py [--run] [--table]`` (``--run`` computes the continuum and
-writes ``results_refinement_continuum.json``; ``--table`` prints the table into ``results_refinement_table.md``).
+Usage: ``python tests/bench/refinement_vs_continuum.py [--run] [--damped] [--table]`` (``--run`` computes the
+continuum and writes ``results_refinement_continuum.json``, ``--damped`` adds the damped continuum to it;
+``--table`` prints the table into ``results_refinement_table.md``).
 """
 
 import json
@@ -69,6 +71,53 @@ def long_run(T, n):
             "seconds": round(time.perf_counter() - t0, 1)}
 
 
+DAMPED_FIRST_MODES = (2048, 4096)
+DAMPED_LONG_MODES = (512, 1024)
+
+
+def rayleigh():
+    import plbar
+    return plbar.rayleigh_from_ratio(0.01, 2.0, 4.0)
+
+
+def damped_first(T, K, times):
+    from plbar.continuum.modal import simulate_modal
+    mr = simulate_modal(BAR, T, 20, rayleigh(), modes=K)
+    ev = mr.events
+    return {"impact_times": ev["time"][ev["kind"] == 2][:10].tolist(),
+            "impact_losses": ev["loss"][ev["kind"] == 2][:10].tolist(),
+            "u_c": mr.contact(times).tolist(), "seconds": round(mr.elapsed, 2)}
+
+
+def damped_long(T, K):
+    from plbar.continuum.modal import simulate_modal
+    mr = simulate_modal(BAR, T, 1000, rayleigh(), modes=K, keep=0)
+    loss = mr.loss[1:]
+    return {"loss_per_T": float(loss.mean()), "loss_se": batch_se(loss), "impacts_per_T": float(mr.impacts[1:].mean()),
+            "xi_w": mr.xi_omega(999), "xi_eq": mr.xi_eq(999), "energy_residual": mr.energy_residual,
+            "transfer_over_work": float(mr.transfer.sum() / mr.work.sum()), "seconds": round(mr.elapsed, 1)}
+
+
+def run_damped(first_only=False, long_only=False):
+    """The damped continuum (:mod:`plbar.continuum.modal`, 1 % Rayleigh at T = 2 and 4) into ``OUT["damped"]``
+    (``first_only`` / ``long_only``: recompute the first 20 periods / the long runs only, keep the other)."""
+    fe = json.loads(FE.read_text())
+    out = json.loads(OUT.read_text())
+    dd = out.setdefault("damped", {})
+    for T in TS:
+        times = next(r["first"]["t"] for r in fe if r["T"] == T and "t" in r["first"])
+        old = dd.get(str(T), {}).get("long", {})
+        old_first = dd.get(str(T), {}).get("first", {})
+        d = {"first": old_first if long_only else {str(K): damped_first(T, K, times) for K in DAMPED_FIRST_MODES},
+             "long": old}
+        print(f"T = {T}: damped first 20 periods done", flush=True)
+        for K in () if first_only else DAMPED_LONG_MODES:
+            d["long"][str(K)] = damped_long(T, K)
+            print(f"T = {T}, K = {K}: {d['long'][str(K)]}", flush=True)
+        dd[str(T)] = d
+        OUT.write_text(json.dumps(out, indent=1))
+
+
 def run():
     fe = json.loads(FE.read_text())
     out = {}
@@ -117,8 +166,11 @@ def table():
              "samples), against the continuum at n = 512 steps per L/c (its own error: the n = 256 / 512 difference "
              "below), with the observed orders between successive meshes. **Long run**: 1,000 periods, loss per "
              "period over the last 999 +- its standard error (20 batch means), z-score against the continuum "
-             "(n = 64). **Damped**: no continuum (Kelvin-Voigt damping breaks the characteristics); the reference is "
-             "P2 redistributed N = 256, for the first 20 periods and the long run alike.", ""]
+             "(n = 64). **Damped** (1 % Rayleigh at T = 2 and 4): the continuum is a Kelvin-Voigt bar with mass "
+             "damping, which has no characteristics; its reference is `plbar.continuum.simulate_modal`, exact modes "
+             "of each contact state (their number K: the first 20 periods at K = 4096, its error the K = 2048 / 4096 "
+             "difference; the long run at K = 1024), xi_w = loss / (2 omega int v^T M v dt) over the last 999 periods.", ""]
+    fe_t = {T: next(r["first"]["t"] for r in fe if r["T"] == T and "t" in r["first"]) for T in TS}
     for T in TS:
         d = c[str(T)]
         ref, coarse = d["first"][str(FIRST_STEPS[-1])], d["first"][str(FIRST_STEPS[0])]
@@ -135,14 +187,35 @@ def table():
                   f"{lc['energy_residual']:.1e}.", ""]
         for xi in (0.0, 0.01):
             rows = [r for r in fe if r["T"] == T and r["xi_rayleigh"] == xi]
+            head = "undamped, against the continuum"
             if xi:
-                dref = next(r for r in rows if r["mass"] == "redistributed" and r["N"] == 256)
-                L0, S0, fref = dref["loss_per_T"], dref["loss_se"], dref["first"]
+                dc = c["damped"][str(T)]
+                K1, K2 = (str(K) for K in DAMPED_FIRST_MODES)
+                fref, f1 = dc["first"][K2], dc["first"][K1]
+                long1, long2 = (dc["long"][str(K)] for K in DAMPED_LONG_MODES)
+                L0, S0 = long2["loss_per_T"], long2["loss_se"]
+                k = min(len(fref["impact_times"]), len(f1["impact_times"]))
+                head = "1 % Rayleigh damping, against the damped continuum"
+                lines += [f"### {head}", "",
+                          f"Damped continuum (modes per contact state; K = {K1} vs {K2} for the first 20 periods: "
+                          f"impact times {np.abs(np.subtract(fref['impact_times'][:k], f1['impact_times'][:k])).max():.1e}, "
+                          f"u_c {np.abs(np.subtract(fref['u_c'], f1['u_c'])).max():.1e}, over the first 2 periods "
+                          f"{np.abs(np.subtract(fref['u_c'], f1['u_c']))[np.array(fe_t[T]) <= 2 * T].max():.1e}; "
+                          "after zero-loss touches just after an opening, which the truncation makes or not, the "
+                          "trajectories part); first impacts at "
+                          f"{', '.join(f'{x:.6f}' for x in fref['impact_times'][:4])}; long run (K = "
+                          f"{DAMPED_LONG_MODES[1]}) loss {L0:.5f} +- {S0:.5f} (K = {DAMPED_LONG_MODES[0]}: "
+                          f"{long1['loss_per_T']:.5f}), xi_eq {long2.get('xi_eq', np.nan):.5f}, xi_w "
+                          f"{long2['xi_w']:.5f}, {long2['impacts_per_T']:.2f} impacts per "
+                          f"period, energy residual {long2['energy_residual']:.0e}, truncation at the switches "
+                          f"{long2['transfer_over_work']:.1e} of the work (K = {DAMPED_LONG_MODES[0]}: "
+                          f"{long1['transfer_over_work']:.1e}).", ""]
             else:
                 L0, S0, fref = lc["loss_per_T"], lc["loss_se"], ref
-            lines += [f"### {'undamped, against the continuum' if not xi else '1 % Rayleigh damping, against P2 redistributed N = 256'}",
-                      "", "| mesh | N | motion | precursors | 1st impact err | order | u_c err, 2 periods | order | "
-                      "u_c err, 20 periods | order | loss +- se | z | impacts / T |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+                lines += [f"### {head}", ""]
+            lines += ["| mesh | N | motion | precursors | 1st impact err | order | u_c err, 2 periods | order | "
+                      "u_c err, 20 periods | order | loss +- se | z | impacts / T |" + (" xi_eq | xi_w |" if xi else ""),
+                      "|---|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|---|" if xi else "")]
             for el, mass in (("P1", "lumped"), ("P2", "consistent"), ("P2", "redistributed")):
                 sel = sorted((r for r in rows if r["element"] == el and r["mass"] == mass), key=lambda r: r["N"])
                 if not sel:
@@ -161,7 +234,8 @@ def table():
                                  f"{f(o[0][j], '.2f')} | {f(e[1])} | {f(o[1][j], '.2f')} | {f(e[2])} | "
                                  f"{f(o[2][j], '.2f')} | "
                                  + (f"{r['loss_per_T']:.4f} +- {r['loss_se']:.4f}" if ok else "-") + f" | {f(z, '+.1f')} | "
-                                 + f"{r['impacts_per_T']:.2f} |")
+                                 + f"{r['impacts_per_T']:.2f} |"
+                                 + (f" {r['xi_eq']:.5f} | {r['xi_w']:.5f} |" if xi else ""))
             lines.append("")
     TABLE.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
@@ -170,5 +244,7 @@ def table():
 if __name__ == "__main__":
     if "--run" in sys.argv:
         run()
+    if "--damped" in sys.argv:
+        run_damped(first_only="--first" in sys.argv, long_only="--long" in sys.argv)
     if "--table" in sys.argv:
         table()
