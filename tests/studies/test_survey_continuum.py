@@ -120,6 +120,13 @@ def test_survey_refine_has_the_continuum_row(tmp_path):
     damped = plbar.Case(model="fe", end_mass=0.5, load_points=((0.37, 1.0),), rayleigh=(0.01, 0.001))
     c, why = continuum_case(damped)
     assert c.model == "continuum" and c.rayleigh == damped.rayleigh and why == ""
+    r = run_survey_refine(damped, [8, 16], [2.5], periods=12, record=4, out=tmp_path / "srd", plot=False)
+    d = r.rates["T/L=2.5"]
+    cont = r.surveys[0].rows()
+    for q in ("loss_per_T", "xi_eq", "xi_w"):               # xi_eq is defined in the damped continuum
+        assert d[q]["against_continuum"]["continuum"] == pytest.approx(cont[q][0], rel=1e-15)
+        err = np.abs(d[q]["against_continuum"]["error"])
+        assert np.all(np.isfinite(err)) and err[1] < err[0]  # N = 16 nearer than N = 8
 
 
 def test_cli_survey_continuum_writes_its_table(tmp_path):
