@@ -67,6 +67,8 @@ class ModalRun:
         ``u, v`` on the grid ``x_j = j L / n`` at the boundaries of the last ``R = record`` periods.
     events : dict of ndarray
         ``time``, ``kind`` (1 opening, 2 impact), ``v`` (impact velocity), ``loss``.
+    record : int
+        The last periods that :attr:`xi_eq`, :attr:`xi_omega` and the grid states cover.
     kept_until : float
         :meth:`contact` answers up to this time.
     """
@@ -77,6 +79,7 @@ class ModalRun:
     rayleigh: tuple
     modes: int
     periods: int
+    record: int
     impacts: np.ndarray
     openings: np.ndarray
     loss: np.ndarray
@@ -106,16 +109,18 @@ class ModalRun:
         out = self.loss.sum() + self.dissipation.sum() + self.transfer.sum() + self.energy[-1] - self.energy[0]
         return float((W - out) / W)
 
-    def xi_omega(self, last: int | None = None) -> float:
-        """``mean loss / (2 omega mean int v^T M v dt)`` over the ``last`` periods (default all)."""
-        n = self.periods if last is None else last
-        return float(self.loss[-n:].mean() / (2 * self.omega * self.v2[-n:].mean()))
+    @property
+    def xi_omega(self) -> float:
+        """``mean loss / (2 omega mean int v^T M v dt)`` over the recorded periods."""
+        R = self.record
+        return float(self.loss[-R:].mean() / (2 * self.omega * self.v2[-R:].mean()))
 
-    def xi_eq(self, last: int | None = None) -> float:
-        """``mean loss / (2 mean sum_j omega_j int qdot_j^2 dt)`` over the ``last`` periods (Eq. (22) for any motion:
+    @property
+    def xi_eq(self) -> float:
+        """``mean loss / (2 mean sum_j omega_j int qdot_j^2 dt)`` over the recorded periods (Eq. (22) for any motion:
         finite here, the damping smooths the jump an impact leaves, so the modes' sum converges like ``K^-2``)."""
-        n = self.periods if last is None else last
-        return float(self.loss[-n:].mean() / (2 * self.psi[-n:].mean()))
+        R = self.record
+        return float(self.loss[-R:].mean() / (2 * self.psi[-R:].mean()))
 
     def contact(self, t) -> np.ndarray:
         """``u(L)`` at the times ``t`` (up to :attr:`kept_until`; 0 while closed)."""
@@ -163,7 +168,8 @@ class _Books:
     def result(self, T, phi, rayleigh, modes, elapsed, kept_until, kept) -> ModalRun:
         ev = {k: np.array(v) for k, v in self.events.items()}
         acc = (self.acc[n] for n in ("loss", "work", "dissipation", "transfer", "v2", "psi"))
-        return ModalRun(self.bar, float(T), float(phi), rayleigh, int(modes), self.amp.size, self.counts[IMPACT],
+        return ModalRun(self.bar, float(T), float(phi), rayleigh, int(modes), self.amp.size,
+                        self.amp.size - self.first, self.counts[IMPACT],
                         self.counts[OPENING], *acc, self.energy, self.amp, self.end,
                         np.array([u for u, _ in self.strobes]), np.array([v for _, v in self.strobes]), ev, elapsed,
                         kept_until, kept)

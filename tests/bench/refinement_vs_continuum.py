@@ -91,10 +91,10 @@ def damped_first(T, K, times):
 
 def damped_long(T, K):
     from plbar.continuum.modal import simulate_modal
-    mr = simulate_modal(BAR, T, 1000, rayleigh(), modes=K, keep=0)
+    mr = simulate_modal(BAR, T, 1000, rayleigh(), modes=K, keep=0, record=999)
     loss = mr.loss[1:]
     return {"loss_per_T": float(loss.mean()), "loss_se": batch_se(loss), "impacts_per_T": float(mr.impacts[1:].mean()),
-            "xi_w": mr.xi_omega(999), "xi_eq": mr.xi_eq(999), "energy_residual": mr.energy_residual,
+            "xi_w": mr.xi_omega, "xi_eq": mr.xi_eq, "energy_residual": mr.energy_residual,
             "transfer_over_work": float(mr.transfer.sum() / mr.work.sum()), "seconds": round(mr.elapsed, 1)}
 
 
