@@ -10,6 +10,7 @@ import pytest
 import plbar
 import plbar.continuum as pc
 from plbar.errors import InputError
+from plbar.model import rayleigh_ratio
 from plbar.studies.survey import run_survey, survey
 from plbar.studies.survey.refine import continuum_case, run_survey_refine
 
@@ -82,6 +83,7 @@ def test_damped_continuum_survey_rows_are_the_modal_runs_accounts(tmp_path):
     assert r["amp_c"][0] == pytest.approx(mr.amp[-4:].mean(), rel=1e-13)
     assert r["impacts_per_T"][0] == pytest.approx(mr.impacts[-4:].mean(), rel=1e-13)
     assert abs(r["energy_residual"][0]) < 1e-12 and r["viscous_per_T"][0] > 0
+    assert r["xi_total"][0] == pytest.approx(r["xi_eq"][0] + rayleigh_ratio(*RAY, 2 * np.pi / 2.5), rel=1e-14)
     assert 0.01 < r["xi_eq"][0] < 0.04          # a ratio of a few percent, finite: no jump survives the damping
     with pytest.raises(InputError, match="modes does not apply"):
         plbar.Case(model="continuum", modes=64)

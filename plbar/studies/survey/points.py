@@ -19,6 +19,7 @@ import numpy as np
 from ...app import Case
 from ...motion import KINDS, Padded, Start, padded, run, steady
 from ...errors import InputError, PlbarError
+from ...model import rayleigh_ratio
 from ...response import NoResponseError, find_response
 from .settle import Approach, approach, orbit_of, settle
 
@@ -102,6 +103,8 @@ def _continuum_rows(case: Case, T, periods: int, record: int, start, progress) -
     rows = []
     for i in range(T.size):
         row = _row(s, r, i)
+        if case.rayleigh is not None:                  # the damped continuum: Rayleigh's ratio at omega + the impact's
+            row["xi_total"] = float(rayleigh_ratio(*case.rayleigh, 2 * np.pi / T[i]) + row["xi_eq"])
         rows.append({k: v for k, v in row.items() if k not in blank and v == v})   # blanks: never a nan
     return rows
 
