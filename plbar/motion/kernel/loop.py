@@ -36,6 +36,7 @@ __all__ = [
     "CHATTER_H",
     "DEEP_MAX",
     "MAX_STALL",
+    "PROGRESS",
     "MAX_ZERO",
     "OK",
     "ORDER",
@@ -49,7 +50,9 @@ __all__ = [
 
 TINY = 1e-12        #: step (in periods) where no derivative decides, and the snap of a step onto a period boundary
 MAX_ZERO = 50       #: consecutive zero-length segments before a trajectory is stopped as chattering
-MAX_STALL = 5000    #: rounds without an event or a period boundary before a trajectory is stopped as stalled
+MAX_STALL = 5000    #: rounds without progress (below PROGRESS) since an event or a period boundary: stalled
+PROGRESS = 1e-6     #: a round that steps on by this fraction of a period or more is progress, however many it takes
+                    #: (stiff Rayleigh modes make the Taylor model's steps short: P2, N = 256, 2 % needs ~6,000 a period)
 CAP = 0.25          #: longest step, in forcing periods (the remainder bound is taken over it; it may cross a period end)
 ORDER = 8           #: order of the Taylor model of the margin
 LARGE_ORDER = 16    #: order of the Taylor model of a system of SPLIT_MIN modes or more (longer steps, for the cost)
@@ -287,7 +290,8 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, P,
         if event and s[D.PERIOD] >= first and s[D.EVENTS] >= room:
             s[D.NEED] = 1                      # no room to record it: the caller grows the record and goes on
             return
-        s[D.STALL] += 1
+        if not step > PROGRESS * T:
+            s[D.STALL] += 1
         s[D.ROUNDS] += 1
         if event:
             _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, aw, damping)
