@@ -35,6 +35,7 @@ def test_paper_sec41_numbers():
     assert "paper, read off Fig. 6b" in out
 
 
+@pytest.mark.slow
 def test_stability_continuation_example(tmp_path):
     out = _run("stability_continuation.py", tmp_path)
     assert "event:" in out and "ends:" in out
@@ -42,6 +43,7 @@ def test_stability_continuation_example(tmp_path):
         assert (tmp_path / name).stat().st_size > 10_000
 
 
+@pytest.mark.slow
 def test_settle_from_rest_example(tmp_path):
     out = _run("settle_from_rest.py", tmp_path)
     assert (tmp_path / "settle_from_rest.png").stat().st_size > 10_000
@@ -69,6 +71,7 @@ def test_load_sweep_example(tmp_path):
     assert (tmp_path / "worst_load.csv").read_text().startswith("branch,point,T1,T2,phi,T,xi_worst,")
 
 
+@pytest.mark.slow
 def test_restitution_example(tmp_path):
     """Issue 31: xi_eq of the real motion against the coefficient of restitution, chain and FE bar (quick)."""
     out = _run("restitution.py", tmp_path, "--quick")

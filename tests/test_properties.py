@@ -232,6 +232,7 @@ def test_random_fe_bars_identities(setup):
         _check_paths(paths)
 
 
+@pytest.mark.slow
 @settings(max_examples=examples(80), **SETTINGS)
 @given(n=st.integers(2, 8), m=positive, k=positive, dof=st.integers(1, 8), frac=st.floats(1e-3, 1.0),
        amp=amplitudes, lo=st.floats(0.0, 0.6), grid=st.integers(24, 40))

@@ -104,7 +104,15 @@ def test_refuses_other_case_in_same_folder(tmp_path, capsys):
 CASES = sorted((__import__("pathlib").Path(__file__).resolve().parents[2] / "examples" / "cases").glob("*.toml"))
 
 
-@pytest.mark.parametrize("path", CASES, ids=[p.stem for p in CASES])
+#: with the slow tests: cases like one the default run keeps (paper_sec41 is the default case, which
+#: test_run_default_writes_exact_header_and_summary runs; chain_N3_node1 stands for the chains, paper_sec42_node2 for
+#: the load at another node; tests/app/test_casefile.py solves fe_p2_consistent)
+SLOW_CASES = {"paper_sec41", "chain_N4_node1", "chain_N6_node1", "paper_sec42_node3", "paper_sec42_node4",
+              "fe_p2_consistent"}
+
+
+@pytest.mark.parametrize("path", [pytest.param(p, marks=pytest.mark.slow) if p.stem in SLOW_CASES else p
+                                  for p in CASES], ids=[p.stem for p in CASES])
 def test_every_example_case_file_runs(tmp_path, path):
     assert main(["run", str(path), "--out", str(tmp_path), "--quiet", "--no-plot"]) == 0
     s = json.loads((tmp_path / "summary.json").read_text())

@@ -67,6 +67,7 @@ def test_option_conflicting_with_case_file_is_exit_2(tmp_path, capsys):
 
 # 3. fine FE output fits on one screen ------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_many_branches_print_a_short_summary(tmp_path, capsys):
     argv = ["run", *PAPER, "--model", "fe", "-N", "8", "--element", "P2", "--grid", "60", "60", "--out", tmp_path / "f",
             "--no-plot"]

@@ -21,6 +21,7 @@ def _plbar(args, **kw):
                             text=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL), **kw)
 
 
+@pytest.mark.slow
 def test_ctrl_c_in_a_survey_exits_130_keeps_the_finished_tasks_and_resumes(tmp_path):
     """Ctrl-C once a task has finished: exit 130 with the rerun hint, every finished task kept; the rerun resumes
     (the kept task files untouched) and writes the table an uninterrupted survey writes (before: AttributeError,

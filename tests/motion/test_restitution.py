@@ -163,7 +163,7 @@ def _chatter_brute_force(K, q, W, phi, e, x0, v0, T):
     return t, np.append(xT, 0.0), np.append(vT, 0.0), R, rebounds
 
 
-@pytest.mark.parametrize("e, T", [(0.3, 2.0), (0.5, 2.0), (0.8, 3.3)])
+@pytest.mark.parametrize("e, T", [(0.3, 2.0), (0.5, 2.0), pytest.param(0.8, 3.3, marks=pytest.mark.slow)])
 def test_chattering_ends_where_the_rebounds_accumulate(e, T):
     """The chain released with its inner masses pushed toward the wall and the contact 0.01 from it: it hits,
     rebounds ever lower (the bar presses it to the wall) and stays.  The simulator passes to the accumulation

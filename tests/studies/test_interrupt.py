@@ -132,6 +132,7 @@ def test_kill_in_the_middle_of_writing_paths_csv(tmp_path):
     _rerun_completes(out)
 
 
+@pytest.mark.slow
 def test_kill_in_the_middle_of_writing_summary(tmp_path):
     out = tmp_path / "o"
     _rerun_completes(out)                             # an earlier complete run of the same case

@@ -114,6 +114,7 @@ def _levels(cases, anchor, st):
     return out
 
 
+@pytest.mark.slow
 def test_chain_family_is_the_full_solve_branch():
     """The paper's path 2 followed from N = 5 to 6 and 8 lies on the full solve's branches (and they on it)."""
     anchor = parse_anchor("T0_II/2")
@@ -161,6 +162,7 @@ def test_fe_family_at_N32_is_the_scan_branch():
         assert np.linalg.norm(z1 - z0) < 1e-8 * np.linalg.norm(z0)
 
 
+@pytest.mark.slow
 def test_refine_command_tables_rates_plots_and_resume(tmp_path, capsys):
     out = tmp_path / "r"
     args = ["refine", "--model", "fe", "-N", "6", "8", "12", "--end-mass", "0.5", "--family", "T0_II/2",

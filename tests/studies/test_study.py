@@ -70,6 +70,7 @@ def _read_tables(folder: Path) -> dict:
     return {n: (folder / n).read_bytes() for n in ("sweep.csv", "sweep_max.csv", "sweep_summary.json")}
 
 
+@pytest.mark.slow
 def test_dask_equals_local(tmp_path):
     """(b) A dask LocalCluster with 2 workers gives bit-identical tables."""
     pytest.importorskip("dask.distributed")
