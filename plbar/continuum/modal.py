@@ -218,7 +218,7 @@ def _bracket(sg: Segment, closed: bool, fresh: bool, span: float, dt: float, chu
             d = lambda x: sg.switch(x)[1][0]  # noqa: E731
             if sgn * d(tt[j]) <= 0 or sgn * d(tt[j + 1]) > 0:
                 continue                           # the turn was round-off of a zero derivative
-            tm = brentq(d, tt[j], tt[j + 1], xtol=1e-15)
+            tm = brentq(d, tt[j], tt[j + 1], xtol=1e-14, maxiter=500)
             if sgn * sg.switch(tm)[0][0] >= 0:
                 cand = (tt[j], tm)
                 break
@@ -245,7 +245,16 @@ def _locate(sg: Segment, lo: float, hi: float) -> float:
     g = lambda x: sg.switch(x)[0][0]  # noqa: E731
     if (g(lo) >= 0) == (g(hi) >= 0):               # a zero exactly at the start of a fresh segment
         return hi
-    return brentq(g, lo, hi, xtol=1e-15, rtol=1e-15)
+    try:
+        return brentq(g, lo, hi, xtol=1e-14, rtol=1e-15, maxiter=200)
+    except RuntimeError:                           # round-off noise near the root: halve the bracket instead
+        glo = g(lo) >= 0
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if not lo < mid < hi:
+                break
+            lo, hi = (mid, hi) if (g(mid) >= 0) == glo else (lo, mid)
+        return hi
 
 
 def _switch(books: _Books, sg: Segment, tau: float, p: int, P: np.ndarray, after) -> tuple:
