@@ -38,6 +38,15 @@ def _load() -> dict:
     return json.loads(OUT.read_text()) if OUT.is_file() else {"fe": [], "continuum": {}}
 
 
+def _save(part: str, value):
+    """Write one part (``fe`` or ``continuum``) over what is on disk now: the two parts can run side by side."""
+    out = _load()
+    out[part] = value
+    tmp = OUT.with_suffix(".tmp")
+    tmp.write_text(json.dumps(out, indent=1))
+    tmp.replace(OUT)
+
+
 def fe():
     out = _load()
     done = {(r["xi_rayleigh"], r["element"], r["mass"], r["N"], r["T"]) for r in out["fe"]}
@@ -59,7 +68,7 @@ def fe():
                            "energy_residual": float(r.energy_residual[0]),
                            "seconds": round(time.perf_counter() - t0, 1)}
                     out["fe"].append(row)
-                    OUT.write_text(json.dumps(out, indent=1))
+                    _save("fe", out["fe"])
                     print(f"xi={xi} {element} {mass} N={n} T={T}: loss {row['loss_per_T']:.5f} +- "
                           f"{row['loss_se']:.5f} xi_eq {row['xi_eq']:.5f} xi_w {row['xi_w']:.5f} "
                           f"steady {row['steady']} ({row['seconds']} s)", flush=True)
@@ -83,7 +92,7 @@ def continuum():
                     "xi_w": mr.xi_omega, "impacts_per_T": float(mr.impacts[1:].mean()),
                     "energy_residual": mr.energy_residual, "transfer_over_work": float(mr.transfer.sum() / mr.work.sum()),
                     "seconds": round(mr.elapsed, 1)}
-                OUT.write_text(json.dumps(out, indent=1))
+                _save("continuum", out["continuum"])
                 print(key, out["continuum"][key], flush=True)
 
 
