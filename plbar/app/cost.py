@@ -88,15 +88,16 @@ def estimate_cost(case: Case) -> Cost:
 CONTINUUM_PERIOD2 = 3.1e-5
 
 
-#: the damped continuum's seconds per motion per period at 1,024 modes (exact modes per contact state: linear in
-#: periods): 1,000 periods in 115-118 s at T/L = 2.5 and 3.5, 2 busy cores (tests/bench/refinement_vs_continuum.py)
+#: the damped continuum's seconds per motion per period (exact modes per contact state: linear in periods, and
+#: nearly flat in the modes, whose decayed terms are left out): 1,000 periods in 82-216 s at T/L = 2.5 and 3.5,
+#: 512 or 1,024 modes, 0.5-2 %, 2 cores idle to busy (tests/bench/refinement_vs_continuum.py, refinement_damping.py)
 CONTINUUM_MODAL_PERIOD = 0.12
 
 
 def survey_seconds(case: Case, motions: int, periods: int) -> float:
     """The estimated CPU time of simulating ``motions`` motions of ``case`` over ``periods`` forcing periods each."""
     if case.model == "continuum" and case.rayleigh is not None:
-        return motions * CONTINUUM_MODAL_PERIOD * periods * ((case.modes or 1024) / 1024) ** 0.5
+        return motions * CONTINUUM_MODAL_PERIOD * periods
     if case.model == "continuum":
         return motions * CONTINUUM_PERIOD2 * periods ** 2 * case.n_eff / 32
     return motions * periods * _loglog(case.bar().n_dofs, SURVEY_PERIOD, SURVEY_EXPONENT)
