@@ -95,7 +95,7 @@ def expint(mu, tau):
     return np.where(small, series, (np.exp(np.where(small, 0, z)) - 1) / safe)
 
 
-@dataclass
+@dataclass(frozen=True)
 class State:
     """One contact state's constants for the run: modes, particular amplitudes, the switch function's parts."""
 
@@ -176,7 +176,7 @@ class Segment:
     def fields(self, tau: float, x) -> tuple[np.ndarray, np.ndarray]:
         """``u(x), v(x)`` at ``t0 + tau``: the static response to ``F(t)`` (clamped-free, minus its end's linear
         part when closed) plus the modal remainder, as the switches sum it."""
-        st, m, bar = self.st, self.st.modes, self.st.bar
+        m, bar = self.st.modes, self.st.bar
         x = np.atleast_1d(np.asarray(x, float))
         q, v = self.modal(tau)
         th = self.theta0 + self.omega * tau
