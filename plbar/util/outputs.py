@@ -50,7 +50,7 @@ from .files import write_json
 from .version import __version__
 
 __all__ = ["check_creatable", "MARKER", "LOCK", "Owner", "Claim", "fingerprint", "read_owner", "check_folder",
-           "claim_folder", "check_writable", "clear_owned", "require", "refuse_existing", "EXTRAS"]
+           "claim_folder", "check_writable", "clear_owned", "require", "EXTRAS"]
 
 #: the owner marker every command writes into its output folder
 MARKER = ".plbar-owner.json"
@@ -367,14 +367,6 @@ def clear_owned(folder, patterns) -> list[Path]:
             shutil.rmtree(p) if p.is_dir() and not p.is_symlink() else p.unlink()
             gone.append(p)
     return gone
-
-
-def refuse_existing(paths, what: str) -> None:
-    """Raise :class:`OutputExistsError` if any of ``paths`` exists (the caller's ``--overwrite`` lifts it)."""
-    there = [str(p) for p in paths if Path(p).exists()]
-    if there:
-        more = f" and {len(there) - 1} more" if len(there) > 1 else ""
-        raise OutputExistsError(f"{what}: {there[0]!r}{more} exists already; pass --overwrite to replace it")
 
 
 def require(module: str, what: str) -> None:

@@ -232,7 +232,6 @@ def test_damped_responses_of_every_signature(monkeypatch):
     work = impact losses + viscous loss."""
     import plbar.check.segments as seg
     from plbar.model import rayleigh_from_ratio
-    from plbar.response import find_response
 
     monkeypatch.setattr(seg, "SAMPLES_PER_RAD", 50.0)
     case = plbar.Case(rayleigh=rayleigh_from_ratio(0.02, 6.0, 14.0))
@@ -270,7 +269,6 @@ def test_damped_responses_of_every_signature(monkeypatch):
     fd = (evaluate(prob, hy[0].sig, hy[0].orbits[0].T, Xp + e, jac=False).F -
           evaluate(prob, hy[0].sig, hy[0].orbits[0].T, Xp - e, jac=False).F) / 2e-6
     assert np.max(np.abs(fd - ch.J[:, 0])) <= 1e-7 * np.abs(ch.J).max()
-    del find_response
 
 
 def test_progress_once_per_curve_followed(hybrid):

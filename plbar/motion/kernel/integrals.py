@@ -18,7 +18,7 @@ from math import ceil, cos, inf, isfinite, sin
 import numpy as np
 
 from ...response.flow import CANCEL_LIMIT, gauss
-from .closed import DIRECT, half, mode_flow, phi1, roots, sinc
+from .closed import DIRECT, half, mode_flow, phi1, roots
 from .jit import jit
 
 __all__ = ["GL_W", "GL_X", "psi", "work"]

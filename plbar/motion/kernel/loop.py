@@ -28,7 +28,7 @@ from .closed import half, matvec, mode_flow
 from .jit import cached, inline, jit
 from .locate import land, locate
 from .pieces import amplitude, piece_accounts
-from .split import SPLIT_MIN, particular, split_step
+from .split import particular, split_step
 
 __all__ = [
     "CAP",
