@@ -204,7 +204,7 @@ class _Tracer:
                 h *= 0.5
                 continue
             closed = False
-            for frac, eid, pt in (yield from self.edge_crossings(u, q)):
+            for _frac, eid, pt in (yield from self.edge_crossings(u, q)):
                 if eid in seen:
                     closed = True
                     break

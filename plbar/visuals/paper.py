@@ -242,7 +242,7 @@ def draw_fig9(out, allres, families) -> list[Path]:
         pts.append((n, pos, P, rs[0]["T0_II"]))
         if P.size:
             vmax = max(vmax, float(np.quantile(P[:, 2], 0.99)))
-    for ax, (n, pos, P, T0II), lab in zip(axes, pts, "abcd"):
+    for ax, (n, _pos, P, T0II), lab in zip(axes, pts, "abcd"):
         best = ""
         if P.size:
             sc = ax.scatter(P[:, 0], P[:, 1], c=P[:, 2], s=6, cmap="viridis", vmin=0, vmax=vmax)

@@ -142,7 +142,7 @@ def test_phase_is_the_admissible_one_not_its_mirror(solved):
 def test_G_is_the_gram_matrix_of_unit_load_velocities(solved):
     """G = sum over states of int etadot_k^T Omega etadot_l (n independent periodic solves, quadrature)."""
     _, _, paths, lf = solved
-    prob, s = paths.prob, paths.prob.system
+    s = paths.prob.system
     idx = np.linspace(0, len(lf) - 1, 12).astype(int)
     sub = lf.take(idx)
     x, wt = gauss(400)
