@@ -149,7 +149,8 @@ def hybrid_rows(branches, first_id: int) -> dict:
             _, d, phi = canonical(o)                 # the durations and phase of the canonical rotation
             row = {"branch": first_id + j, "T1": float(d[0::2].sum()), "T2": float(d[1::2].sum()),
                    "phi": phi, "T": o.T, "dPL": o.dPL, "xi": o.xi, "grazing": 0, "omega": 2 * np.pi / o.T,
-                   "xi_w": o.xi_w, "viscous_loss": o.viscous, "zeta_rayleigh": o.xi_total - o.xi, "xi_total": o.xi_total, "m": o.sig.m, "k": o.sig.k, "signature": b.label, "loss_per_T": o.loss_per_T,
+                   "xi_w": o.xi_w, "viscous_loss": o.viscous, "zeta_rayleigh": o.xi_total - o.xi,
+                   "xi_total": o.xi_total, "m": o.sig.m, "k": o.sig.k, "signature": b.label, "loss_per_T": o.loss_per_T,
                    "durations": ";".join(f"{x:.17g}" for x in d), "max_abs_xc": o.amplitude}
             for k, v in row.items():
                 cols.setdefault(k, []).append(v)

@@ -17,10 +17,10 @@ patterns).  :func:`claim_folder` is the one rule, for every command:
   the old owner owned is removed first, and nothing else in the folder is touched.
 
 :func:`check_folder` applies the rule without writing results (call it before a long solve; ``Claim.take`` when
-the results are ready).  A claim also holds the folder's lock, ``.plbar-lock`` (written aside and hard-linked into place: atomic,
-holding the pid and host of its process), until the claim is released or the process exits: a second command
-on the same folder while the first runs, of another case or of the same one, is refused with one line (it would
-otherwise write over the first, or be lost).  Claims of one process on one folder share its lock.  A lock whose
+the results are ready).  A claim also holds the folder's lock, ``.plbar-lock`` (written aside and hard-linked into
+place: atomic, holding the pid and host of its process), until the claim is released or the process exits: a second
+command on the same folder while the first runs, of another case or of the same one, is refused with one line (it
+would otherwise write over the first, or be lost).  Claims of one process on one folder share its lock.  A lock whose
 process is dead (killed) is stale and taken over; one of another host is respected (delete the file by hand if that
 host's command is gone).  Used as a context manager, a claim is undone when the command fails or is interrupted
 before writing any of its files: no marker and no empty folder are left behind; a resumable study calls

@@ -206,9 +206,9 @@ def draw_fig8(out, cases, fams_list) -> list[Path]:
             first = True
             for b, f in zip(res.branches, fams):
                 if f == fam:
+                    top = max(x.xi.max() for x, g in zip(res.branches, fams) if g == fam)
                     ax.plot(b.T, b.xi, ".-", color=DOF_COLORS[li], ms=2.5, lw=1,
-                            label=f"DOF {li + 1} forced (max {max(x.xi.max() for x, g in zip(res.branches, fams) if g == fam):.4f})"
-                            if first else None)
+                            label=f"DOF {li + 1} forced (max {top:.4f})" if first else None)
                     first = False
     for ax, fam, lab in zip(axes, FAMILIES, "ab"):
         ax.set(xlabel=T_, ylabel=XI, title=f"{lab}) {FAM_STYLE[fam][1]}")

@@ -131,7 +131,8 @@ def _F(m, u):
 
 @jit
 def _psi_damped(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi):
-    """Closed-form ``Psi`` of a damped mode and its cancellation factor (:func:`plbar.response.damped.psi_closed_form`)."""
+    """Closed-form ``Psi`` of a damped mode and its cancellation factor
+    (:func:`plbar.response.damped.psi_closed_form`)."""
     y, z, A1, A2, B, _, sing = _terms(w, zeta, f, W, c0, s0, eta0, v0, cphi, sphi)
     if sing:
         return 0.0, inf

@@ -25,7 +25,8 @@ import numba
 __all__ = ["SOURCES", "STAMP", "cached", "inline", "is_compiled", "jit", "mark_compiled"]
 
 jit = numba.njit(nogil=True, error_model="numpy", _nrt=False)
-inline = numba.njit(nogil=True, error_model="numpy", inline="always", _nrt=False)   #: inlined where called (constants propagate)
+#: inlined where called (constants propagate)
+inline = numba.njit(nogil=True, error_model="numpy", inline="always", _nrt=False)
 
 _HERE = Path(__file__).resolve().parent
 #: the files the compiled kernel is built from (its own modules, and the constants it imports)
