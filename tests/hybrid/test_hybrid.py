@@ -85,7 +85,8 @@ def test_jacobian_is_exact(prob, sig_text, hybrid, default_result):
     for j in range(X.size):
         e = np.zeros(X.size)
         e[j] = h
-        J[:, j] = (evaluate(prob, o.sig, o.T, X + e, jac=False).F - evaluate(prob, o.sig, o.T, X - e, jac=False).F) / (2 * h)
+        J[:, j] = (evaluate(prob, o.sig, o.T, X + e, jac=False).F
+                   - evaluate(prob, o.sig, o.T, X - e, jac=False).F) / (2 * h)
     assert np.max(np.abs(J - ch.J)) <= 1e-7 * np.abs(ch.J).max()
 
 
