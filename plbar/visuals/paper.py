@@ -206,9 +206,9 @@ def draw_fig8(out, cases, fams_list) -> list[Path]:
             first = True
             for b, f in zip(res.branches, fams):
                 if f == fam:
-                    top = max(x.xi.max() for x, g in zip(res.branches, fams) if g == fam)
                     ax.plot(b.T, b.xi, ".-", color=DOF_COLORS[li], ms=2.5, lw=1,
-                            label=f"DOF {li + 1} forced (max {top:.4f})" if first else None)
+                            label=f"DOF {li + 1} forced (max {max(x.xi.max() for x, g in zip(res.branches, fams) if g == fam):.4f})"
+                            if first else None)
                     first = False
     for ax, fam, lab in zip(axes, FAMILIES, "ab"):
         ax.set(xlabel=T_, ylabel=XI, title=f"{lab}) {FAM_STYLE[fam][1]}")
@@ -242,7 +242,7 @@ def draw_fig9(out, allres, families) -> list[Path]:
         pts.append((n, pos, P, rs[0]["T0_II"]))
         if P.size:
             vmax = max(vmax, float(np.quantile(P[:, 2], 0.99)))
-    for ax, (n, _pos, P, T0II), lab in zip(axes, pts, "abcd"):
+    for ax, (n, pos, P, T0II), lab in zip(axes, pts, "abcd"):
         best = ""
         if P.size:
             sc = ax.scatter(P[:, 0], P[:, 1], c=P[:, 2], s=6, cmap="viridis", vmin=0, vmax=vmax)
