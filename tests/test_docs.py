@@ -27,6 +27,31 @@ def test_readme_keeps_its_two_commands_and_links_to_pages_that_exist():
         assert (ROOT / link).is_file(), link
 
 
+def test_the_readme_python_example_prints_every_branch_of_every_signature(default_run, tmp_path, monkeypatch,
+                                                                           capsys):
+    """The README's Python example runs as it is written and prints one line per branch: every branch of the
+    paper's class (``1P``) and of every other signature, with its T range, largest xi_eq and stable points; its
+    files are written and its one response is periodic at round-off."""
+    from collections import Counter
+
+    text = (ROOT / "README.md").read_text()
+    blocks = re.findall(r"^```python\n(.*?)^```", text, flags=re.S | re.M)
+    assert len(blocks) == 1 and len(blocks[0].strip().splitlines()) <= 12, "one short Python example"
+    monkeypatch.chdir(tmp_path)
+    exec(compile(blocks[0], "README.md", "exec"), {"__name__": "readme"})
+    lines = capsys.readouterr().out.splitlines()
+    rows = [line.split() for line in lines if " T " in line and "stable at" in line]
+    expected = Counter(["1P"] * len(default_run.branches) + [b.label for b in default_run.hybrid])
+    assert Counter(row[0] for row in rows) == expected
+    assert len(default_run.branches) >= 1 and set(expected) - {"1P"}, "the paper's class and other signatures"
+    for row in rows:                                      # T from .. to .., the largest xi_eq, stable k of n
+        assert float(row[2]) <= float(row[4]) and 0 <= float(row[7]) < 1
+        assert 0 <= int(row[10]) <= int(row[12])
+    assert {p.name for p in (tmp_path / "results-py").iterdir()} >= {"paths.csv", "summary.json"}
+    T1, phi, xi, defect = map(float, lines[-1].split())
+    assert abs(T1 - 2.3874) < 1e-3 and 0 < xi < 1 and defect < 1e-10
+
+
 def test_every_example_is_a_page_of_the_site():
     index = (DOCS / "examples" / "index.md").read_text()
     for script in sorted((ROOT / "examples").glob("*.py")):

@@ -33,7 +33,8 @@ HEAVY = ("pyvista", "vtk", "vtkmodules", "meshio", "matplotlib", "dask", "distri
          "llvmlite")
 #: layers split into rooms (subpackages), from the bottom up: a room imports only from those before it
 ROOMS = {"studies": ("execution", "loads", "refine", "damping", "survey", "paper")}
-HEAVY_OK = {"io", "visuals", "studies.execution.executor", "motion.kernel", "hybrid.kernel", "continuum.kernel"}
+HEAVY_OK = {"io", "visuals", "studies.execution.executor", "util.jit", "motion.kernel", "hybrid.kernel",
+            "continuum.kernel"}
 MAX_MODULE = 400
 MAX_FUNCTION = 60
 ROOT = Path(__file__).resolve().parents[1]

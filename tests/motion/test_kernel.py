@@ -247,8 +247,10 @@ def test_the_cache_key_covers_every_source_the_kernel_is_built_from():
     for path in here.glob("*.py"):
         for node in ast.walk(ast.parse(path.read_text())):
             if isinstance(node, ast.ImportFrom) and node.level >= 2:
-                target = here.parents[node.level - 2].joinpath(*node.module.split(".")).with_suffix(".py")
-                assert target.resolve() in sources, (path.name, node.module)
+                base = here.parents[node.level - 2].joinpath(*node.module.split("."))
+                targets = [base / f"{a.name}.py" for a in node.names if (base / f"{a.name}.py").exists()]
+                for target in targets or [base.with_suffix(".py")]:     # a module imported from a package, or one
+                    assert target.resolve() in sources, (path.name, node.module)
 
 
 def test_solving_the_paper_class_does_not_import_numba():

@@ -1,42 +1,35 @@
-"""How the continuum kernels are compiled: numba with an on-disk cache, numpy's error model, no GIL.
+"""How the continuum kernels are compiled: :mod:`plbar.util.jit`'s policy, every function cached on its own.
 
-:data:`jit` compiles a kernel function (cached in ``__pycache__``: only the first call after an install or an
-edit compiles); :data:`inline` one that is inlined where it is called (the accounts' point evaluation: a call
-that passes arrays would pay numba's reference counting on every point).  numba keys a cached function by its
-own file only: a kernel calling an edited function of another file would load a stale compilation.  So the cache
-is stamped with a hash of every source of this package (:data:`STAMP`): when any of them changed (an edit, an
-upgrade), :func:`clear_stale` empties the package's cache before anything is loaded from it.
+:data:`jit` compiles a kernel function (cached on disk: only the first call after an install or an edit compiles);
+:data:`inline` one that is inlined where it is called (the accounts' point evaluation: a call that passes arrays
+would pay numba's reference counting on every point).  numba keys a cached function by its own file only: a kernel
+calling an edited function of another file would load a stale compilation.  So the cache is stamped with a hash of
+every source of this package (:data:`STAMP`): when any of them changed (an edit, an upgrade), :func:`clear_stale`
+empties the package's cache folder before anything is loaded from it.
 """
 
 from __future__ import annotations
 
 import contextlib
-import hashlib
 from pathlib import Path
 
-import numba
+from ...util import jit as policy
 
 __all__ = ["jit", "inline", "STAMP", "clear_stale"]
 
 _HERE = Path(__file__).resolve().parent
+#: hash of this package's sources, the policy's and numba's version
+STAMP = policy.stamp([*sorted(_HERE.glob("*.py")), Path(policy.__file__)])
 
 
-def _stamp() -> str:
-    h = hashlib.sha256(numba.__version__.encode())
-    for path in sorted(_HERE.glob("*.py")):
-        h.update(path.name.encode() + path.read_bytes())
-    return h.hexdigest()[:16]
-
-
-STAMP = _stamp()   #: hash of this package's sources and numba's version
-
-
-def clear_stale(folder: Path = _HERE / "__pycache__") -> bool:
-    """Empty the kernels' on-disk cache in ``folder`` if it was compiled from other sources (True if it did)."""
-    mark = folder / f"plbar-continuum-{STAMP}.stamp"
+def clear_stale(folder: Path | None = None) -> bool:
+    """Empty the kernels' on-disk cache in ``folder`` (this package's, by default) if it was compiled from other
+    sources (True if it did)."""
+    folder = policy.cache_folder(Path(__file__)) if folder is None else folder
+    mark = folder / f"plbar-continuum-{STAMP:x}.stamp"
     if mark.exists() or not folder.is_dir():
         with contextlib.suppress(OSError):
-            folder.mkdir(exist_ok=True)
+            folder.mkdir(parents=True, exist_ok=True)
             mark.touch()
         return False
     with contextlib.suppress(OSError):
@@ -47,5 +40,5 @@ def clear_stale(folder: Path = _HERE / "__pycache__") -> bool:
 
 
 clear_stale()
-jit = numba.njit(cache=True, error_model="numpy", nogil=True)
-inline = numba.njit(cache=True, error_model="numpy", nogil=True, inline="always")
+jit = policy.jit(cache=True)
+inline = policy.jit(cache=True, inline=True)

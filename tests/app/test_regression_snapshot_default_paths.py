@@ -1,4 +1,7 @@
-"""The default run's ``paths.csv`` agrees with a stored reference to 1e-10.
+"""Regression snapshot: the default run's ``paths.csv`` agrees with plbar's own stored past output to 1e-10.
+
+This is a regression guard, not a check of correctness: the reference is plbar's own output.  What makes it right
+is checked independently elsewhere (the chain's equations, the simulator's replay, the closed forms).
 
 The reference (``tests/data/default_paths_reference.csv``) was written by
 ``plbar run --out DIR --no-plot`` before the speed work (issue "Speed"); every
