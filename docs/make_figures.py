@@ -19,7 +19,6 @@ tests); it needs the ``plot`` and ``vtk`` extras (matplotlib, pyvista for ``snap
 from __future__ import annotations
 
 import hashlib
-import shutil
 import subprocess
 import sys
 import tempfile

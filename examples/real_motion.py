@@ -3,8 +3,8 @@
 Simulates the paper's chain (N = 5, unit force on DOF 1) from rest at 161 forcing periods in [6, 14], 1,000
 periods each (the last 100 characterise the motion), on all local cores (about 8 s on 2 cores, every signature
 included), and prints what a user who wants one damping ratio needs: the kinds of motion, xi_eq of the real
-motion by band of T, and how often the paper's class is what happens.  Draws the survey over the exact branches of the paper's
-class (``survey.png``) and the frequency response with every signature (``frequency_response.png``).
+motion by band of T, and how often the paper's class is what happens.  Draws the survey over the exact branches of
+the paper's class (``survey.png``) and the frequency response with every signature (``frequency_response.png``).
 
 Run::
 
@@ -47,7 +47,8 @@ def main():
     for lo, hi in zip(T.min() + np.arange(4) * np.ptp(T) / 4, T.min() + np.arange(1, 5) * np.ptp(T) / 4):
         sel = (t["T"] >= lo) & (t["T"] <= hi)
         print(f"  T in [{lo:.2f}, {hi:.2f}]: xi_eq median {np.nanmedian(xi[sel]):.4f} "
-              f"(min {np.nanmin(xi[sel]):.4f}, max {np.nanmax(xi[sel]):.4f}), periodic {int(np.sum(t['kind'][sel] == 'periodic'))}"
+              f"(min {np.nanmin(xi[sel]):.4f}, max {np.nanmax(xi[sel]):.4f}), "
+              f"periodic {int(np.sum(t['kind'][sel] == 'periodic'))}"
               f" of {int(sel.sum())}")
     print(f"energy budget closes to {s.summary['energy_residual_max']:.1e} of the work")
     if not QUICK:

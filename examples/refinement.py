@@ -36,8 +36,8 @@ def table(title: str, r) -> None:
         xi = f"{row['xi_max']:.3e}" if np.isfinite(row["xi_max"]) else "-".ljust(9)
         lr = f"{row['loss_ratio']:.6f}" if np.isfinite(row["loss_ratio"]) else "-"
         print(f"  {row['n']:5d}  {row['status']:12s} {row['admissible']:5d}  {rng} {xi}       {lr}")
-    for series, fams in r.rates.items():
-        for fam, q in fams.items():
+    for fams in r.rates.values():
+        for q in fams.values():
             for name in ("T0_I_L", "T0_II_L", "S/M_e", "T_mid_T0I", "T_spread_T0I", "xi_max"):
                 if name in q:
                     c = q[name]

@@ -26,8 +26,6 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
-
 import plbar
 from plbar.studies import get_executor
 from plbar.studies.survey import default_periods, survey_restitution, write_restitution

@@ -10,8 +10,8 @@ Quick start::
 The package is layered; each subpackage's ``__init__`` is its front door and
 imports flow one way (``python -m plbar.util.layout`` prints the graph):
 
-``util`` -> ``model`` -> ``response`` -> ``paths`` -> ``motion`` -> ``hybrid`` -> ``check`` -> ``io`` ->
-``visuals`` -> ``app`` -> ``studies`` -> ``cli``.
+``errors`` -> ``util`` -> ``model`` -> ``continuum`` -> ``response`` -> ``paths`` -> ``motion`` -> ``hybrid`` ->
+``check`` -> ``io`` -> ``visuals`` -> ``app`` -> ``studies`` -> ``cli``.
 """
 
 from .app import Case, Result, solve, write_results

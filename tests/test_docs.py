@@ -121,7 +121,7 @@ def prose(text):
 
 def test_formulas_are_math_not_unicode_and_typeset_by_the_shipped_mathjax():
     for page in PAGES:
-        for n, line in enumerate(prose(page.read_text()).splitlines(), 1):
+        for line in prose(page.read_text()).splitlines():
             found = re.findall(r"[\u0370-\u03ff\u00b2\u00b3\u1d40\u207b\u2070-\u209f\u2211\u221a\u222b]", line)
             assert not found, f"{page.relative_to(ROOT)}: {found} outside $...$ in: {line.strip()[:120]}"
     conf = runpy.run_path(str(DOCS / "conf.py"))

@@ -121,7 +121,7 @@ def test_inherent_damping_example(tmp_path):
     xs = [chain[z][0] for z in (0.0, 1.0, 2.0, 5.0)]
     tot = [chain[z][2] for z in (0.0, 1.0, 2.0, 5.0)]
     assert xs == sorted(xs, reverse=True) and tot == sorted(tot)
-    for z, (xi, T, total) in list(chain.items()) + list(fe.items()):
+    for z, (xi, _T, total) in list(chain.items()) + list(fe.items()):
         assert total >= xi and (z > 0) == (total > xi)
     assert fe[2.0][0] == pytest.approx(0.0711, abs=1e-3)
     for ext in ("png", "pdf"):

@@ -5,17 +5,14 @@
 :mod:`.job` does everything a case file's ``[output]`` asks.
 """
 
-from .case import MODELS, Case
+from .case import Case
 from .cost import Cost, cost_note, estimate_cost
 from .casefile import OutputSettings, dump_case, load_case, loads_case
-from .export import (RENDER_OWNED, case_of_run, export_owned, from_run, render_response, response_of, select,
-                     write_response, write_response_data)
+from .export import case_of_run, from_run, render_response, select, write_response, write_response_data
 from .job import files_of, run_case_file
-from .run import (CSV_FORMATS, CSV_HEADER, PATHS_COLUMNS, RUN_FILES, TEXT_COLUMNS, Result, case_fingerprint,
-                  check_output, read_paths, solve, write_results)
+from .run import CSV_HEADER, TEXT_COLUMNS, Result, case_fingerprint, check_output, read_paths, solve, write_results
 
-__all__ = ["MODELS", "Case", "Cost", "cost_note", "estimate_cost", "OutputSettings", "dump_case", "load_case",
-           "loads_case", "from_run", "case_of_run", "render_response", "response_of", "select", "write_response",
-           "write_response_data", "RENDER_OWNED", "export_owned", "files_of", "run_case_file", "CSV_FORMATS",
-           "CSV_HEADER", "PATHS_COLUMNS", "RUN_FILES", "TEXT_COLUMNS", "Result", "case_fingerprint", "check_output",
-           "read_paths", "solve", "write_results"]
+__all__ = ["Case", "Cost", "cost_note", "estimate_cost", "OutputSettings", "dump_case", "load_case", "loads_case",
+           "from_run", "case_of_run", "render_response", "select", "write_response", "write_response_data", "files_of",
+           "run_case_file", "CSV_HEADER", "TEXT_COLUMNS", "Result", "case_fingerprint", "check_output", "read_paths",
+           "solve", "write_results"]

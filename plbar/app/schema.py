@@ -34,7 +34,9 @@ HELP = {
          "load": "one `[[load]]` table per force (optional: without one, the default load: DOF 1 of the chain, "
                  "a unit force at s = L/2 of an FE bar)",
          "search": "where to look for paths (optional)", "output": "what to write (optional)"},
-    "bar": {"model": "the paper's chain of N masses (L = N), a finite-element bar, or the exact uniform bar by characteristics (survey, export, render; n its steps per L/c; with Rayleigh damping by exact modes per contact state, `modes` of them, default 1024: survey only); required",
+    "bar": {"model": "the paper's chain of N masses (L = N), a finite-element bar, or the exact uniform bar by "
+                     "characteristics (survey, export, render; n its steps per L/c; with Rayleigh damping by exact "
+                     "modes per contact state, `modes` of them, default 1024: survey only); required",
             "n": "masses of the chain / elements of the FE bar [5 / 8]; not with `mesh_file`",
             "element": "FE element [P1]; FE only",
             "mass": "FE mass matrix [lumped]; FE only; `redistributed` needs `end_mass` > 0",
@@ -46,7 +48,8 @@ HELP = {
             "point_masses": "extra point masses m at FE vertices x; FE only",
             "end_mass": "a rigid mass on the contact node, as a fraction of the bar's mass [0]",
             "end_mass_absolute": "`true`: `end_mass` is the mass itself [false]; needs `end_mass` > 0",
-            "modes": "keep the lowest modes of each state (locating paths only, never for xi_eq) [all]; the damped continuum: its exact modes per contact state [1024]",
+            "modes": "keep the lowest modes of each state (locating paths only, never for xi_eq) [all]; "
+                     "the damped continuum: its exact modes per contact state [1024]",
             "rayleigh": "inherent damping C = alpha M + beta K, `[alpha, beta]` >= 0 [none]",
             "damping_ratio": "the Rayleigh damping with this ratio at the two periods of `damping_at`; not with "
                              "`rayleigh`",

@@ -25,7 +25,7 @@ from ..model import Problem
 from ..paths import Domain, Paths
 from ..util.progress import message, progress_bar
 
-__all__ = ["Search", "hybrid_window", "hybrid_rows", "hybrid_summary", "simulated_seeds", "SEED_PERIODS"]
+__all__ = ["Search", "hybrid_window", "hybrid_rows", "hybrid_summary", "SEED_PERIODS"]
 
 #: forcing periods, periods simulated, periods recorded of the seeding simulation, per kind
 SEED_PERIODS = {"default": (81, 600, 60), "all": (161, 1000, 100)}
@@ -62,14 +62,6 @@ def _seeds(prob: Problem, r, kinds: str) -> list:
         except (NotConverged, ValueError, np.linalg.LinAlgError):
             continue
     return out
-
-
-def simulated_seeds(paths: Paths, window, kinds: str = "default", progress: bool = False) -> list:
-    """Orbits polished from the periodic motions of a simulation from rest across the window."""
-    num, periods, _ = SEED_PERIODS[kinds]
-    with progress_bar(periods, progress, f"signatures: simulating {num} forcing periods from rest", "period") as bar:
-        r = _seeding(paths.prob, window, kinds, bar.update)
-    return _seeds(paths.prob, r, kinds)
 
 
 class _Stopped(Exception):
@@ -157,7 +149,8 @@ def hybrid_rows(branches, first_id: int) -> dict:
             _, d, phi = canonical(o)                 # the durations and phase of the canonical rotation
             row = {"branch": first_id + j, "T1": float(d[0::2].sum()), "T2": float(d[1::2].sum()),
                    "phi": phi, "T": o.T, "dPL": o.dPL, "xi": o.xi, "grazing": 0, "omega": 2 * np.pi / o.T,
-                   "xi_w": o.xi_w, "viscous_loss": o.viscous, "zeta_rayleigh": o.xi_total - o.xi, "xi_total": o.xi_total, "m": o.sig.m, "k": o.sig.k, "signature": b.label, "loss_per_T": o.loss_per_T,
+                   "xi_w": o.xi_w, "viscous_loss": o.viscous, "zeta_rayleigh": o.xi_total - o.xi,
+                   "xi_total": o.xi_total, "m": o.sig.m, "k": o.sig.k, "signature": b.label, "loss_per_T": o.loss_per_T,
                    "durations": ";".join(f"{x:.17g}" for x in d), "max_abs_xc": o.amplitude}
             for k, v in row.items():
                 cols.setdefault(k, []).append(v)

@@ -122,7 +122,8 @@ def _damping_args(p: argparse.ArgumentParser, at: bool) -> None:
                    help="Rayleigh coefficients alpha (mass) and beta (stiffness), both >= 0")
     g.add_argument("--damping-ratio", type=float, default=None, metavar="XI",
                    help="the Rayleigh damping with ratio XI (0.02 for 2 %%) at the two periods of --damping-at (--at)")
-    g.add_argument("--damping-at", *(["--at"] if at else []), dest="damping_at", type=float, nargs=2, default=None, metavar=("T_A", "T_B"),
+    g.add_argument("--damping-at", *(["--at"] if at else []), dest="damping_at", type=float, nargs=2, default=None,
+                   metavar=("T_A", "T_B"),
                    help="the two periods where --damping-ratio holds (e.g. bracketing the periods of interest)")
 
 

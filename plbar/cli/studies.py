@@ -117,8 +117,9 @@ def _cmd_refine(a) -> int:
                        overwrite=a.overwrite, plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None,
                        rates_always=a.rates_always)
     note = _no_continuum_row(cases[0])
-    lines = _refine_lines(r, a.rates_always) + ([note] if note else []) + [f"done in {r.time:.1f} s; wrote " + ", ".join(
-        str(f) for v in r.files.values() for f in (v if isinstance(v, list) else [v]))]
+    lines = _refine_lines(r, a.rates_always) + ([note] if note else []) + [
+        f"done in {r.time:.1f} s; wrote " + ", ".join(
+            str(f) for v in r.files.values() for f in (v if isinstance(v, list) else [v]))]
     rows = [{k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in row.items()}
             for row in r.rows]
     report(a, r.summary, r.files, "\n".join(lines), rates=r.rates, rows=rows)
@@ -203,7 +204,8 @@ def register(sub) -> None:
     r.add_argument("--window", type=float, default=0.15, metavar="W",
                    help="relative half-width of the family's period window [0.15]")
     r.add_argument("--pick", choices=("longest", "xi", "nearest", "all"), default="longest",
-                   help="the seed branch in the window: most points, largest xi_eq, nearest the anchor, or all [longest]")
+                   help="the seed branch in the window: most points, largest xi_eq, nearest the anchor, or all "
+                        "[longest]")
     r.add_argument("--step", type=float, default=1 / 200, metavar="H",
                    help="largest continuation step, as a fraction of the window [0.005]")
     r.add_argument("--no-plot", action="store_true", help="skip the plots")

@@ -184,7 +184,7 @@ def _refine(a, case, T, out) -> int:
                 z = ", ".join("-" if v is None else f"{v:+.1f}" for v in ac["z"])
                 order = f"order {ac['order']:.2f}" if ac.get("order") is not None else f"no order: {ac['orders_why']}"
                 lines.append(f"    {'':10s} continuum {ac['continuum']:.4g}" + (f" +- {ac['continuum_se']:.2g}"
-                             if ac["continuum_se"] else "") + f"; errors "
+                             if ac["continuum_se"] else "") + "; errors "
                              + ", ".join(f"{v:+.3g}" if v is not None else "-" for v in ac["error"])
                              + (f" (z {z})" if ac["continuum_se"] else "") + f"; {order}")
             elif ac:

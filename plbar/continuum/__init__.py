@@ -18,5 +18,5 @@ from .series import ContinuumSeries
 from .simulate import ContinuumRun, simulate
 from .stepper import Start
 
-__all__ = ["ContinuumBar", "from_case", "natural_periods", "simulate", "ContinuumRun", "ContinuumSeries", "Start", "Harmonic", "held_closed", "held_open",
-           "simulate_modal", "ModalRun"]
+__all__ = ["ContinuumBar", "from_case", "natural_periods", "simulate", "ContinuumRun", "ContinuumSeries", "Start",
+           "Harmonic", "held_closed", "held_open", "simulate_modal", "ModalRun"]

@@ -121,7 +121,8 @@ def state(bar: ContinuumBar, m: Modes, omega: float, rayleigh) -> State:
     lam = np.vstack([-cj / 2 + gam, -cj / 2 - gam])
     static = m.at_s * q / (wj * wj)
     if m.closed:
-        # R = -sigma(L) (+ F at s = L); sigma = EA [F G_c'(L) + sum (p_j - phi_j(s) F / w_j^2) phi_j'(L)], p = q + b qdot
+        # R = -sigma(L) (+ F at s = L); sigma = EA [F G_c'(L) + sum (p_j - phi_j(s) F / w_j^2) phi_j'(L)],
+        # p = q + b qdot
         Gc = -bar.s / (bar.EA * bar.L) if not bar.at_end else 0.0
         amp = -bar.EA * (q * Gc + np.sum(((1 + 1j * omega * b) * A - static) * m.slope_L)) + (q if bar.at_end else 0)
         coef = -bar.EA * (1 + b * lam) * m.slope_L
@@ -135,7 +136,8 @@ def state(bar: ContinuumBar, m: Modes, omega: float, rayleigh) -> State:
 
 
 class Segment:
-    """The closed-form motion from ``t0`` in one state: ``q_j = Re(A_j e^{i theta}) + alpha+ e^{l+ tau} + alpha- e^{l- tau}``."""
+    """The closed-form motion from ``t0`` in one state:
+    ``q_j = Re(A_j e^{i theta}) + alpha+ e^{l+ tau} + alpha- e^{l- tau}``."""
 
     __slots__ = ("st", "t0", "theta0", "al", "omega")
 

@@ -191,12 +191,10 @@ def _zero_dwell_seeds(prob, window, num: int) -> list[HybridOrbit]:
     ok = admissible(orbs)
     seeds, prev = [], None
     for o, a in zip(orbs, ok):
-        key = round(o.phi / np.pi * 1e6)
         if a and (prev is None or abs(prev.T - o.T) > 1.5 * (Ts[1] - Ts[0]) or abs(prev.phi - o.phi) > 0.5):
             seeds.append(o)
         if a:
             prev = o
-        del key
     return seeds
 
 
@@ -209,14 +207,12 @@ def _dwell_transition(prob, orb: HybridOrbit) -> list[HybridOrbit]:
             dw = list(orb.sig.dwell)
             dw[i] = False
             sig = Signature(orb.sig.m, tuple(dw), orb.sig.rebound)
-            var = [d[2 * j] for j in range(orb.sig.k) if dw[j]]
             X = [orb.z0]
             vals = []
             for j in range(orb.sig.k):
                 if dw[j]:
                     vals.append(d[2 * j])
                 vals.append(d[2 * j + 1] + (d[2 * j] if j == i else 0.0))
-            del var
             try:
                 out.append(polish(prob, sig, orb.T, np.concatenate(X + [vals, [orb.phi]])))
             except NotConverged:

@@ -23,8 +23,8 @@ from .chain import compiled, dwell_of, layout, model
 from .signature import Signature
 from .solve import ACCEPT, ROUNDOFF, HybridOrbit, NotConverged, orbit_at, polish
 
-__all__ = ["FollowSettings", "follow", "END_WINDOW", "END_DWELL", "END_FREE", "END_FAILED", "END_POINTS", "END_INADMISSIBLE",
-           "END_REPEATED", "plausible", "correct", "scale_of"]
+__all__ = ["FollowSettings", "follow", "END_WINDOW", "END_DWELL", "END_FREE", "END_FAILED", "END_POINTS",
+           "END_INADMISSIBLE", "END_REPEATED", "plausible", "correct", "scale_of"]
 
 END_WINDOW = "window"          #: left the period window
 END_DWELL = "dwell->0"         #: a stuck phase shrank to zero (the signature changes)

@@ -72,7 +72,7 @@ class OrbitSeries:
 
     def _modal(self, t):
         """Per time: state (1 or 2) and modal ``eta, etadot`` (padded lists)."""
-        sy, prob, orb = self.prob.system, self.prob, self.orb
+        prob, orb = self.prob, self.orb
         W = 2 * np.pi / orb.T
         t = np.asarray(t, float).ravel()
         j = np.clip(np.searchsorted(self._starts, t, side="right") - 1, 0, len(self._segs) - 1)

@@ -5,9 +5,9 @@ need them, so ``import plbar`` does not load them.
 """
 
 from .meshfile import SHIPPED, read_nodes, write_nodes, write_shipped
-from .sampling import CELL_FIELDS, FIELD_KEYS, POINT_FIELDS, ResponseData, motion_data, nodal_stress, response_data
+from .sampling import CELL_FIELDS, POINT_FIELDS, ResponseData, motion_data, nodal_stress, response_data
 from .vtk import FORMATS, ResponseFiles, load_pvd, write_data, write_xi_along_mesh
 
-__all__ = ["SHIPPED", "read_nodes", "write_nodes", "write_shipped", "FIELD_KEYS", "POINT_FIELDS", "CELL_FIELDS",
-           "ResponseData", "nodal_stress", "response_data", "motion_data",
-           "FORMATS", "ResponseFiles", "load_pvd", "write_data", "write_xi_along_mesh"]
+__all__ = ["SHIPPED", "read_nodes", "write_nodes", "write_shipped", "POINT_FIELDS", "CELL_FIELDS", "ResponseData",
+           "nodal_stress", "response_data", "motion_data", "FORMATS", "ResponseFiles", "load_pvd", "write_data",
+           "write_xi_along_mesh"]

@@ -66,7 +66,8 @@ def read_nodes(path) -> np.ndarray:
     e = np.concatenate(lines).astype(int)
     pts = np.asarray(m.points, float).reshape(len(m.points), -1)
     if e.min() < 0 or e.max() >= len(pts):
-        raise InputError(f"mesh file {name}: a line cell refers to vertex {int(e.max() if e.max() >= len(pts) else e.min())}"
+        bad = int(e.max() if e.max() >= len(pts) else e.min())
+        raise InputError(f"mesh file {name}: a line cell refers to vertex {bad}"
                          f", but the file has vertices 0..{len(pts) - 1}")
     used = np.unique(e)
     if not np.all(np.isfinite(pts[used])):

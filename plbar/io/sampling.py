@@ -16,8 +16,7 @@ import numpy as np
 from ..errors import InputError, PlbarError
 from ..util.reprs import build, rng
 
-__all__ = ["ResponseData", "response_data", "motion_data", "nodal_stress", "FIELD_KEYS", "XDMF_STEP_KEYS",
-           "POINT_FIELDS",
+__all__ = ["ResponseData", "response_data", "motion_data", "nodal_stress", "FIELD_KEYS", "POINT_FIELDS",
            "CELL_FIELDS"]
 
 FIELD_KEYS = ("time", "phase_time", "state", "contact_reaction", "gap", "kinetic_energy", "potential_energy")
@@ -25,8 +24,6 @@ FIELD_KEYS = ("time", "phase_time", "state", "contact_reaction", "gap", "kinetic
 POINT_FIELDS = ("displacement", "displacement_vec", "velocity", "velocity_vec", "kinetic_energy_density",
                 "potential_energy_density", "stress_nodal", "kinetic_energy_nodal")
 CELL_FIELDS = ("strain", "stress", "strain_energy")
-#: per-step scalars also written into the XDMF as point data constant over the mesh (it has no field data)
-XDMF_STEP_KEYS = FIELD_KEYS[1:]
 
 
 @dataclass(frozen=True)

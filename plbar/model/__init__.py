@@ -13,5 +13,5 @@ from .load import Load, node, point
 from .system import Problem, TwoStateSystem, check_restitution, problem, two_state, with_load_vector
 
 __all__ = ["ELEMENTS", "MASSES", "Assembled", "Bar", "assemble", "chain", "graded_nodes", "uniform_bar",
-           "uniform_nodes", "check_rayleigh", "rayleigh_from_ratio", "rayleigh_ratio", "Load", "node", "point", "Problem", "TwoStateSystem", "problem", "two_state",
-           "with_load_vector", "check_restitution"]
+           "uniform_nodes", "check_rayleigh", "rayleigh_from_ratio", "rayleigh_ratio", "Load", "node", "point",
+           "Problem", "TwoStateSystem", "problem", "two_state", "with_load_vector", "check_restitution"]

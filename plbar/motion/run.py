@@ -1,4 +1,5 @@
-"""Run many trajectories for many forcing periods in the compiled kernel and keep what the survey needs (:class:`Run`)."""
+"""Run many trajectories for many forcing periods in the compiled kernel and keep what the survey needs
+(:class:`Run`)."""
 
 from __future__ import annotations
 
@@ -233,8 +234,8 @@ def _drive(step, ti, rc, periods: int, progress):
                 break
             ti[:, D.NEED] = 0
             n = max(1, min(n_threads(), idx.size))
-            map_chunks(lambda a, b: [step(rc=rc, idx=np.ascontiguousarray(idx[i::n]), stop=stop) for i in range(a, b)],
-                       n, 1)          # (contiguous: one compiled layout)
+            map_chunks(lambda a, b, rc=rc, idx=idx, n=n, stop=stop:        # (contiguous: one compiled layout)
+                       [step(rc=rc, idx=np.ascontiguousarray(idx[i::n]), stop=stop) for i in range(a, b)], n, 1)
             if not ti[:, D.NEED].any():
                 break
             rc = D.grow_events(rc)

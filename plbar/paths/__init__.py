@@ -9,15 +9,13 @@
 * :mod:`.follow` -- scan-free following of zero curves inside a period window (mesh refinement).
 """
 
-from .branches import (EVENT_KINDS, FOLD_MU, FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING, Branch, Domain,
-                       Paths, default_domain)
+from .branches import FOLD_MU, FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING, Branch, Domain, Paths, default_domain
 from .continuation import Trace, trace, trace_many
-from .evaluate import Evaluated, evaluate, periodicity_error
+from .evaluate import Evaluated, evaluate
 from .follow import Band, correct_onto, follow, follow_one
-from .find import METHODS, find_paths
+from .find import find_paths
 from .scan import Scan, scan, scan_field
 
-__all__ = ["EVENT_KINDS", "FOLD_MU", "FOLD_T", "GRAZING", "NEIMARK_SACKER", "PERIOD_DOUBLING", "Branch", "Domain",
-           "Paths", "default_domain", "Trace", "trace", "trace_many", "Evaluated", "evaluate", "periodicity_error",
-           "Band", "correct_onto", "follow", "follow_one", "METHODS", "find_paths",
-           "Scan", "scan", "scan_field"]
+__all__ = ["FOLD_MU", "FOLD_T", "GRAZING", "NEIMARK_SACKER", "PERIOD_DOUBLING", "Branch", "Domain", "Paths",
+           "default_domain", "Trace", "trace", "trace_many", "Evaluated", "evaluate", "Band", "correct_onto", "follow",
+           "follow_one", "find_paths", "Scan", "scan", "scan_field"]

@@ -152,7 +152,8 @@ class _Tracer:
                 for j in (j0, j0 - 1, j0 + 1):
                     if not 0 <= j <= og.size - 2:
                         continue
-                    # axis 0 fixed T1 = t1[k]: vertical edge (k, j)-(k, j+1); axis 1 fixed T2: horizontal (j, k)-(j+1, k)
+                    # axis 0 fixed T1 = t1[k]: vertical edge (k, j)-(k, j+1);
+                    # axis 1 fixed T2: horizontal (j, k)-(j+1, k)
                     eid = H + k * (self.n2 - 1) + j if axis == 0 else j * self.n2 + k
                     if self.crossings is not None:
                         if eid in self.crossings:
@@ -204,7 +205,7 @@ class _Tracer:
                 h *= 0.5
                 continue
             closed = False
-            for frac, eid, pt in (yield from self.edge_crossings(u, q)):
+            for _frac, eid, pt in (yield from self.edge_crossings(u, q)):
                 if eid in seen:
                     closed = True
                     break

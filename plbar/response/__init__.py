@@ -12,7 +12,7 @@
 """
 
 from .admissible import Admissibility, check, check_both
-from .energy import Damping, damping, impact_loss, kinetic_energy_loss, psi_modes, psi_sums, work_quadrature
+from .energy import Damping, damping, impact_loss, kinetic_energy_loss, psi_sums, work_quadrature
 from .find import NoResponseError, Response, find_response
 from .flow import flow_matrix, forced_coeffs, free_flow, kernels, psi, segment
 from .onemap import Coefficients, PeriodMap, coefficients, period_map, phase, scan_function, states
@@ -22,8 +22,8 @@ from .power import segment_work, work_closed_form
 from .stability import Stability, monodromy, monodromy_modal, multipliers, periodic_state, stability
 
 __all__ = ["Admissibility", "check", "check_both", "Damping", "damping", "impact_loss", "kinetic_energy_loss",
-           "psi_sums", "psi_modes", "flow_matrix", "work_quadrature", "NoResponseError", "Response", "find_response",
-           "forced_coeffs", "free_flow", "kernels", "psi", "segment", "segment_work", "work_closed_form", "Coefficients",
-           "PeriodMap", "coefficients", "period_map", "phase", "scan_function",
-           "states", "scan_G", "Orbits", "orbits", "Stability", "monodromy", "monodromy_modal", "multipliers",
-           "periodic_state", "stability"]
+           "psi_sums", "flow_matrix", "work_quadrature", "NoResponseError", "Response", "find_response",
+           "forced_coeffs", "free_flow", "kernels", "psi", "segment", "segment_work", "work_closed_form",
+           "Coefficients", "PeriodMap", "coefficients", "period_map", "phase", "scan_function", "states", "scan_G",
+           "Orbits", "orbits", "Stability", "monodromy", "monodromy_modal", "multipliers", "periodic_state",
+           "stability"]

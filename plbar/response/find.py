@@ -33,7 +33,7 @@ from ..util.reprs import build
 from ..util.roots import bracketed
 from . import scalar as _scalar
 from .energy import damping
-from .onemap import Coefficients, period_map, phase, scan_function
+from .onemap import Coefficients, period_map, phase
 from .orbit import Orbits, orbits
 
 __all__ = ["Response", "find_response", "NoResponseError"]

@@ -189,7 +189,7 @@ def _import_violations(mods: dict[str, Path]) -> list[str]:
 
 def _size_violations(mods: dict[str, Path]) -> list[str]:
     bad = []
-    for m, p in mods.items():
+    for p in mods.values():
         n = len(p.read_text().splitlines())
         if n > MAX_MODULE:
             bad.append(f"{_where(p)}: {n} lines (module limit {MAX_MODULE})")

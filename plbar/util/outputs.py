@@ -17,10 +17,10 @@ patterns).  :func:`claim_folder` is the one rule, for every command:
   the old owner owned is removed first, and nothing else in the folder is touched.
 
 :func:`check_folder` applies the rule without writing results (call it before a long solve; ``Claim.take`` when
-the results are ready).  A claim also holds the folder's lock, ``.plbar-lock`` (written aside and hard-linked into place: atomic,
-holding the pid and host of its process), until the claim is released or the process exits: a second command
-on the same folder while the first runs, of another case or of the same one, is refused with one line (it would
-otherwise write over the first, or be lost).  Claims of one process on one folder share its lock.  A lock whose
+the results are ready).  A claim also holds the folder's lock, ``.plbar-lock`` (written aside and hard-linked into
+place: atomic, holding the pid and host of its process), until the claim is released or the process exits: a second
+command on the same folder while the first runs, of another case or of the same one, is refused with one line (it
+would otherwise write over the first, or be lost).  Claims of one process on one folder share its lock.  A lock whose
 process is dead (killed) is stale and taken over; one of another host is respected (delete the file by hand if that
 host's command is gone).  Used as a context manager, a claim is undone when the command fails or is interrupted
 before writing any of its files: no marker and no empty folder are left behind; a resumable study calls
@@ -50,7 +50,7 @@ from .files import write_json
 from .version import __version__
 
 __all__ = ["check_creatable", "MARKER", "LOCK", "Owner", "Claim", "fingerprint", "read_owner", "check_folder",
-           "claim_folder", "check_writable", "clear_owned", "require", "refuse_existing", "EXTRAS"]
+           "claim_folder", "check_writable", "clear_owned", "require", "EXTRAS"]
 
 #: the owner marker every command writes into its output folder
 MARKER = ".plbar-owner.json"
@@ -367,14 +367,6 @@ def clear_owned(folder, patterns) -> list[Path]:
             shutil.rmtree(p) if p.is_dir() and not p.is_symlink() else p.unlink()
             gone.append(p)
     return gone
-
-
-def refuse_existing(paths, what: str) -> None:
-    """Raise :class:`OutputExistsError` if any of ``paths`` exists (the caller's ``--overwrite`` lifts it)."""
-    there = [str(p) for p in paths if Path(p).exists()]
-    if there:
-        more = f" and {len(there) - 1} more" if len(there) > 1 else ""
-        raise OutputExistsError(f"{what}: {there[0]!r}{more} exists already; pass --overwrite to replace it")
 
 
 def require(module: str, what: str) -> None:

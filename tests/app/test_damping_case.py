@@ -22,7 +22,8 @@ def test_rayleigh_from_ratio():
     assert a / (2 * w) + b * w / 2 < 0.02
     assert plbar.rayleigh_from_ratio(0.0, 8, 12) == (0.0, 0.0)
     for bad, match in (((0.02, 8, 8), "two different periods"), ((-0.1, 8, 12), "ratio"), ((1.5, 8, 12), "ratio"),
-                       ((0.02, 0, 12), "period T_a"), ((0.02, 8, float("inf")), "period T_b"), (("x", 8, 12), "number")):
+                       ((0.02, 0, 12), "period T_a"), ((0.02, 8, float("inf")), "period T_b"),
+                       (("x", 8, 12), "number")):
         with pytest.raises(InputError, match=match):
             plbar.rayleigh_from_ratio(*bad)
 

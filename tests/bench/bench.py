@@ -83,7 +83,8 @@ def timeit(fn, repeat=5, warmup=1):
 
 
 def timeit_small(fn, inner=100, repeat=7):
-    """Median per-call wall time of a sub-millisecond ``fn`` (``inner`` calls per sample); returns (median, times, last)."""
+    """Median per-call wall time of a sub-millisecond ``fn`` (``inner`` calls per sample); returns (median, times,
+    last)."""
     box = []
 
     def many():
@@ -223,14 +224,16 @@ def task_one_response(quick: bool) -> dict:
         periodicity_defect_ivp_check=float(ind), ivp_T1_minus_plbar_T1=float(r[2] - o.T1[0]),
         xi=fr["xi"], xi_ivp_check=float(r[4] / (2 * r[5])))
     # plbar: evaluate at a known point (single) and batched
-    t_ev1, ts1, _ = timeit_small(lambda: plbar_eval(prob, [ref["T1"]], [ref["T2"]]), inner=50, repeat=7 if quick else 21)
+    t_ev1, ts1, _ = timeit_small(lambda: plbar_eval(prob, [ref["T1"]], [ref["T2"]]), inner=50,
+                                 repeat=7 if quick else 21)
     b_all = res.paths.points()
     reps = max(1, int(np.ceil(1000 / len(b_all))))
     T1b, T2b = np.tile(b_all.T1, reps), np.tile(b_all.T2, reps)
     t_evB, tsB, (orbB, e1B, e2B, dB) = timeit(lambda: plbar_eval(prob, T1b, T2b), repeat=3 if quick else 7)
     cpu_evB = CPU_LOG[-1]
     out["plbar_eval_single"] = dict(time=t_ev1, cpu_time=CPU_LOG[-2])
-    out["plbar_eval_batched"] = dict(time_per_response=t_evB / T1b.size, cpu_per_response=cpu_evB / T1b.size, batch=int(T1b.size), time_batch=t_evB,
+    out["plbar_eval_batched"] = dict(time_per_response=t_evB / T1b.size, cpu_per_response=cpu_evB / T1b.size,
+                                     batch=int(T1b.size), time_batch=t_evB,
                                      max_periodicity_defect=float(periodicity_defect(orbB).max()))
     # shooting from the reference state perturbed by ~1e-3
     rng = np.random.default_rng(1)
@@ -250,7 +253,8 @@ def task_one_response(quick: bool) -> dict:
     phi_pl = float(np.mod(o.phi[0], 2 * np.pi))
     dist = np.abs(np.r_[q.x0 - x_pl, q.v0 - v_pl]).max() / np.abs(np.r_[x_pl, v_pl]).max()
     out["shooting"] = dict(
-        time=t_sh, cpu_time=statistics.median(cpus), times=[z.time for z in shots], success=q.success, message=q.message, nfev=q.nfev,
+        time=t_sh, cpu_time=statistics.median(cpus), times=[z.time for z in shots], success=q.success,
+        message=q.message, nfev=q.nfev,
         periodicity_residual=q.residual, state_distance_to_plbar=float(dist),
         phi_distance=float(abs(np.angle(np.exp(1j * (q.phi - phi_pl))))), T1_distance=float(abs(q.T1 - o.T1[0])),
         xi=q.xi, xi_rel_diff=float(abs(q.xi - fr["xi"]) / fr["xi"]), dPL=q.dPL,
@@ -301,7 +305,8 @@ def task_default_case(quick: bool) -> dict:
         sc = scan3d(md, (0.0, T0I / 2), (0.0, T0II / 2), grid=grid, share_lu=share)
         el = time.perf_counter() - t0
         scans[tag] = (el, sc)
-        out[f"scan3d_{tag}"] = dict(time=el, cpu_time=time.process_time() - c0, timings=sc.timings, triplets=sc.n_triplets, candidates=sc.candidates,
+        out[f"scan3d_{tag}"] = dict(time=el, cpu_time=time.process_time() - c0, timings=sc.timings,
+                                    triplets=sc.n_triplets, candidates=sc.candidates,
                                     admissible_points=int(len(sc.points)))
     el, sc = scans["shared_lu"]
     h = (T0I / 2 / grid[0], T0II / 2 / grid[1], np.pi / (grid[2] - 1))
@@ -497,8 +502,8 @@ def main(argv=None):
                 continue
             d = run_fe(n, a.fe_timeout, modes)
             d.setdefault("modes", modes)
-            print(f"      N = {n}, modes = {modes or 'all'}: {d['status']} {fmt_t(d.get('solver_time', d.get('wall')))}",
-                  flush=True)
+            print(f"      N = {n}, modes = {modes or 'all'}: {d['status']} "
+                  f"{fmt_t(d.get('solver_time', d.get('wall')))}", flush=True)
             runs.append(d)
             if d["status"] == "timeout":
                 timed_out = n
@@ -560,8 +565,10 @@ def print_table(R):
     L.append(f"   CPU time (process_time, less sensitive to machine load): plbar find {fmt_t(f['cpu_time'])}, shooting "
              f"{fmt_t(sh['cpu_time'])}, ratio {o['ratio_cpu_shooting_over_plbar_find']:.0f}x")
     L.append(f"   interleaved rounds (100 finds, 1 shooting solve) x {len(il['rounds'])}: ratio median "
-             f"{il['median_ratio']:.0f}x (min {il['min_ratio']:.0f}x, max {il['max_ratio']:.0f}x) [target >= 1000x: {tgt}]")
-    L.append(f"   ratio shooting / plbar (medians of the blocks above): find {o['ratio_shooting_over_plbar_find']:.0f}x, "
+             f"{il['median_ratio']:.0f}x (min {il['min_ratio']:.0f}x, max {il['max_ratio']:.0f}x) "
+             f"[target >= 1000x: {tgt}]")
+    L.append("   ratio shooting / plbar (medians of the blocks above): "
+             f"find {o['ratio_shooting_over_plbar_find']:.0f}x, "
              f"find + admissibility {o['ratio_shooting_over_plbar_find_checked']:.0f}x, "
              f"eval single {o['ratio_shooting_over_plbar_eval_single']:.0f}x, "
              f"batched {o['ratio_shooting_over_plbar_batched']:.0f}x")
@@ -611,7 +618,8 @@ def print_table(R):
         md = "all" if not r.get("modes") else str(r["modes"])
         if r["status"] == "ok":
             st = r["stats"]
-            L.append(f"   {r['n']:5d} {md:>6s} {'ok':>8s} {fmt_t(r['solver_time']):>12s} {fmt_t(st.get('t_scan')):>10s} "
+            L.append(f"   {r['n']:5d} {md:>6s} {'ok':>8s} {fmt_t(r['solver_time']):>12s} "
+                     f"{fmt_t(st.get('t_scan')):>10s} "
                      f"{st.get('crossings', 0):10d} {r['branches']:9d} {r['points']:7d} {r.get('max_xi', 0):9.2e} "
                      f"{r['maxrss_mb']:7.0f}MB")
         else:
@@ -646,13 +654,15 @@ def print_table(R):
              "for the reference point; tracemalloc = the task's own peak)")
     for t, m in mem.items():
         if "maxrss_mb" in m:
-            L.append(f"   {t:22s} tracemalloc peak {m['tracemalloc_peak_mb']:8.1f} MB   maxrss {m['maxrss_mb']:7.0f} MB "
+            L.append(f"   {t:22s} tracemalloc peak {m['tracemalloc_peak_mb']:8.1f} MB   "
+                     f"maxrss {m['maxrss_mb']:7.0f} MB "
                      f"(before task {m['rss_before_mb']:.0f} MB)")
         else:
             L.append(f"   {t:22s} error")
     for r in fe["full"]["runs"] + fe["truncated"]["runs"]:
         if r["status"] == "ok":
-            L.append(f"   fe N={r['n']:<5d} modes {str(r.get('modes') or 'all'):>4s}  maxrss {r['maxrss_mb']:7.0f} MB (after import {r['rss_after_import_mb']:.0f} MB)")
+            L.append(f"   fe N={r['n']:<5d} modes {str(r.get('modes') or 'all'):>4s}  maxrss {r['maxrss_mb']:7.0f} MB "
+                     f"(after import {r['rss_after_import_mb']:.0f} MB)")
     L.append("=" * 104)
     print("\n".join(L))
     return L

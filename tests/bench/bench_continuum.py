@@ -97,9 +97,9 @@ def main(argv=None) -> None:
                  f"{'old s':>8} {'speed-up':>9}")
     last = None
     for P in a.periods:
-        tm, mc = _best(lambda: march(bar, T, P, n, 0.0, None, None), a.rounds)
-        ts, r = _best(lambda: pc.simulate(bar, T, periods=P, steps_per_L=n, record=min(P, 10)), a.rounds)
-        tf, _ = _best(lambda: run(prob, [T], periods=P, record=10), a.rounds)
+        tm, mc = _best(lambda P=P: march(bar, T, P, n, 0.0, None, None), a.rounds)
+        ts, r = _best(lambda P=P: pc.simulate(bar, T, periods=P, steps_per_L=n, record=min(P, 10)), a.rounds)
+        tf, _ = _best(lambda P=P: run(prob, [T], periods=P, record=10), a.rounds)
         if P in BASELINE_MARCH:
             cmp = f"{BASELINE_MARCH[P]:>8.1f} {BASELINE_MARCH[P] / tm:>8.0f}x (march)"
         elif P in BASELINE_SIMULATE:

@@ -133,9 +133,9 @@ def main(argv) -> None:
             ("run_paper", ["run", "--no-plot"], ["run", "--no-plot", "--signatures", "paper"]))
     command(NEW, runs[0][2])                     # the numba cache warm for the commands (a fresh install pays once)
     for what, a_old, a_new in runs:
-        o = None if (quick and what == "run_every") else best(lambda: command(old, a_old), 1 if what == "run_every"
-                                                                    else rounds)
-        n = best(lambda: command(NEW, a_new), rounds)
+        o = None if (quick and what == "run_every") else best(lambda a_old=a_old: command(old, a_old),
+                                                              1 if what == "run_every" else rounds)
+        n = best(lambda a_new=a_new: command(NEW, a_new), rounds)
         rows[what] = {"old_s": o, "new_s": n}
         print(what, json.dumps(rows[what]), flush=True)
     if not no_cold:

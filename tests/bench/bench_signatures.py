@@ -30,7 +30,9 @@ import plbar.app.run as R
 
 parts = {}
 def timed(mod, name, key):
-    f = getattr(mod, name)
+    f = getattr(mod, name, None)
+    if f is None:                     # not in this checkout
+        return
     def g(*a, **k):
         t = time.perf_counter()
         try:
@@ -39,7 +41,7 @@ def timed(mod, name, key):
             parts[key] = parts.get(key, 0.0) + time.perf_counter() - t
     setattr(mod, name, g)
 timed(AS, "find_hybrid", "hybrid")
-timed(AS, "simulated_seeds", "seeds")
+timed(AS, "_seeding", "seeds")
 timed(R, "find_paths", "paper")
 kw = {}
 if len(sys.argv) > 2:

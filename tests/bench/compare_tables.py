@@ -82,7 +82,8 @@ def compare(out: Path, name: str) -> dict:
     old, new, oldp, newp = (_load(out / f"{t}_{name}.json") for t in ("old", "new", "oldp", "newp"))
     ko, kn = old["kind"], new["kind"]
     rep = {"case": name, "T": int(ko.size), "same_kind": int(np.sum(ko == kn)),
-           "kinds_old": {k: int(np.sum(ko == k)) for k in set(ko)}, "kinds_new": {k: int(np.sum(kn == k)) for k in set(kn)}}
+           "kinds_old": {k: int(np.sum(ko == k)) for k in set(ko)},
+           "kinds_new": {k: int(np.sum(kn == k)) for k in set(kn)}}
     per = (ko == "periodic") & (kn == "periodic")
     rep["periodic"] = int(per.sum())
     rep["same_m_and_signature"] = bool(np.array_equal(old["m"][per], new["m"][per]) and

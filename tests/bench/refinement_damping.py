@@ -90,7 +90,8 @@ def continuum():
                 out["continuum"][key] = {
                     "loss_per_T": float(loss.mean()), "loss_se": batch_se(loss), "xi_eq": mr.xi_eq,
                     "xi_w": mr.xi_omega, "impacts_per_T": float(mr.impacts[1:].mean()),
-                    "energy_residual": mr.energy_residual, "transfer_over_work": float(mr.transfer.sum() / mr.work.sum()),
+                    "energy_residual": mr.energy_residual,
+                    "transfer_over_work": float(mr.transfer.sum() / mr.work.sum()),
                     "seconds": round(mr.elapsed, 1)}
                 _save("continuum", out["continuum"])
                 print(key, out["continuum"][key], flush=True)

@@ -162,14 +162,16 @@ def table():
              "Bar L = c = 1, end mass 0.5, unit force at s = 0.37, from rest. **First 20 periods**: the error of the "
              "first impact's time (the reference's first impact against the mesh's nearest; *precursors*: the mesh's "
              "impacts before it, among its first 10: P2's spurious fast waves lift the end off the wall before the "
-             "load's front arrives, with energies of 1e-35 to 1e-4) and the contact displacement's largest error over the first 2 periods and over all 20 (400 "
+             "load's front arrives, with energies of 1e-35 to 1e-4) and the contact displacement's largest error "
+             "over the first 2 periods and over all 20 (400 "
              "samples), against the continuum at n = 512 steps per L/c (its own error: the n = 256 / 512 difference "
              "below), with the observed orders between successive meshes. **Long run**: 1,000 periods, loss per "
              "period over the last 999 +- its standard error (20 batch means), z-score against the continuum "
              "(n = 64). **Damped** (1 % Rayleigh at T = 2 and 4): the continuum is a Kelvin-Voigt bar with mass "
              "damping, which has no characteristics; its reference is `plbar.continuum.simulate_modal`, exact modes "
              "of each contact state (their number K: the first 20 periods at K = 4096, its error the K = 2048 / 4096 "
-             "difference; the long run at K = 1024), xi_w = loss / (2 omega int v^T M v dt) over the last 999 periods.", ""]
+             "difference; the long run at K = 1024), xi_w = loss / (2 omega int v^T M v dt) over the last 999 "
+             "periods.", ""]
     fe_t = {T: next(r["first"]["t"] for r in fe if r["T"] == T and "t" in r["first"]) for T in TS}
     for T in TS:
         d = c[str(T)]
@@ -198,7 +200,8 @@ def table():
                 head = "1 % Rayleigh damping, against the damped continuum"
                 lines += [f"### {head}", "",
                           f"Damped continuum (modes per contact state; K = {K1} vs {K2} for the first 20 periods: "
-                          f"impact times {np.abs(np.subtract(fref['impact_times'][:k], f1['impact_times'][:k])).max():.1e}, "
+                          "impact times "
+                          f"{np.abs(np.subtract(fref['impact_times'][:k], f1['impact_times'][:k])).max():.1e}, "
                           f"u_c {np.abs(np.subtract(fref['u_c'], f1['u_c'])).max():.1e}, over the first 2 periods "
                           f"{np.abs(np.subtract(fref['u_c'], f1['u_c']))[np.array(fe_t[T]) <= 2 * T].max():.1e}; "
                           "after zero-loss touches just after an opening, which the truncation makes or not, the "
@@ -214,7 +217,8 @@ def table():
                 L0, S0, fref = lc["loss_per_T"], lc["loss_se"], ref
                 lines += [f"### {head}", ""]
             lines += ["| mesh | N | motion | precursors | 1st impact err | order | u_c err, 2 periods | order | "
-                      "u_c err, 20 periods | order | loss +- se | z | impacts / T |" + (" xi_eq | xi_w |" if xi else ""),
+                      "u_c err, 20 periods | order | loss +- se | z | impacts / T |"
+                      + (" xi_eq | xi_w |" if xi else ""),
                       "|---|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|---|" if xi else "")]
             for el, mass in (("P1", "lumped"), ("P2", "consistent"), ("P2", "redistributed")):
                 sel = sorted((r for r in rows if r["element"] == el and r["mass"] == mass), key=lambda r: r["N"])
@@ -233,7 +237,8 @@ def table():
                     lines.append(f"| {el} {mass} | {r['N']} | {r['kind']} | {pre if pre >= 0 else '-'} | {f(e[0])} | "
                                  f"{f(o[0][j], '.2f')} | {f(e[1])} | {f(o[1][j], '.2f')} | {f(e[2])} | "
                                  f"{f(o[2][j], '.2f')} | "
-                                 + (f"{r['loss_per_T']:.4f} +- {r['loss_se']:.4f}" if ok else "-") + f" | {f(z, '+.1f')} | "
+                                 + (f"{r['loss_per_T']:.4f} +- {r['loss_se']:.4f}" if ok else "-")
+                                 + f" | {f(z, '+.1f')} | "
                                  + f"{r['impacts_per_T']:.2f} |"
                                  + (f" {r['xi_eq']:.5f} | {r['xi_w']:.5f} |" if xi else ""))
             lines.append("")

@@ -59,7 +59,8 @@ def main(argv):
         case, lo, hi = plbar.Case(signatures="default"), 6.0, 14.0
     t0 = time.perf_counter()
     res = plbar.solve(case)
-    print(f"solve ({case.signatures}): {time.perf_counter() - t0:.1f} s, {len(res.hybrid)} branches of other signatures")
+    print(f"solve ({case.signatures}): {time.perf_counter() - t0:.1f} s, "
+          f"{len(res.hybrid)} branches of other signatures")
     seg.SAMPLES_PER_RAD = PER_RAD
     rows, grazing = [], []
     for b in res.hybrid:

@@ -9,8 +9,6 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-import plbar
-
 TOL = dict(method="DOP853", rtol=1e-13, atol=1e-15)
 
 

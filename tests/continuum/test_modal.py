@@ -35,7 +35,7 @@ def _quad(f, intervals=500):
 
 def test_modes_are_orthonormal_with_the_end_mass_and_meet_their_ends():
     for m in (closed_modes(BAR, 12), open_modes(BAR, 12)):
-        G = _quad(lambda x: m.shapes(x)[:, :, None] * m.shapes(x)[:, None, :]) * BAR.rhoA
+        G = _quad(lambda x, m=m: m.shapes(x)[:, :, None] * m.shapes(x)[:, None, :]) * BAR.rhoA
         if not m.closed:
             G += BAR.end_mass * np.outer(m.at_L, m.at_L)
             # the free end mass: EA phi'(L) = m_e omega^2 phi(L)
@@ -125,7 +125,7 @@ def runs():
 
 
 def test_energy_balance_closes_and_truncation_shrinks(runs):
-    for K, r in runs.items():
+    for r in runs.values():
         assert abs(r.energy_residual) < 1e-12
         assert r.loss.sum() > 0.1 and r.dissipation.sum() > 0
     # the truncation's energy change at the switches halves with each doubling of K

@@ -85,7 +85,8 @@ def test_jacobian_is_exact(prob, sig_text, hybrid, default_result):
     for j in range(X.size):
         e = np.zeros(X.size)
         e[j] = h
-        J[:, j] = (evaluate(prob, o.sig, o.T, X + e, jac=False).F - evaluate(prob, o.sig, o.T, X - e, jac=False).F) / (2 * h)
+        J[:, j] = (evaluate(prob, o.sig, o.T, X + e, jac=False).F
+                   - evaluate(prob, o.sig, o.T, X - e, jac=False).F) / (2 * h)
     assert np.max(np.abs(J - ch.J)) <= 1e-7 * np.abs(ch.J).max()
 
 
@@ -232,7 +233,6 @@ def test_damped_responses_of_every_signature(monkeypatch):
     work = impact losses + viscous loss."""
     import plbar.check.segments as seg
     from plbar.model import rayleigh_from_ratio
-    from plbar.response import find_response
 
     monkeypatch.setattr(seg, "SAMPLES_PER_RAD", 50.0)
     case = plbar.Case(rayleigh=rayleigh_from_ratio(0.02, 6.0, 14.0))
@@ -270,7 +270,6 @@ def test_damped_responses_of_every_signature(monkeypatch):
     fd = (evaluate(prob, hy[0].sig, hy[0].orbits[0].T, Xp + e, jac=False).F -
           evaluate(prob, hy[0].sig, hy[0].orbits[0].T, Xp - e, jac=False).F) / 2e-6
     assert np.max(np.abs(fd - ch.J[:, 0])) <= 1e-7 * np.abs(ch.J).max()
-    del find_response
 
 
 def test_progress_once_per_curve_followed(hybrid):

@@ -24,8 +24,8 @@ def test_the_motion_is_the_runs(folder):
     """Period boundaries: the exported u, v are the run's strobes (1e-13); the bar's energy is the run's there
     (1e-12, another quadrature of the same line), the end mass's velocity is the line's ``v(L)``, which is the mass's
     closed-form velocity to the line's order (the transient is stored linearly per piece, so the line has
-    small jumps at the joins of its pieces: within 10 % of the largest end velocity at n = 32); the impact losses over the window are the
-    row's loss."""
+    small jumps at the joins of its pieces: within 10 % of the largest end velocity at n = 32); the impact losses
+    over the window are the row's loss."""
     sm = survey_motion(folder, T, RECORD)
     d = motion_data(sm.series, 8)
     cr = pc.simulate(CASE.continuum(), T, periods=PERIODS, steps_per_L=32, record=RECORD)

@@ -3,7 +3,6 @@
 import numpy as np
 import pytest
 
-import plbar
 from plbar import io as pio
 from plbar.io.sampling import nodal_stress
 

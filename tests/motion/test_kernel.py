@@ -41,7 +41,8 @@ def test_flow_psi_and_work_equal_the_numpy_closed_forms(zeta):
     f, e0, v0 = RNG.normal(size=5), RNG.normal(size=5), RNG.normal(size=5)
     damping = None if zeta is None else np.zeros(1)
     z = 0.0 if zeta is None else zeta
-    for W, ts, u, phi in ((0.7, 1.3, 2.9, 0.4), (1.0, 0.0, 5.0, 2.0), (2.5 + 1e-9, 0.2, 1e-7, 5.0), (0.45, 3.0, 0.0, 1.0)):
+    for W, ts, u, phi in ((0.7, 1.3, 2.9, 0.4), (1.0, 0.0, 5.0, 2.0), (2.5 + 1e-9, 0.2, 1e-7, 5.0),
+                          (0.45, 3.0, 0.0, 1.0)):
         c0, s0, cp, sp = cos(W * ts), sin(W * ts), cos(phi), sin(phi)
         cW, sW, sWu = closed.half(W, u)
         ref_e, ref_v = segment(w, f, W, ts, u, e0, v0, cp, sp, zeta=zeta)
@@ -50,7 +51,8 @@ def test_flow_psi_and_work_equal_the_numpy_closed_forms(zeta):
         for j in range(5):
             e, v = closed.mode_flow(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, cW, sW, sWu, damping)
             size = abs(e0[j]) + abs(v0[j]) / w[j] + abs(f[j]) * (1 + u * u)
-            assert e == pytest.approx(ref_e[j], abs=1e-13 * size) and v == pytest.approx(ref_v[j], abs=1e-13 * size * w[j])
+            assert e == pytest.approx(ref_e[j], abs=1e-13 * size)
+            assert v == pytest.approx(ref_v[j], abs=1e-13 * size * w[j])
             cb, sb = cos(0.5 * W * u), sin(0.5 * W * u)
             p = integrals.psi(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, damping, cb, sb)
             wk = integrals.work(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, damping, cb, sb)
@@ -133,8 +135,8 @@ def test_split_step_never_steps_over_a_crossing(seed):
         eta, vel = -eta, -vel
     P, fast = np.zeros((2, 2, pad.m)), np.zeros(2, np.int64)
     particular(md, None, W, P, fast)
-    step = split_step(md, s, eta, vel, W, cos(W * t - phi), sin(W * t - phi), cap, 16, np.zeros(44), np.zeros(44), np.zeros(90),
-                      np.zeros(pad.m), P, fast, None)
+    step = split_step(md, s, eta, vel, W, cos(W * t - phi), sin(W * t - phi), cap, 16, np.zeros(44), np.zeros(44),
+                      np.zeros(90), np.zeros(pad.m), P, fast, None)
     if step <= 0:
         return
     u = np.linspace(0.0, step, 20001)

@@ -133,7 +133,7 @@ def _chatter_brute_force(K, q, W, phi, e, x0, v0, T):
     t, x, v = 0.0, x0.copy(), v0.copy()
     rebounds = 0
     while True:
-        xc = lambda s: II(t, x, v, s)[0][-1]
+        xc = lambda s, t=t, x=x, v=v: II(t, x, v, s)[0][-1]
         a = (-K @ x + q * np.cos(W * t - phi))[-1]
         j = (-K @ v - q * W * np.sin(W * t - phi))[-1]
         vc = v[-1]

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import plbar
-from plbar.check import period_map, simulate
+from plbar.check import simulate
 from plbar.response import check, monodromy, monodromy_modal, multipliers, orbits, periodic_state, stability
 from plbar.response import work_quadrature
 

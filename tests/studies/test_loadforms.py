@@ -54,7 +54,8 @@ def _compare_paths(prob, ref, bf):
     margin at round-off, where the accept/reject decision is round-off): those are counted.
     """
     cat = np.concatenate
-    T1b, T2b, phb = cat([b.T1 for b in bf.branches]), cat([b.T2 for b in bf.branches]), cat([b.phi for b in bf.branches])
+    T1b, T2b = cat([b.T1 for b in bf.branches]), cat([b.T2 for b in bf.branches])
+    phb = cat([b.phi for b in bf.branches])
     h = 1e-6
     g = Gfield(prob, T1b, T2b)
     gx = (Gfield(prob, T1b + h, T2b) - Gfield(prob, T1b - h, T2b)) / (2 * h)
@@ -65,7 +66,8 @@ def _compare_paths(prob, ref, bf):
     Bp = np.c_[T1b, T2b]
     d = np.sqrt(((A[:, None, :] - Bp[None, :, :]) ** 2).sum(-1))
     da, db = d.min(axis=1), d.min(axis=0)
-    margin = lambda br: np.minimum(np.abs(cat([b.adm.min_reaction for b in br])), np.abs(cat([b.adm.max_gap for b in br])))
+    margin = lambda br: np.minimum(np.abs(cat([b.adm.min_reaction for b in br])),
+                                   np.abs(cat([b.adm.max_gap for b in br])))
     lone_a, lone_b = da > 1e-7, db > 1e-7
     assert np.all(margin(ref.branches)[lone_a] < 1e-9) and np.all(margin(bf.branches)[lone_b] < 1e-9)
     point = max(da[~lone_a].max(initial=0.0), db[~lone_b].max(initial=0.0))
@@ -142,7 +144,7 @@ def test_phase_is_the_admissible_one_not_its_mirror(solved):
 def test_G_is_the_gram_matrix_of_unit_load_velocities(solved):
     """G = sum over states of int etadot_k^T Omega etadot_l (n independent periodic solves, quadrature)."""
     _, _, paths, lf = solved
-    prob, s = paths.prob, paths.prob.system
+    s = paths.prob.system
     idx = np.linspace(0, len(lf) - 1, 12).astype(int)
     sub = lf.take(idx)
     x, wt = gauss(400)

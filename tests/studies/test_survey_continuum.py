@@ -1,4 +1,5 @@
-"""The survey of the continuum bar (``--model continuum``) and the continuum as the N = infinity row of ``survey -N``."""
+"""The survey of the continuum bar (``--model continuum``) and the continuum as the N = infinity row of
+``survey -N``."""
 
 import json
 import subprocess

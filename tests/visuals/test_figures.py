@@ -25,7 +25,7 @@ SLOW = {"fig_3_time_histories", "fig_5_6_damping", "fig_7_load_responses", "fig_
 @pytest.mark.parametrize("script", [pytest.param(s, marks=pytest.mark.slow) if s.stem in SLOW else s
                                     for s in SCRIPTS], ids=lambda p: p.stem)
 def test_figure_script(script, tmp_path):
-    mpl = pytest.importorskip("matplotlib")
+    pytest.importorskip("matplotlib")
     env = {**os.environ, "MPLBACKEND": "agg", "PLBAR_GRID": "60,60", "PLBAR_PER_ELEMENT": "2"}
     r = subprocess.run([sys.executable, str(script), str(tmp_path)], env=env, capture_output=True, text=True,
                        timeout=300)
@@ -42,4 +42,3 @@ def test_figure_script(script, tmp_path):
         assert nonwhite > 0.02, f"{png.name} is (nearly) blank"
         assert img.std() > 0.05 and colours > 20, f"{png.name} has no content"
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
-    del mpl

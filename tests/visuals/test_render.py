@@ -3,7 +3,6 @@
 import numpy as np
 import pytest
 
-import plbar
 from plbar.app import export
 from plbar.errors import InputError
 

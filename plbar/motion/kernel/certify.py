@@ -81,10 +81,12 @@ def taylor(c, rq, rs, w, f, eta, vel, W, ca, sa, s, K, d, scale, zeta, cv):
     """Scaled derivatives ``g^(k) / Om^k`` (``k = 0 .. K``) into ``d`` and their sizes into ``scale``.
 
     The margin is ``c . eta + cv . eta' + rq cos(W t - phi) + rs sin(W t - phi)`` (``rs = 0`` but for the low
-    part of a split model, :mod:`.split`); ``ca, sa`` are ``cos, sin(W t - phi)`` at the point.  Returns ``(rem, Om)``: the bound of ``|g^(K+1)| / Om^(K+1)`` over a
+    part of a split model, :mod:`.split`); ``ca, sa`` are ``cos, sin(W t - phi)`` at the point.  Returns
+    ``(rem, Om)``: the bound of ``|g^(K+1)| / Om^(K+1)`` over a
     step of length ``s``, and ``Om``.  ``scale[k]`` is the size of the terms that make ``g^(k)`` (through the
     recursion, so that a derivative that cancels to round-off is seen as such; the load's terms by their
-    amplitude: at a zero of ``cos(W t - phi)`` its value is the round-off of the phase, not a size).  ``zeta, cv``: the damping
+    amplitude: at a zero of ``cos(W t - phi)`` its value is the round-off of the phase, not a size).  ``zeta, cv``: the
+    damping
     ratios and the margin's weights on the velocities, or None (undamped; that code is then not compiled).
     """
     m = w.size

@@ -152,7 +152,8 @@ def _kernel_series(p, y, z, u):
 
 @jit
 def damped_kernels(w, W, u, zeta):
-    """Damped Duhamel kernels ``C, S, C'`` and the free flow ``p11, ss, p22`` (:func:`plbar.response.damped.kernels`)."""
+    """Damped Duhamel kernels ``C, S, C'`` and the free flow ``p11, ss, p22``
+    (:func:`plbar.response.damped.kernels`)."""
     ss, p11, p22, y, z = damped_free(w, zeta, u)
     p = complex(0.0, W)
     if max(max(W, abs(y)), abs(z)) * u < 0.5:

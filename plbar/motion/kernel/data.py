@@ -3,7 +3,8 @@
 Small tuples of plain arrays keep the compiled code small (and its first compile short);
 the column names below are the only way the kernel and :mod:`plbar.motion.run` index them.
 
-* model ``md = (modal, margin, maps, vc_row, S, truncated, e)`` (``e`` the coefficient of restitution): ``modal[W | F | C, state]`` the
+* model ``md = (modal, margin, maps, vc_row, S, truncated, e)`` (``e`` the coefficient of restitution):
+  ``modal[W | F | C, state]`` the
   frequencies, modal loads and margin weights, ``margin[RQ | SIZE, state]``, ``maps[OPEN | IMPACT_POS |
   IMPACT_VEL | OPEN_VEL]`` the switch maps (:class:`plbar.motion.Padded`);
 * damping: None (undamped: no damped code is compiled) or ``damping[state, ZETA | CV]``;

@@ -18,7 +18,7 @@ from math import ceil, cos, inf, isfinite, sin
 import numpy as np
 
 from ...response.flow import CANCEL_LIMIT, gauss
-from .closed import DIRECT, half, mode_flow, phi1, roots, sinc
+from .closed import DIRECT, half, mode_flow, phi1, roots
 from .jit import jit
 
 __all__ = ["GL_W", "GL_X", "psi", "work"]
@@ -131,7 +131,8 @@ def _F(m, u):
 
 @jit
 def _psi_damped(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi):
-    """Closed-form ``Psi`` of a damped mode and its cancellation factor (:func:`plbar.response.damped.psi_closed_form`)."""
+    """Closed-form ``Psi`` of a damped mode and its cancellation factor
+    (:func:`plbar.response.damped.psi_closed_form`)."""
     y, z, A1, A2, B, _, sing = _terms(w, zeta, f, W, c0, s0, eta0, v0, cphi, sphi)
     if sing:
         return 0.0, inf

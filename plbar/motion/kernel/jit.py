@@ -28,7 +28,8 @@ STAMP = policy.stamp(SOURCES)   #: 60 bits of the hash of :data:`SOURCES`
 
 
 def cached(factory):
-    """Compile ``factory(STAMP)`` with the on-disk cache keyed by every kernel source (:func:`plbar.util.jit.cached`)."""
+    """Compile ``factory(STAMP)`` with the on-disk cache keyed by every kernel source
+    (:func:`plbar.util.jit.cached`)."""
     return policy.cached(factory, STAMP)
 
 

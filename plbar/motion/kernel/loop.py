@@ -28,7 +28,7 @@ from .closed import half, matvec, mode_flow
 from .jit import cached, inline, jit
 from .locate import land, locate
 from .pieces import amplitude, piece_accounts
-from .split import SPLIT_MIN, particular, split_step
+from .split import particular, split_step
 
 __all__ = [
     "CAP",
@@ -51,9 +51,11 @@ __all__ = [
 TINY = 1e-12        #: step (in periods) where no derivative decides, and the snap of a step onto a period boundary
 MAX_ZERO = 50       #: consecutive zero-length segments before a trajectory is stopped as chattering
 MAX_STALL = 5000    #: rounds without progress (below PROGRESS) since an event or a period boundary: stalled
-PROGRESS = 1e-6     #: a round that steps on by this fraction of a period or more is progress, however many it takes
-                    #: (stiff Rayleigh modes make the Taylor model's steps short: P2, N = 256, 2 % needs ~6,000 a period)
-CAP = 0.25          #: longest step, in forcing periods (the remainder bound is taken over it; it may cross a period end)
+#: a round that steps on by this fraction of a period or more is progress, however many it takes
+#: (stiff Rayleigh modes make the Taylor model's steps short: P2, N = 256, 2 % needs ~6,000 a period)
+PROGRESS = 1e-6
+#: longest step, in forcing periods (the remainder bound is taken over it; it may cross a period end)
+CAP = 0.25
 ORDER = 8           #: order of the Taylor model of the margin
 LARGE_ORDER = 16    #: order of the Taylor model of a system of SPLIT_MIN modes or more (longer steps, for the cost)
 SPLIT_ORDER = 16    #: order of the split model's (its low modes are slow: a higher order certifies longer steps)
@@ -86,11 +88,11 @@ def _model(md, st, eta, vel, W, T, t, ca, sa, K, d, scale, work, damping):
     modal, margin = md[0], md[1]
     cap = CAP * T
     if damping is None:
-        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], eta, vel, W, ca, sa, cap,
-                         K, d, scale, None, None)
+        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], eta, vel, W, ca, sa,
+                         cap, K, d, scale, None, None)
     else:
-        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], eta, vel, W, ca, sa, cap,
-                         K, d, scale, damping[st, D.ZETA], damping[st, D.CV])
+        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], eta, vel, W, ca, sa,
+                         cap, K, d, scale, damping[st, D.ZETA], damping[st, D.CV])
     event, v, found = decide_step(d, rem, scale, K, Om * cap, margin[D.SIZE, st], work)
     landing = not event and 0 < v < Om * cap and d[1] < 0 and lands(d, K, rem, v, scale, margin[D.SIZE, st])
     hi, guess = 0.0, 0.0
@@ -101,8 +103,9 @@ def _model(md, st, eta, vel, W, T, t, ca, sa, K, d, scale, work, damping):
 
 @jit
 def _certify(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, amp, P, fast, large, damping):
-    """``(event, step, lands, hi, guess)`` (:func:`_model`): for a ``large`` system (not None: :data:`SPLIT_MIN` modes or more) from the split
-    model (:mod:`.split`) where it certifies a step, else from the model of order :data:`LARGE_ORDER`; for a small
+    """``(event, step, lands, hi, guess)`` (:func:`_model`): for a ``large`` system (not None: :data:`SPLIT_MIN`
+    modes or more) from the split model (:mod:`.split`) where it certifies a step, else from the model of order
+    :data:`LARGE_ORDER`; for a small
     one from the model of order :data:`ORDER` (constants here: their loops unroll; a small system compiles
     neither the split model nor the large order); where that decides nothing (a bar at rest loaded far from its
     contact), from the deep model of order ``deep``."""
@@ -111,7 +114,8 @@ def _certify(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, amp, P, fa
                           amp, P, fast, damping)
         if step > 0:
             return False, step, False, 0.0, 0.0
-        event, step, landing, hi, guess = _model(md, st, eta, vel, W, T, t, ca, sa, LARGE_ORDER, d, scale, work, damping)
+        event, step, landing, hi, guess = _model(md, st, eta, vel, W, T, t, ca, sa, LARGE_ORDER, d, scale, work,
+                                                 damping)
     else:
         event, step, landing, hi, guess = _model(md, st, eta, vel, W, T, t, ca, sa, ORDER, d, scale, work, damping)
     if step < 0:
@@ -285,8 +289,9 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, P,
         flow_at(md, st, W, c0, s0, p, cW, sW, sWu, z0[0], z0[1], cphi, sphi, e, v, damping)
         cth, sth = c0 * cphi + s0 * sphi, s0 * cphi - c0 * sphi      # cos, sin(W tp - phi); then at tp + p:
         cWp = 1.0 - 2.0 * sW * sW
-        event, step, landing, hi, guess = _certify(md, st, e, v, W, T, tp + p, cth * cWp - sth * sWu, sth * cWp + cth * sWu,
-                                        deep, d, scale, work, scratch[4], P, fast, large, damping)
+        event, step, landing, hi, guess = _certify(md, st, e, v, W, T, tp + p, cth * cWp - sth * sWu,
+                                                   sth * cWp + cth * sWu, deep, d, scale, work, scratch[4], P, fast,
+                                                   large, damping)
         if event and s[D.PERIOD] >= first and s[D.EVENTS] >= room:
             s[D.NEED] = 1                      # no room to record it: the caller grows the record and goes on
             return
@@ -324,8 +329,8 @@ def _advance(stamp):
 
         Each trajectory runs on copies of its state (no two threads write near each other) written back at the
         end.  All work space is allocated here: the functions below are compiled without reference counting
-        (:data:`.jit.jit`).  ``acc`` None: no accounts (a replay of the switches); ``damping`` None: undamped; ``large`` None: a
-        system of fewer than :data:`SPLIT_MIN` modes.  The code that is not used is then not compiled.
+        (:data:`.jit.jit`).  ``acc`` None: no accounts (a replay of the switches); ``damping`` None: undamped;
+        ``large`` None: a system of fewer than :data:`SPLIT_MIN` modes.  The code that is not used is then not compiled.
         """
         if stamp < 0:                      # never: the stamp keys the on-disk cache (:func:`.jit.cached`)
             return

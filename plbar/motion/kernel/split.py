@@ -11,7 +11,8 @@ at every later time
 and the margin is bounded below by that of the low modes, with the fast modes' steady part added
 to the load term, less ``E_J``:
 
-``g(t + u) >= g_J(t + u) - E_J``,  ``g_J = sum_{j<J} (c_j eta_j + cv_j eta_j') + R_c cos(W t - phi) + R_s sin(W t - phi)``.
+``g(t + u) >= g_J(t + u) - E_J``,
+``g_J = sum_{j<J} (c_j eta_j + cv_j eta_j') + R_c cos(W t - phi) + R_s sin(W t - phi)``.
 
 The Taylor model of ``g_J`` (:func:`plbar.motion.kernel.certify.taylor`) is scaled by the fastest
 *low* mode instead of the fastest mode.  Where the fast modes carry little (a bar's end moves

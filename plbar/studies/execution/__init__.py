@@ -9,8 +9,8 @@
 
 from .executor import KINDS, SerialExecutor, get_executor
 from .reports import report
-from .study import Study, StudyError, call_task, load_results, run_study, task_key
-from .tasks import branch_arrays, case_from_task, solve_task
+from .study import Study, StudyError, load_results, run_study, task_key
+from .tasks import branch_arrays, solve_task
 
-__all__ = ["KINDS", "SerialExecutor", "get_executor", "Study", "StudyError", "call_task", "load_results",
-           "run_study", "task_key", "branch_arrays", "case_from_task", "solve_task", "report"]
+__all__ = ["KINDS", "SerialExecutor", "get_executor", "Study", "StudyError", "load_results", "run_study", "task_key",
+           "branch_arrays", "solve_task", "report"]

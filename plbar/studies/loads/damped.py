@@ -260,7 +260,8 @@ class DampedLoadForms(PointLoads):
 
     # -- the worst load ----------------------------------------------------------------------------
     def _theta_min(self, theta):
-        """Smallest ``c^T Gamma c`` over real ``s`` with ``p = e^{i theta} s``, ``h(p) = h_ref``; (value, s) per point."""
+        """Smallest ``c^T Gamma c`` over real ``s`` with ``p = e^{i theta} s``, ``h(p) = h_ref``; (value, s) per
+        point."""
         P, n = len(self), self.n
         e = np.exp(1j * np.asarray(theta, float))[:, None, None]
         Hr = e * self.H[:, :-1, :]                                   # (P, n-1, n): U_r = Hr s - H_r q_ref

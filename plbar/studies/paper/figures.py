@@ -111,7 +111,8 @@ def make_all(out, grid=(200, 200), which=None, progress: bool = False) -> list[P
         draw = {"fig2": lambda: fig2_paths(out, res), "fig3": lambda: fig3_time_histories(out, res),
                 "fig4": lambda: fig4_energies(out, res),
                 "fig56": lambda: fig5_loss_damping(out, res) + fig6_damping_paths(out, res),
-                "fig7": lambda: fig7_load_responses(out, cases=cases), "fig8": lambda: fig8_xi_per_load(out, cases=cases),
+                "fig7": lambda: fig7_load_responses(out, cases=cases),
+                "fig8": lambda: fig8_xi_per_load(out, cases=cases),
                 "fig9": lambda: fig9_xi_position(out, grid)}
         for w in which:
             files += draw[w]()

@@ -11,22 +11,18 @@
 * :mod:`.truncation` -- modal truncation against a finer model.
 """
 
-from .anchors import DEFAULT_WINDOW, Anchor, family_label, family_title, parse_anchor, slug, window_band
+from .anchors import Anchor, parse_anchor, window_band
 from .convergence import (AT_LIMIT, MIN_MESHES, NO_CHANGE, NON_FINITE, NOT_CONVERGING, OSCILLATORY, Convergence,
                           caution, converge, known_limit, pair_rates, richardson, triple_rates)
 from .decay import DecayFit, decay_fit
-from .study import (PLOTTED, REFINE_OWNED, RefineStudy, case_at, parse_series, refine_fingerprint, refine_study,
-                    refine_task, run_refine, series_name, track_family)
-from .tables import REFINE_HEADER, continuum_periods, convergence_of, family_rows, refine_rows, write_refine
-from .track import PICKS, TrackSettings, admissible_runs_of, carry_level, level_points, mark_merges, seed_levels
+from .study import PLOTTED, REFINE_OWNED, RefineStudy, parse_series, refine_study, run_refine, track_family
+from .tables import continuum_periods
+from .track import TrackSettings, carry_level, mark_merges, seed_levels
 from .track_check import compare_with_scan, on_curves
 from .truncation import truncation_check
 
-__all__ = ["run_refine", "RefineStudy", "refine_study", "refine_task", "track_family", "parse_series",
-           "series_name", "case_at", "refine_fingerprint", "REFINE_OWNED", "PLOTTED", "Anchor", "parse_anchor",
-           "window_band", "DEFAULT_WINDOW", "slug", "family_label", "family_title", "TrackSettings", "PICKS",
-           "seed_levels", "carry_level", "level_points", "admissible_runs_of", "mark_merges", "compare_with_scan",
-           "on_curves", "REFINE_HEADER", "family_rows", "refine_rows", "convergence_of", "continuum_periods",
-           "write_refine", "AT_LIMIT", "NON_FINITE", "NOT_CONVERGING", "NO_CHANGE", "OSCILLATORY", "Convergence",
-           "converge", "known_limit", "pair_rates", "richardson", "triple_rates", "caution", "MIN_MESHES",
-           "DecayFit", "decay_fit", "truncation_check"]
+__all__ = ["run_refine", "RefineStudy", "refine_study", "track_family", "parse_series", "REFINE_OWNED", "PLOTTED",
+           "Anchor", "parse_anchor", "window_band", "TrackSettings", "seed_levels", "carry_level", "mark_merges",
+           "compare_with_scan", "on_curves", "continuum_periods", "AT_LIMIT", "NON_FINITE", "NOT_CONVERGING",
+           "NO_CHANGE", "OSCILLATORY", "Convergence", "converge", "known_limit", "pair_rates", "richardson",
+           "triple_rates", "caution", "MIN_MESHES", "DecayFit", "decay_fit", "truncation_check"]

@@ -14,18 +14,15 @@
 """
 
 from .points import COLUMNS, survey_chunk
-from .loads import LOADS_COLUMNS, SurveyLoads, load_positions, run_survey_loads, survey_loads
+from .loads import SurveyLoads, load_positions, run_survey_loads, survey_loads
 from .motion import SurveyMotion, is_survey, survey_motion
-from .refine import REFINE_COLUMNS, SurveyRefinement, run_survey_refine
-from .restitution import (QUANTILES, RESTITUTION_COLUMNS, RESTITUTIONS, SurveyRestitution, check_restitutions,
-                          survey_restitution, write_restitution)
-from .study import (SURVEY_OWNED, Survey, default_periods, default_record, run_survey, survey, survey_study,
-                    write_survey)
-from .tasks import MODES, case_fields, case_of, make_tasks, survey_task
+from .refine import SurveyRefinement, run_survey_refine
+from .restitution import (RESTITUTION_COLUMNS, SurveyRestitution, check_restitutions, survey_restitution,
+                          write_restitution)
+from .study import Survey, default_periods, default_record, run_survey, survey, survey_study
+from .tasks import MODES, case_of
 
-__all__ = ["COLUMNS", "survey_chunk", "SURVEY_OWNED", "Survey", "default_periods", "default_record", "run_survey",
-           "survey", "survey_study", "write_survey", "REFINE_COLUMNS", "SurveyRefinement", "run_survey_refine", "MODES",
-           "case_fields", "case_of", "make_tasks", "survey_task", "LOADS_COLUMNS", "SurveyLoads", "load_positions",
-           "run_survey_loads", "survey_loads", "SurveyMotion", "is_survey", "survey_motion", "QUANTILES",
-           "RESTITUTION_COLUMNS", "RESTITUTIONS", "SurveyRestitution", "check_restitutions", "survey_restitution",
-           "write_restitution"]
+__all__ = ["COLUMNS", "survey_chunk", "Survey", "default_periods", "default_record", "run_survey", "survey",
+           "survey_study", "SurveyRefinement", "run_survey_refine", "MODES", "case_of", "SurveyLoads", "load_positions",
+           "run_survey_loads", "survey_loads", "SurveyMotion", "is_survey", "survey_motion", "RESTITUTION_COLUMNS",
+           "SurveyRestitution", "check_restitutions", "survey_restitution", "write_restitution"]

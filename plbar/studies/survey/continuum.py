@@ -5,9 +5,10 @@ The continuum is the N = infinity row of ``plbar survey -N ...``.  Its motions a
 FE bar's (:func:`plbar.motion.steady`: periodicity of the stroboscopic grid states, loss, ``xi_w``, contact
 amplitude, time stuck, the drift test), with two differences that are results, not gaps:
 
-* undamped, ``xi_eq`` (Eq. (22)) is not defined: its denominator ``sum_j omega_j Psi_j`` is ``int <v, (-c^2 d^2/dx^2)^(1/2)
-  v>`` over the continuum's infinitely many modes, infinite as soon as the velocity has a jump (an impact's front is
-  not in ``H^(1/2)``), so on a mesh ``xi_eq -> 0`` under refinement; the columns are blank (nan);
+* undamped, ``xi_eq`` (Eq. (22)) is not defined: its denominator ``sum_j omega_j Psi_j`` is
+  ``int <v, (-c^2 d^2/dx^2)^(1/2) v>`` over the continuum's infinitely many modes, infinite as soon as the velocity
+  has a jump (an impact's front is not in ``H^(1/2)``), so on a mesh ``xi_eq -> 0`` under refinement; the columns
+  are blank (nan);
 * no exact periodic orbit is polished: with an end mass every plastic impact emits a velocity jump that the undamped
   continuum carries forever (docs/continuum.md), so it has no periodic response with an impact loss.
 
