@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import asdict, dataclass, field, replace
+from functools import lru_cache
 
 import numpy as np
 
@@ -298,7 +299,10 @@ class Case:
             raise InputError("model = 'continuum' has no matrices: it is simulated by characteristics, in a survey "
                              "(plbar survey --model continuum, and export/render of its motions); periodic "
                              "responses (run, refine, sweep-loads) need model = 'chain' or 'fe'")
-        return problem(self.bar(), self.load(), modes=self.modes, rayleigh=self.rayleigh, restitution=self.restitution)
+        try:
+            return _problem(self)
+        except TypeError:                      # a field that cannot be hashed: built afresh
+            return _problem.__wrapped__(self)
 
     def continuum(self):
         """The :class:`plbar.continuum.ContinuumBar` of a uniform FE or continuum case (one point load, end mass)."""
@@ -334,3 +338,11 @@ class Case:
         else:
             d["rayleigh"] = list(d["rayleigh"])
         return {k: v for k, v in d.items() if k not in drop}
+
+
+@lru_cache(maxsize=2)
+def _problem(case: Case) -> Problem:
+    """:meth:`Case.problem`, built once per process for equal cases (the two eigenproblems of an FE bar take seconds
+    to minutes at N = 512: a survey's tasks, its compile check and its preparation each asked for it; forked
+    workers inherit it from the parent)."""
+    return problem(case.bar(), case.load(), modes=case.modes, rayleigh=case.rayleigh, restitution=case.restitution)

@@ -154,13 +154,17 @@ class Claim:
             with contextlib.suppress(OSError):
                 d.rmdir()              # only an empty folder goes
 
-    def abandon(self, finished=()) -> bool:
+    def abandon(self, finished=(), exc: BaseException | None = None) -> bool:
         """After a failure: unless a file matching ``finished`` (globs: finished work a rerun resumes) exists, remove
-        what this command owns here and undo the claim, so that nothing blocks a corrected rerun.  True if undone."""
+        what this command owns here and undo the claim, so that nothing blocks a corrected rerun.  True if undone;
+        then an interrupt ``exc`` (KeyboardInterrupt) is marked ``kept = False``, and the command line says that
+        nothing was kept."""
         if _matches(self.folder, finished):
             return False
         clear_owned(self.folder, self.owner.owned)
         self.release()
+        if isinstance(exc, KeyboardInterrupt):
+            exc.kept = False
         return True
 
     def __enter__(self) -> "Claim":

@@ -292,8 +292,8 @@ def run_refine(cases, ns, families=("T0_II/2",), settings: TrackSettings | None 
     token = _SHOW.set(progress and (executor is None or isinstance(executor, SerialExecutor)))
     try:
         results = run_study(folder, study, executor, progress=progress, overwrite=True)
-    except BaseException:
-        claim.abandon(FINISHED)                # nothing finished: leave nothing that blocks a corrected rerun
+    except BaseException as exc:
+        claim.abandon(FINISHED, exc)           # nothing finished: leave nothing that blocks a corrected rerun
         raise
     finally:
         _SHOW.reset(token)

@@ -262,8 +262,8 @@ def run_survey_loads(case: Case, T=None, positions=None, per_element: int | None
         if executor is not None and not isinstance(executor, SerialExecutor):
             prepare(case.problem())
         results = run_study(folder, study, executor, progress=progress, overwrite=True)
-    except BaseException:
-        claim.abandon(("tasks/*.json",))
+    except BaseException as exc:
+        claim.abandon(("tasks/*.json",), exc)
         raise
     table = _table(results)
     summary = _summary(case, table, study, time.perf_counter() - t0)

@@ -212,13 +212,14 @@ def run_survey(case: Case, T, periods: int = 1000, record: int | None = None, ou
     study = survey_study(case, T, periods, record, modes, chunks, checkpoints=folder / "sweeps")
     claim = _claim(folder, study, overwrite)
     try:
-        if progress and case.model != "continuum" and not compiled(case.problem()):
+        if progress and case.model != "continuum" and not compiled(case.problem()):   # built once (Case.problem)
             message(f"plbar: {COMPILE_NOTE}")
         if executor is not None and not isinstance(executor, SerialExecutor) and case.model != "continuum":
             prepare(case.problem())              # forked workers inherit the loaded (or first compiled) kernel
         results = run_study(folder, study, executor, progress=progress, overwrite=True)
-    except BaseException:
-        claim.abandon(("tasks/*.json", "sweeps/*"))      # nothing finished: nothing left to block a corrected rerun
+    except BaseException as exc:
+        # nothing finished: nothing left to block a corrected rerun (and an interrupt says that nothing was kept)
+        claim.abandon(("tasks/*.json", "sweeps/*"), exc)
         raise
     table = _table(results)
     summary = _summary(case, table, study, time.perf_counter() - t0)

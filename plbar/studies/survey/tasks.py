@@ -48,12 +48,19 @@ def case_fields(case: Case) -> dict:
 MODES = ("rest", "up", "down")
 
 
-def default_chunks(k: int) -> int:
-    """Tasks a from-rest survey of ``k`` forcing periods is split into: at least 2 (two cores), about 96 each.
+PER_TASK = 8   #: forcing periods of a from-rest survey task (:func:`default_chunks`)
 
-    Fixed by ``k`` alone, so that every executor runs the same batches and writes the same files.
+
+def default_chunks(k: int) -> int:
+    """Tasks a from-rest survey of ``k`` forcing periods is split into: about :data:`PER_TASK` each, at least 2.
+
+    Fixed by ``k`` alone, so that a rerun with another executor or number of workers finds the same tasks (and
+    resumes them).  Small tasks are what an interrupted survey keeps: with about 96 forcing periods a task, the
+    default survey was two tasks, and a Ctrl-C at 90 % kept nothing.  A task's fixed cost is milliseconds
+    (measured: the default survey took the same time in 2, 21 and 41 tasks), and a trajectory does not depend
+    on its batch but for the last bits of the drift statistics (1e-16 relative).
     """
-    return max(2, -(-k // 96)) if k > 1 else 1
+    return max(2, -(-k // PER_TASK)) if k > 1 else 1
 
 
 def balanced_parts(T, n: int) -> list[np.ndarray]:
