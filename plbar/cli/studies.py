@@ -26,6 +26,10 @@ def _cmd_sweep(a) -> int:
     from ..app import cost_note
     from ..studies.loads import sweep_loads
 
+    if a.amplitude is not None:
+        raise InputError("--amplitude does not apply to sweep-loads: it reports a unit force at every position (its "
+                         "xi_eq is that of any amplitude Q, its Delta_PL is Q^2 times the unit force's); drop "
+                         "--amplitude")
     case, _ = case_from_args(a)
     note = cost_note(case, yes=a.yes)
     if note and not a.quiet:

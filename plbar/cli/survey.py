@@ -100,6 +100,9 @@ def _cmd_survey(a) -> int:
     from ..studies import get_executor
     from ..studies.survey import run_survey
 
+    if a.amplitude is not None and (a.positions is not None or a.per_element is not None):
+        raise InputError("--amplitude does not apply with --positions/--per-element: a unit force acts at each "
+                         "position (xi_eq does not depend on its amplitude); drop --amplitude")
     case, _ = case_from_args(a)
     if a.sizes and len(a.sizes) == 1:
         case = _with_n(case, a.sizes[0])
