@@ -170,11 +170,12 @@ def _refine(a, case, T, out) -> int:
         r = run_survey_refine(case, a.sizes, T, a.periods, a.record, out, ex, progress(a), a.overwrite,
                               plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
     inf = 0 in r.surveys
+    L = case.bar().length
     lines = [f"plbar survey over N = {', '.join(str(n) for n in sorted(set(a.sizes)))}"
              + (", infinity (the continuum, plbar.continuum)" if inf else "") + ":"]
     for key, d in r.rates.items():
         cont = d.get("continuum")
-        lines.append(f"  {key}: kinds {', '.join(d['kinds'])}"
+        lines.append(f"  T = {d['T']:.6g} (T/L = {d['T'] / L:.4g}): kinds {', '.join(d['kinds'])}"
                      + (f"; continuum {cont['kind']}" if isinstance(cont, dict) else f"; no continuum: {cont}"))
         for q in ("loss_per_T", "xi_eq", "xi_w"):
             c = d[q]

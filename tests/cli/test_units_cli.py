@@ -91,3 +91,46 @@ def test_refused_where_ignored(argv, words, tmp_path, capsys):
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and all(w in err for w in words), err
     assert not (tmp_path / "out").exists()
+
+
+def test_run_says_its_units_and_window_in_the_users_time_unit(tmp_path, capsys):
+    """The column's own periods are milliseconds: the run says the window it searched, in seconds, and how to reach
+    an engineer's forcing period (0.2 s: the survey)."""
+    assert main(["run", *COLUMN, *QUICK, "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "units: L = 3, c = 3,536;" in out and "docs/cli.md 'Units'" in out
+    T = json.loads((tmp_path / "summary.json").read_text())["domain"]
+    hi = T["T1"][1] + T["T2"][1]
+    assert 2e-3 < hi < 3e-3 and f"T = T1 + T2 in (0, {hi:.4g}] (the bar's own" in out
+    assert "--T1 LO HI --T2 LO HI" in out
+    assert "plbar survey --model fe -N 4 --length 3 --EA 2.7e+09 --rhoA 216 --T-list T" in out
+
+
+def test_plot_units_have_the_digits_they_have():
+    from plbar.app import Case
+    from plbar.visuals.style import unit_note
+
+    assert unit_note(Case(model="fe", n=4, length=3.0, EA=2.7e9, rhoA=216.0).bar()) == "L = 3, c = 3,536"
+    assert unit_note(Case(model="fe", n=4).bar()) == "L = c = 1"
+
+
+def test_refine_table_gives_periods_in_the_cases_time_unit():
+    """``plbar refine``: the periods of an FE bar (one length on every mesh) in its time unit, not T/L; the chain's
+    L = N changes with N, so its T/L."""
+    from plbar.cli.studies import _refine_lines
+
+    nan = float("nan")
+    row = dict(series="fe", family="T0_II/2", n=4, status="ok", admissible=10, T_min_L=0.0005, T_max_L=0.0006,
+               xi_max=0.01, T_at_max_L=0.00055, impact_mass=0.0, end_mass=0.0, length=3.0)
+
+    class R:
+        rows = [row]
+        rates = {"fe": {"T0_II/2": {"xi_decay": {}}}}
+
+        def family(self, series, family):
+            return self.rows
+
+    text = "\n".join(_refine_lines(R()))
+    assert "main stretch T " in text and "T/L" not in text and "[0.0015, 0.0018]" in text and "0.00165" in text
+    R.rows = [row, {**row, "n": 5, "length": 5.0, "T_min_L": nan}]
+    assert "main stretch T/L" in "\n".join(_refine_lines(R()))
