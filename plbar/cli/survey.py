@@ -44,7 +44,7 @@ def _cost(a, case, T) -> None:
     one will cost: its motions x forcing periods, and the time from the measured cost of one period."""
     import os
 
-    from ..app.cost import NOTE_SECONDS, check_cost, duration, survey_seconds
+    from ..app.cost import NOTE_SECONDS, check_cost, duration_range, survey_seconds
     from ..studies.survey.loads import DEFAULT_POSITIONS
 
     motions = len(T) * (1 + len(set(a.cont or ())))
@@ -56,7 +56,8 @@ def _cost(a, case, T) -> None:
     wall = cpu / workers
     what = (f"this survey simulates {motions:,} motions x {a.periods:,} forcing periods"
             + (f" on {len(sizes)} meshes" if len(sizes) > 1 else "")
-            + f": about {duration(cpu)} of CPU, {duration(wall)} on {workers} worker{'s' if workers > 1 else ''}")
+            + f": {duration_range(cpu)} of CPU, {duration_range(wall)} on {workers} worker{'s' if workers > 1 else ''}"
+            " (idle to busy machine)")
     check_cost(wall, 0.0, what, "fewer periods (--num, --periods) or a coarser bar (-N)", a.yes)
     if wall > NOTE_SECONDS and not (a.quiet or a.json):
         message(f"plbar: note: {what}")

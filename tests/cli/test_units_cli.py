@@ -134,3 +134,19 @@ def test_refine_table_gives_periods_in_the_cases_time_unit():
     assert "main stretch T " in text and "T/L" not in text and "[0.0015, 0.0018]" in text and "0.00165" in text
     R.rows = [row, {**row, "n": 5, "length": 5.0, "T_min_L": nan}]
     assert "main stretch T/L" in "\n".join(_refine_lines(R()))
+
+
+def test_estimates_are_ranges_from_idle_to_busy():
+    """Issue 44, finding 7: estimates 3-6x low on a busy machine.  Each is a range whose high end is the measured
+    busy factor times the tables' time, and the cost message points at docs/speed.md (README 'Speed' is gone)."""
+    from plbar.app import Case, cost_note
+    from plbar.app.cost import BUSY, duration_range
+
+    assert duration_range(86.0) == "1-9 minutes"                  # the issue's run: 86 s estimated, 358-565 s taken
+    assert 565 <= 86.0 * BUSY and duration_range(67.0, 2.6) == "1-3 minutes"
+    assert duration_range(4000.0) == "1-7 hours" and duration_range(0.2) == "under 2 s"
+    assert duration_range(5.0) == "5-33 s"
+    note = cost_note(Case(model="fe", n=32), threshold=0.0)
+    assert "minutes (idle to busy machine)" in note and "docs/speed.md" in note and "README" not in note
+    lo, hi = (int(x) for x in note.split("will take ")[1].split(" minutes")[0].split("-"))
+    assert hi / lo == pytest.approx(BUSY, rel=0.2)
