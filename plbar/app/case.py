@@ -35,7 +35,7 @@ FE_ONLY = {"element": "P1", "mass": "lumped", "EA": 1.0, "rhoA": 1.0, "grading":
            "point_masses": ()}
 #: the command-line spelling of the Case fields named in messages
 FLAGS = {"n": "-N", "element": "--element", "mass": "--mass", "grading": "--grading", "mesh_file": "--mesh-file",
-         "length": "no CLI option", "EA": "no CLI option", "rhoA": "no CLI option", "point_masses": "no CLI option"}
+         "length": "--length", "EA": "--EA", "rhoA": "--rhoA", "point_masses": "no CLI option"}
 
 
 def _flag(name: str) -> str:

@@ -7,16 +7,19 @@
   JSON is one shape for every command: ``{"summary": {...}, "files": ...}`` (:func:`report`);
 * ``--yes`` starts a job estimated above an hour or half the machine's memory (else refused with the estimate and
   what to do instead: :func:`plbar.app.cost.check_cost`);
-* the model is ``--model``, ``-N/--elements``, ``--element``, ``--mass``, ``--end-mass``; the inherent damping
+* the model is ``--model``, ``-N/--elements``, ``--element``, ``--mass``, ``--end-mass``, the FE bar's
+  ``--length``, ``--EA``, ``--rhoA`` (any consistent units: docs/cli.md "Units"); the inherent damping
   ``--rayleigh A B`` or ``--damping-ratio XI --at T_A T_B`` (``--damping-at``); the load ``--load-node`` /
-  ``--load-at``; a TOML file is ``--case FILE`` (``plbar run FILE`` too) and then no model, load or search option
-  may be given.
+  ``--load-at`` and ``--amplitude``; a TOML file is ``--case FILE`` (``plbar run FILE`` too) and then no model,
+  load or search option may be given.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
+from dataclasses import replace
 
 from ..app import Case, load_case
 from ..errors import InputError
@@ -33,7 +36,8 @@ CASE_OPTIONS = {"model": "--model", "elements": "-N/--elements", "element": "--e
                 "end_mass_absolute": "--end-mass-absolute", "modes": "--modes", "load_node": "--load-node",
                 "load_at": "--load-at", "grid": "--grid", "T1": "--T1", "T2": "--T2", "method": "--method",
                 "signatures": "--signatures", "rayleigh": "--rayleigh", "damping_ratio": "--damping-ratio",
-                "damping_at": "--damping-at", "restitution": "--restitution"}
+                "damping_at": "--damping-at", "restitution": "--restitution", "length": "--length", "EA": "--EA",
+                "rhoA": "--rhoA", "amplitude": "--amplitude"}
 
 
 def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None:
@@ -65,8 +69,8 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
     g.add_argument("--case", default=None, metavar="FILE.toml",
                    help="a TOML case file (examples/cases/); then no model, load or search option may be given")
     g.add_argument("--model", choices=("chain", "fe", "continuum"), default=None,
-                   help="the paper's chain (L = N), a finite-element bar (L = 1), or the exact uniform bar by "
-                        "characteristics (survey, export, render; -N: its steps per L/c [32]) [chain]")
+                   help="the paper's chain (L = N), a finite-element bar (L = 1, or --length), or the exact uniform "
+                        "bar by characteristics (survey, export, render; -N: its steps per L/c [32]) [chain]")
     if sizes is None:
         g.add_argument("--elements", "-N", type=int, default=None, metavar="N",
                        help="masses of the chain / elements of the FE bar [5 / 8]")
@@ -74,6 +78,7 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
         g.add_argument("--elements", "-N", "--n", dest="sizes", type=int, nargs="+", default=list(sizes),
                        metavar="N", help="masses of the chain / elements of the FE bar, coarse to fine "
                                          f"[{' '.join(str(n) for n in sizes) or 'the case: 5 / 8'}]")
+    _section_args(g)
     g.add_argument("--element", choices=("P1", "P2"), default=None, help="FE element [P1]")
     g.add_argument("--mass", choices=MASSES, default=None,
                    help="FE mass matrix; redistributed needs --end-mass > 0 [lumped]")
@@ -91,11 +96,7 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
                    help="coefficient of restitution of the contact, 0 <= E <= 1 (Newton's impact law; run's "
                         "responses then rebound: R in their signatures; sweep-loads and refine need E = 0) [0]")
     _damping_args(p, at)
-    g = p.add_argument_group(f"load ({load_help}; unit amplitude; default: DOF 1 of the chain, s = L/2 of an FE bar)")
-    g.add_argument("--load-node", type=int, action="append", default=None, metavar="K",
-                   help="force on free DOF K (1-based from the clamp, as in the paper); repeatable")
-    g.add_argument("--load-at", type=float, action="append", default=None, metavar="S",
-                   help="point force at position S in (0, L] through the shape functions; repeatable")
+    _load_args(p, load_help)
     g = p.add_argument_group("search")
     g.add_argument("--grid", type=int, nargs=2, default=None, metavar=("N1", "N2"),
                    help="scan grid over (T1, T2) [200 200]")
@@ -113,6 +114,31 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
     for act in p._actions:                   # refused options: still parsed (to say why), not offered
         if act.dest in refused:
             act.help = hidden
+
+
+def _section_args(g) -> None:
+    """``--length``, ``--EA``, ``--rhoA``: the FE (or continuum) bar's length and section, in any consistent units."""
+    g.add_argument("--length", type=float, default=None, metavar="L",
+                   help="bar length (FE or continuum; the chain's is N), in any consistent units (docs/cli.md "
+                        "'Units') [1]")
+    g.add_argument("--EA", type=float, default=None, metavar="EA",
+                   help="axial stiffness E A (a force: N in SI; FE or continuum) [1]")
+    g.add_argument("--rhoA", type=float, default=None, metavar="RHOA",
+                   help="mass per length rho A (kg/m in SI; FE or continuum); the wave speed is "
+                        "c = sqrt(EA/rhoA) [1]")
+
+
+def _load_args(p: argparse.ArgumentParser, load_help: str) -> None:
+    """``--load-node``, ``--load-at`` (repeatable) and ``--amplitude`` (of every force)."""
+    g = p.add_argument_group(f"load ({load_help}; default: a unit force on DOF 1 of the chain, at s = L/2 of an FE "
+                             "bar)")
+    g.add_argument("--load-node", type=int, action="append", default=None, metavar="K",
+                   help="force on free DOF K (1-based from the clamp, as in the paper); repeatable")
+    g.add_argument("--load-at", type=float, action="append", default=None, metavar="S",
+                   help="point force at position S in (0, L] through the shape functions; repeatable")
+    g.add_argument("--amplitude", type=float, default=None, metavar="Q",
+                   help="the amplitude of every force (a force: N in SI; the response is linear in it, xi_eq "
+                        "does not depend on it) [1]")
 
 
 def _damping_args(p: argparse.ArgumentParser, at: bool) -> None:
@@ -148,15 +174,31 @@ def case_from_args(a):
             raise InputError(f"{given[0]} conflicts with the case file {a.case!r}, which defines the model, load "
                              "and search; edit the file or drop the option")
         return load_case(a.case)
-    nodes = tuple((k, 1.0) for k in (a.load_node or ()))
-    points = tuple((s, 1.0) for s in (a.load_at or ()))
+    amp = _amplitude(getattr(a, "amplitude", None))
+    nodes = tuple((k, amp) for k in (a.load_node or ()))
+    points = tuple((s, amp) for s in (a.load_at or ()))
     kw = dict(model=a.model, n=getattr(a, "elements", None), element=a.element, mass=a.mass, mesh_file=a.mesh_file,
+              length=getattr(a, "length", None), EA=getattr(a, "EA", None), rhoA=getattr(a, "rhoA", None),
               grading=a.grading, grid=tuple(a.grid) if a.grid else None, T1=tuple(a.T1) if a.T1 else None,
               T2=tuple(a.T2) if a.T2 else None, method=a.method,
               signatures=getattr(a, "signatures", None), modes=a.modes, end_mass=a.end_mass,
               end_mass_absolute=a.end_mass_absolute, rayleigh=_rayleigh(a),
               restitution=getattr(a, "restitution", None))
-    return Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None}), None
+    case = Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None})
+    if nodes or points or amp == 1.0:
+        return case, None
+    return replace(case, load_nodes=tuple((k, amp * q) for k, q in case.load_nodes),   # the default load, scaled
+                   load_points=tuple((s, amp * q) for s, q in case.load_points)), None
+
+
+def _amplitude(amp) -> float:
+    """``--amplitude`` (default 1): a finite force > 0 (the response is linear in it)."""
+    if amp is None:
+        return 1.0
+    if not (math.isfinite(amp) and amp > 0):
+        raise InputError(f"--amplitude {amp:g} is not allowed; it must be a finite force > 0 (the amplitude of every "
+                         "force of the load; a negative one is the same load half a period later)")
+    return float(amp)
 
 
 def case_flags(a, skip=()) -> str:

@@ -11,7 +11,7 @@ from ..io import SHIPPED, write_shipped
 from ..util.check import MIN_BRANCH_POINTS
 from ..util.outputs import claim_folder, fingerprint
 from ..util.progress import message
-from ..visuals.style import PAPER_SIGNATURE
+from ..visuals.style import PAPER_SIGNATURE, unit_note
 from .common import case_args, case_flags, case_from_args, output_args, plural, progress, report, yes_arg
 
 __all__ = ["register"]
@@ -42,16 +42,29 @@ def _stable_lines(summary: dict, survey: str) -> list[str]:
             "(the unstable ones it leaves); listed first"]
 
 
-def _human(summary: dict, files: dict, verbose: bool, survey: str = "") -> str:
+def _window(summary: dict, survey: str, units: str = "") -> list[str]:
+    """The units of the numbers, the forcing periods searched and how to search or simulate others."""
+    (lo1, hi1), (lo2, hi2) = summary["domain"]["T1"], summary["domain"]["T2"]
+    own = "" if summary["case"].get("T1") or summary["case"].get("T2") else " (the bar's own: T1 <= T0_I/2, " \
+        "T2 <= T0_II/2)"
+    return [f"  units: {units + '; ' if units else ''}any consistent system, times in its unit (s with N, kg/m, m: "
+            "docs/cli.md 'Units')",
+            f"  searched forcing periods T = T1 + T2 in ({lo1 + lo2:.4g}, {hi1 + hi2:.4g}]{own}; another window: "
+            f"--T1 LO HI --T2 LO HI; the motion at your forcing period T: plbar survey {survey} --T-list T"
+            .replace("  --", " --")]
+
+
+def _human(summary: dict, files: dict, verbose: bool, survey: str = "", units: str = "") -> str:
     brs = summary["branches"]
     lines = [f"plbar: {summary['bar']}; load {summary['load']}",
              f"  fundamental periods T0_I = {summary['T0_I']:.6g}, T0_II = {summary['T0_II']:.6g}",
+             *_window(summary, survey, units),
              f"  {plural(summary['n_branches'], 'branch')}, {plural(summary['n_points'], 'admissible path point')} "
              f"of the paper's class in {summary['paper_time']:.3g} s" if not summary["case"].get("restitution") else
              f"  the paper's class: none (restitution e = {summary['case']['restitution']:g}: it needs a plastic "
              "impact); every response below has rebounds (R) or chatters (R...RP)", *_stable_lines(summary, survey)]
     if summary.get("rayleigh"):
-        lines.insert(2, f"  Rayleigh damping alpha = {summary['rayleigh'][0]:.6g}, beta = {summary['rayleigh'][1]:.6g}")
+        lines.insert(4, f"  Rayleigh damping alpha = {summary['rayleigh'][0]:.6g}, beta = {summary['rayleigh'][1]:.6g}")
     order = sorted(brs, key=lambda b: (b["stable_points"] == 0, -b["xi_range"][1]))
     shown = order if verbose else [b for b in order if b["points"] >= MIN_BRANCH_POINTS][:TOP]
     if shown and len(shown) < len(brs):
@@ -140,7 +153,7 @@ def _cmd_run(a) -> int:
             files = write_results(res, out, overwrite=overwrite)
         files.update(_plots(res, out, a))            # still holding the folder's lock
     s = res.summary()
-    report(a, s, files, _human(s, files, a.verbose, case_flags(a, skip=SEARCH)))
+    report(a, s, files, _human(s, files, a.verbose, case_flags(a, skip=SEARCH), unit_note(res.paths.prob.bar)))
     return 0
 
 

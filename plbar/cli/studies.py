@@ -26,6 +26,10 @@ def _cmd_sweep(a) -> int:
     from ..app import cost_note
     from ..studies.loads import sweep_loads
 
+    if a.amplitude is not None:
+        raise InputError("--amplitude does not apply to sweep-loads: it reports a unit force at every position (its "
+                         "xi_eq is that of any amplitude Q, its Delta_PL is Q^2 times the unit force's); drop "
+                         "--amplitude")
     case, _ = case_from_args(a)
     note = cost_note(case, yes=a.yes)
     if note and not a.quiet:
@@ -87,11 +91,18 @@ def _refine_lines(r, always: bool = False) -> list[str]:
 
     lines = []
     for key in dict.fromkeys((row["series"], row["family"]) for row in r.rows):
+        fam = r.family(*key)
+        # the periods in the case's time unit where the bar is one (FE: the same L on every mesh); the chain's L = N
+        # changes with N, so its invariant T/L
+        L = {row["length"] for row in fam}
+        scale, tl = (L.pop(), "T  ") if len(L) == 1 else (1.0, "T/L")
         lines.append(f"{key[0]}, family {key[1]}:")
-        lines.append("      N  status        adm.  main stretch T/L       largest xi_eq  at T/L     S/M_e")
-        for row in r.family(*key):
-            rng = (f"[{row['T_min_L']:.5f}, {row['T_max_L']:.5f}]" if np.isfinite(row["T_min_L"]) else "-").ljust(22)
-            xi = f"{row['xi_max']:.5f}  {row['T_at_max_L']:.5f}" if np.isfinite(row["xi_max"]) else "-".ljust(16)
+        lines.append(f"      N  status        adm.  main stretch {tl}       largest xi_eq  at {tl}     S/M_e")
+        for row in fam:
+            rng = (f"[{scale * row['T_min_L']:.5g}, {scale * row['T_max_L']:.5g}]"
+                   if np.isfinite(row["T_min_L"]) else "-").ljust(22)
+            xi = (f"{row['xi_max']:.5f}  {scale * row['T_at_max_L']:<8.5g}" if np.isfinite(row["xi_max"])
+                  else "-".ljust(16))
             sm = f"{row['impact_mass'] / row['end_mass']:.5f}" if row["end_mass"] > 0 else "-"
             lines.append(f"  {row['n']:5d}  {row['status']:12s} {row['admissible']:5d}  {rng} {xi}  {sm}")
         rates = r.rates[key[0]][key[1]]

@@ -44,7 +44,7 @@ def _cost(a, case, T) -> None:
     one will cost: its motions x forcing periods, and the time from the measured cost of one period."""
     import os
 
-    from ..app.cost import NOTE_SECONDS, check_cost, duration, survey_seconds
+    from ..app.cost import NOTE_SECONDS, check_cost, duration_range, survey_seconds
     from ..studies.survey.loads import DEFAULT_POSITIONS
 
     motions = len(T) * (1 + len(set(a.cont or ())))
@@ -56,7 +56,8 @@ def _cost(a, case, T) -> None:
     wall = cpu / workers
     what = (f"this survey simulates {motions:,} motions x {a.periods:,} forcing periods"
             + (f" on {len(sizes)} meshes" if len(sizes) > 1 else "")
-            + f": about {duration(cpu)} of CPU, {duration(wall)} on {workers} worker{'s' if workers > 1 else ''}")
+            + f": {duration_range(cpu)} of CPU, {duration_range(wall)} on {workers} worker{'s' if workers > 1 else ''}"
+            " (idle to busy machine)")
     check_cost(wall, 0.0, what, "fewer periods (--num, --periods) or a coarser bar (-N)", a.yes)
     if wall > NOTE_SECONDS and not (a.quiet or a.json):
         message(f"plbar: note: {what}")
@@ -100,6 +101,9 @@ def _cmd_survey(a) -> int:
     from ..studies import get_executor
     from ..studies.survey import run_survey
 
+    if a.amplitude is not None and (a.positions is not None or a.per_element is not None):
+        raise InputError("--amplitude does not apply with --positions/--per-element: a unit force acts at each "
+                         "position (xi_eq does not depend on its amplitude); drop --amplitude")
     case, _ = case_from_args(a)
     if a.sizes and len(a.sizes) == 1:
         case = _with_n(case, a.sizes[0])
@@ -167,11 +171,12 @@ def _refine(a, case, T, out) -> int:
         r = run_survey_refine(case, a.sizes, T, a.periods, a.record, out, ex, progress(a), a.overwrite,
                               plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
     inf = 0 in r.surveys
+    L = case.bar().length
     lines = [f"plbar survey over N = {', '.join(str(n) for n in sorted(set(a.sizes)))}"
              + (", infinity (the continuum, plbar.continuum)" if inf else "") + ":"]
     for key, d in r.rates.items():
         cont = d.get("continuum")
-        lines.append(f"  {key}: kinds {', '.join(d['kinds'])}"
+        lines.append(f"  T = {d['T']:.6g} (T/L = {d['T'] / L:.4g}): kinds {', '.join(d['kinds'])}"
                      + (f"; continuum {cont['kind']}" if isinstance(cont, dict) else f"; no continuum: {cont}"))
         for q in ("loss_per_T", "xi_eq", "xi_w"):
             c = d[q]

@@ -30,8 +30,9 @@ from .model import Padded, padded
 __all__ = ["COMPILE_NOTE", "Elsewhere", "compile_elsewhere", "compiled", "kind"]
 
 #: what a caller with a terminal says before the first simulation after an install (:func:`compiled`)
-COMPILE_NOTE = ("compiling the kernels (once after an install or an upgrade, about 15-30 s; cached on disk: later "
-                "runs load them in under a second)")
+#: (15-30 s measured idle on 2 cores; 68 s on 2 busy ones: issue 44, finding 7)
+COMPILE_NOTE = ("compiling the kernels (once after an install or an upgrade, 15-30 s idle, up to 70 s on a busy "
+                "machine; cached on disk: later runs load them in under a second)")
 
 
 def kind(pad: Padded, accounts: bool) -> str:

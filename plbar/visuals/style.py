@@ -70,7 +70,8 @@ def signature_styles(labels) -> dict[str, tuple[str, str]]:
 
 
 def unit_note(bar) -> str:
-    """The units of a bar's numbers: ``"m = k = 1"`` (chain), ``"L = c = 1"`` (FE bar), or their values.
+    """The units of a bar's numbers: ``"m = k = 1"`` (chain), ``"L = c = 1"`` (FE bar), or their values
+    (``"L = 3, c = 3,536"``: the length as given, the wave speed to 4 significant digits).
 
     Parameters
     ----------
@@ -89,7 +90,7 @@ def unit_note(bar) -> str:
     if np.ptp(c) > 0:
         return f"L = {L:g}, c = sqrt(EA/rhoA) per element"
     c = float(c[0])
-    return "L = c = 1" if L == c == 1 else f"L = {L:g}, c = {c:g}"
+    return "L = c = 1" if L == c == 1 else f"L = {L:g}, c = {c:,.4g}"     # c: a square root, to 4 digits
 
 
 def with_units(label: str, note: str) -> str:

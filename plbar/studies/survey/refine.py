@@ -147,7 +147,7 @@ def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | N
             rows.append({"N": 0, "h": 0.0, "T": float(t["T"][i]), "T_L": float(t["T"][i] / L0),
                          **{k: (t[k][i].item() if hasattr(t[k][i], "item") else t[k][i])
                             for k in REFINE_COLUMNS[4:]}})
-    rates = _rates(rows, T / L0, record, why)
+    rates = _rates(rows, T / L0, record, why, L0)
     files = _write(folder, rows, rates)
     if plot:
         files["figure"] = _plot(folder, rates)
@@ -177,7 +177,8 @@ def _against(sel: list[dict], c: dict, q: str, spread, record: int) -> dict:
     return out
 
 
-def _rates(rows: list[dict], TL, record: int, no_continuum: str = "") -> dict:
+def _rates(rows: list[dict], TL, record: int, no_continuum: str = "", length: float = 1.0) -> dict:
+    """Per forcing period (keyed ``T/L=...``; ``T``: the case's own, in its time unit), the convergence of the means."""
     out = {}
     for tl in TL:
         at = [r for r in rows if abs(r["T_L"] - tl) <= 1e-12 * tl]
@@ -186,7 +187,7 @@ def _rates(rows: list[dict], TL, record: int, no_continuum: str = "") -> dict:
         h = np.array([r["h"] for r in sel])
         n = [r["N"] for r in sel]
         key = f"T/L={tl:.6g}"
-        out[key] = {"kinds": [r["kind"] for r in sel], "N": n}
+        out[key] = {"T": float(tl * length), "kinds": [r["kind"] for r in sel], "N": n}
         for q, spread in REFINED:
             vals = np.array([r[q] for r in sel], float)
             noise = float(max((r[spread] for r in sel), default=0.0)) / np.sqrt(record) if spread else 0.0
@@ -224,5 +225,5 @@ def _plot(folder: Path, rates: dict):
             self.name, self.h, self.q = name, d["h"], d["q"]
             self.limit, self.rate, self.fitted = d.get("limit"), d.get("rate"), d.get("fitted")
 
-    items = [_Item(f"{key} {q}", d[q]) for key, d in rates.items() for q, _ in REFINED]
+    items = [_Item(f"T = {d['T']:.6g} {q}", d[q]) for d in rates.values() for q, _ in REFINED]
     return convergence_plot(items, folder, "survey_refine", "the real motion under mesh refinement")
