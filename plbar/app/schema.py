@@ -58,7 +58,8 @@ HELP = {
             "restitution": "coefficient of restitution e of the contact, 0 <= e <= 1 (Newton's impact law; "
                            "run's responses then rebound: R in their signatures; sweep-loads and refine need 0) [0]"},
     "load": {"node": "a force on free DOF K (1-based from the clamp); or `at`",
-             "at": "a point force at position s in (0, L]; or `node`", "amplitude": "its amplitude, a force (N in SI) [1]"},
+             "at": "a point force at position s in (0, L]; or `node`",
+             "amplitude": "its amplitude, a force (N in SI) [1]"},
     "search": {"grid": "scan grid over (T1, T2) [200, 200]",
                "T1": "search range of T1 [(0, T0_I/2]]", "T2": "search range of T2 [(0, T0_II/2]]",
                "method": "branches by continuation from the scan, or by linking its crossings [continuation]",

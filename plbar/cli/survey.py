@@ -174,7 +174,7 @@ def _refine(a, case, T, out) -> int:
     L = case.bar().length
     lines = [f"plbar survey over N = {', '.join(str(n) for n in sorted(set(a.sizes)))}"
              + (", infinity (the continuum, plbar.continuum)" if inf else "") + ":"]
-    for key, d in r.rates.items():
+    for d in r.rates.values():
         cont = d.get("continuum")
         lines.append(f"  T = {d['T']:.6g} (T/L = {d['T'] / L:.4g}): kinds {', '.join(d['kinds'])}"
                      + (f"; continuum {cont['kind']}" if isinstance(cont, dict) else f"; no continuum: {cont}"))
