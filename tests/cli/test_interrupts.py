@@ -104,3 +104,27 @@ def test_a_survey_interrupted_while_compiling_exits_at_once(tmp_path):
     dt = c.interrupt()
     assert c.p.returncode == 130 and dt <= LIMIT, (c.p.returncode, dt, c.err[-300:])
     assert not out.exists()
+
+
+REFINE = ["-N", "4", "14", "--no-plot"]   #: two meshes of the default chain family
+
+
+def _levels(folder: Path) -> list[Path]:
+    return list((folder / "levels").glob("*/N*.json")) if folder.exists() else []
+
+
+def test_refine_interrupted_while_following_exits_at_once_and_resumes(tmp_path):
+    """``plbar refine`` (the default chain family, 2 meshes): Ctrl-C after the first mesh is carried, while the
+    next is followed; the finished meshes are kept and the rerun continues from them."""
+    out = tmp_path / "rf"
+    c = Child(["refine", *REFINE, "--out", str(out)])
+    c.wait_for(lambda: len(_levels(out)) >= 1)
+    dt = c.interrupt()
+    assert c.p.returncode == 130 and dt <= LIMIT, (c.p.returncode, dt, c.err[-300:])
+    assert "kept" in c.err and not _partial(out)
+    kept = {p: p.stat().st_mtime_ns for p in _levels(out)}
+    r = subprocess.run([sys.executable, "-m", "plbar", "refine", *REFINE, "--out", str(out)], capture_output=True,
+                       text=True)
+    assert r.returncode == 0, r.stderr
+    assert all(p.stat().st_mtime_ns == t for p, t in kept.items())                # resumed, not redone
+    assert (out / "refine.csv").exists()
