@@ -50,6 +50,13 @@ RECIPES = (
     ((("python", "examples/restitution.py", "{out}"),), {"restitution.png": "restitution.png"}),
     ((("python", "-c", "import runpy, sys; runpy.run_path('tests/bench/damped_survey.py')['plot'](out=sys.argv[1])",
        "{out}"),), {"survey_damping.png": "survey_damping.png"}),
+    # the gallery (docs/gallery.md): each example's own figure, drawn by the example itself (small: see stamp)
+    *(((("python", f"examples/{script}.py", "{out}"),), {f"gallery/{script}.png": name}) for script, name in (
+        ("stability_continuation", "frequency_response.png"), ("settle_from_rest", "settle_from_rest.png"),
+        ("fig_2_paths", "fig2_paths.png"), ("fig_3_time_histories", "fig3_time_histories.png"),
+        ("fig_4_energies", "fig4_energies.png"), ("fig_5_6_damping", "fig5_loss_damping.png"),
+        ("fig_7_load_responses", "fig7_load_responses.png"), ("fig_8_xi_per_load", "fig8_xi_per_load.png"),
+        ("real_motion", "survey.png"))),
 )
 
 
@@ -71,11 +78,23 @@ def figures() -> dict[str, str]:
     return {fig: command_text(cmds) for cmds, files in RECIPES for fig in files}
 
 
+def small(im, width: int = 1000):
+    """The gallery's copy of a figure: at most ``width`` pixels wide, 256 colours (a fifth of the bytes)."""
+    from PIL import Image
+
+    im = im.convert("RGB")
+    if im.width > width:
+        im = im.resize((width, round(im.height * width / im.width)), Image.LANCZOS)
+    return im.quantize(colors=256, method=Image.MEDIANCUT, dither=Image.NONE)
+
+
 def stamp(src: Path, dest: Path, command: str, code: str) -> None:
-    """Copy the PNG ``src`` to ``dest`` with the text chunks ``plbar-visuals = code``, ``plbar-command = command``."""
+    """Copy the PNG ``src`` to ``dest`` with the text chunks ``plbar-visuals = code``, ``plbar-command = command``
+    (a figure of the gallery, ``gallery/*.png``, made :func:`small`)."""
     from PIL import Image, PngImagePlugin
 
     info = PngImagePlugin.PngInfo()
+    dest.parent.mkdir(parents=True, exist_ok=True)
     with Image.open(src) as im:
         for k, v in im.text.items():
             if k not in (HASH_KEY, COMMAND_KEY):
@@ -83,7 +102,7 @@ def stamp(src: Path, dest: Path, command: str, code: str) -> None:
         info.add_text(HASH_KEY, code)
         info.add_text(COMMAND_KEY, command)
         tmp = dest.with_suffix(".part.png")
-        im.save(tmp, pnginfo=info, optimize=True)
+        (small(im) if dest.parent.name == "gallery" else im).save(tmp, pnginfo=info, optimize=True)
     tmp.replace(dest)
 
 
