@@ -75,6 +75,9 @@ def _lines(s, T) -> list[str]:
         settling = f"; {int(sel.sum())} still settling on their orbit" if sel.any() else ""
         lines.append(f"  from {start:4s}: {k['periodic']} periodic ({by_m or '-'}{settling}), {k['irregular']} "
                      "irregular" + (f", {k['failed']} failed" if k["failed"] else ""))
+    if s.summary["record"] < 2:                 # periodic needs two repeats of the period in the window
+        lines.append("  1 recorded period cannot show a motion repeat: every motion is irregular (give --record 2 "
+                     "or more)")
     per = (t["kind"] == "periodic") & (t["start"] == "rest")
     if per.any():
         i = int(np.nanargmax(np.where(per, t["xi_eq"], -np.inf)))

@@ -99,7 +99,9 @@ def periodicity(x, v, m_max: int = M_MAX, tol: float = PERIODIC_TOL):
 
     The distance at ``m`` is ``max_r |z_(r+m) - z_r| / max_r |z_r|`` over the
     window, ``z = (x, v)``; ``m`` is used only if the window holds at least
-    two repeats (``R >= 2 m``).
+    two repeats (``R >= 2 m``).  A window too short for any such ``m`` (one
+    recorded period) is never periodic; its distance is then the one repeat
+    at ``m = 1`` it holds (finite, so that the table can hold it).
     """
     z = np.concatenate([x, v], axis=2)
     B, R1, _ = z.shape
@@ -111,6 +113,8 @@ def periodicity(x, v, m_max: int = M_MAX, tol: float = PERIODIC_TOL):
         new = (best_m == 0) & (dist <= tol)
         best_m[new] = m
         best_d = np.where(new | ((best_m == 0) & (dist < best_d)), dist, best_d)
+    if R1 == 2:                                        # one recorded period: the one repeat it has, never periodic
+        best_d = np.linalg.norm(z[:, 1] - z[:, 0], axis=1) / scale
     return best_m, best_d
 
 

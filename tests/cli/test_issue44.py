@@ -1,0 +1,39 @@
+"""Issue 44 (what a newcomer met): each finding through ``main(argv)`` or the function behind it.
+
+Every test here failed on the code before the fix it covers.
+"""
+
+import numpy as np
+
+from plbar.cli import main
+from plbar.motion import periodicity
+
+
+def _run(capsys, argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+# 1. a survey of few periods (one recorded) ran into "solver failure" ------------------------------------------
+
+def test_a_window_of_one_period_has_a_finite_repeat_distance():
+    """One recorded period (two boundary states): never periodic, its distance the one repeat it holds."""
+    rng = np.random.default_rng(44)
+    x, v = rng.normal(size=(3, 2, 4)), rng.normal(size=(3, 2, 4))
+    m, d = periodicity(x, v)
+    z = np.concatenate([x, v], axis=2)
+    want = [np.linalg.norm(z[b, 1] - z[b, 0]) / max(np.linalg.norm(z[b, 0]), np.linalg.norm(z[b, 1]))
+            for b in range(3)]
+    assert np.all(m == 0) and np.allclose(d, want, rtol=1e-14)
+    assert periodicity(x[:, [0, 0]], v[:, [0, 0]])[0][0] == 0        # one repeat is no evidence of a period
+
+
+def test_survey_of_five_periods_runs(tmp_path, capsys):
+    code, out, err = _run(capsys, ["survey", "--periods", "5", "--T-list", "9", "12", "--no-plot", "--no-paths",
+                                   "--out", tmp_path / "s"])
+    assert code == 0, err
+    assert "2 irregular" in out and "1 recorded period cannot show a motion repeat" in out
+    text = (tmp_path / "s" / "survey.csv").read_text().splitlines()
+    cols = text[0].split(",")
+    assert all(np.isfinite(float(r.split(",")[cols.index("distance")])) for r in text[1:])
