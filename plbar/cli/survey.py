@@ -81,13 +81,13 @@ def _lines(s, T) -> list[str]:
     per = (t["kind"] == "periodic") & (t["start"] == "rest")
     if per.any():
         i = int(np.nanargmax(np.where(per, t["xi_eq"], -np.inf)))
-        lines.append(f"  largest xi_eq of a periodic motion: {t['xi_eq'][i]:.4f} at T = {t['T'][i]:.6g} "
+        lines.append(f"  largest xi_eq of a periodic motion: {t['xi_eq'][i]:.4g} at T = {t['T'][i]:.6g} "
                      f"(m = {t['m'][i]}, loss per period {t['loss_per_T'][i]:.4g})")
     fin = np.isfinite(t["xi_eq"])
     if fin.any():
-        lines.append(f"  xi_eq of every motion: {np.nanmin(t['xi_eq']):.4f} .. {np.nanmax(t['xi_eq']):.4f} "
-                     f"(median {np.nanmedian(t['xi_eq']):.4f}); xi_w: {np.nanmin(t['xi_w']):.4f} .. "
-                     f"{np.nanmax(t['xi_w']):.4f}")
+        lines.append(f"  xi_eq of every motion: {np.nanmin(t['xi_eq']):.4g} .. {np.nanmax(t['xi_eq']):.4g} "
+                     f"(median {np.nanmedian(t['xi_eq']):.4g}); xi_w: {np.nanmin(t['xi_w']):.4g} .. "
+                     f"{np.nanmax(t['xi_w']):.4g}")
     drift = (t["steady"] == 0) & (t["kind"] != "failed")
     if drift.any():
         lines.append(f"  {int(drift.sum())} motion(s) drift over the recorded window (loss or int v^T M v changes by "
@@ -147,7 +147,7 @@ def _loads(a, case, T, out) -> int:
         mean = np.asarray(d["mean_xi_eq_per_position"])
         lines.append(f"  N = {n}: {k['periodic']} periodic, {k['irregular']} irregular"
                      + (f", {k['failed']} failed" if k["failed"] else "")
-                     + f"; mean xi_eq over T by position {mean.min():.4f} .. {mean.max():.4f}, largest at s = "
+                     + f"; mean xi_eq over T by position {mean.min():.4g} .. {mean.max():.4g}, largest at s = "
                        f"{d['position_of_largest_mean_xi_eq']:g}")
     lines.append(f"  energy budget closes to {r.summary['energy_residual_max']:.1e} of the work")
     lines.append("  wrote " + ", ".join(str(f) for v in r.files.values() for f in (v if isinstance(v, list) else [v])))

@@ -37,3 +37,25 @@ def test_survey_of_five_periods_runs(tmp_path, capsys):
     text = (tmp_path / "s" / "survey.csv").read_text().splitlines()
     cols = text[0].split(",")
     assert all(np.isfinite(float(r.split(",")[cols.index("distance")])) for r in text[1:])
+
+
+# 3. small numbers are printed with the digits they have ------------------------------------------------------
+
+def test_survey_prints_small_xi_in_significant_digits(tmp_path, capsys):
+    """An end mass of 1e-4 on the contact node only (redistributed): xi_eq ~ 1e-5 printed as such, not 0.0000."""
+    import csv
+    import re
+
+    code, out, err = _run(capsys, ["survey", "--model", "fe", "-N", "4", "--mass", "redistributed", "--end-mass",
+                                   "1e-4", "--T-list", "2.5", "3", "--periods", "40", "--no-plot", "--no-paths",
+                                   "--out", tmp_path / "s"])
+    assert code == 0, err
+    rows = list(csv.DictReader((tmp_path / "s" / "survey.csv").open()))
+    xi, xw = (np.array([float(r[c]) for r in rows]) for c in ("xi_eq", "xi_w"))
+    assert xi.max() < 1e-4                                             # the case is the one of the finding
+    num = r"([-+0-9.e]+)"
+    m = re.search(rf"xi_eq of every motion: {num} \.\. {num} \(median {num}\); xi_w: {num} \.\. {num}", out)
+    assert m, out
+    printed = [float(g) for g in m.groups()]
+    want = [xi.min(), xi.max(), np.median(xi), xw.min(), xw.max()]
+    assert np.allclose(printed, want, rtol=1e-3, atol=0)              # four significant digits
