@@ -97,9 +97,14 @@ def _refine_lines(r, always: bool = False) -> list[str]:
             lines.append(f"  {row['n']:5d}  {row['status']:12s} {row['admissible']:5d}  {rng} {xi}  {sm}")
         rates = r.rates[key[0]][key[1]]
         lines += [_rate_line(q, rates[q], always) for q in PLOTTED if q in rates]
-        d = rates["xi_decay"]
-        if d.get("model") and (always or len(d["h"]) >= MIN_MESHES):
-            lines.append(f"    xi_max decays like {d['formula']} ({d['model']} law fits best, {len(d['h'])} meshes)")
+        # one verdict for xi_max: its decay law only where the line above states a rate (its limit, 0, is
+        # approached), never after "no rate": values that wander or grow do not decay like anything
+        d, x = rates["xi_decay"], rates.get("xi_max", {})
+        stated = x.get("rate") is not None and not x.get("caution")
+        if d.get("model") and (always or (stated and len(d["h"]) >= MIN_MESHES)):
+            tag = "" if stated else " [not a verdict: xi_max has no rate stated]"
+            lines.append(f"    xi_max decays like {d['formula']} ({d['model']} law fits best, {len(d['h'])} "
+                         f"meshes){tag}")
     return lines
 
 

@@ -59,3 +59,33 @@ def test_survey_prints_small_xi_in_significant_digits(tmp_path, capsys):
     printed = [float(g) for g in m.groups()]
     want = [xi.min(), xi.max(), np.median(xi), xw.min(), xw.max()]
     assert np.allclose(printed, want, rtol=1e-3, atol=0)              # four significant digits
+
+
+# 4. one verdict per quantity in the refinement output --------------------------------------------------------
+
+def _refine(xi):
+    """A refine result of one family with ``xi_max`` per N = 3 ... (the P2 lumped family T0_II/2 of the issue)."""
+    from plbar.studies.refine import RefineStudy, known_limit
+    from plbar.studies.refine.tables import decay_of
+
+    n = [3, 4, 5, 6, 8, 12, 16][:len(xi)]
+    rows = [{"series": "fe-P2-lumped", "family": "T0_II/2", "n": k, "status": "split", "admissible": 100,
+             "T_min_L": 2.0, "T_max_L": 2.1, "xi_max": x, "T_at_max_L": 2.05, "impact_mass": 0.0, "end_mass": 0.0}
+            for k, x in zip(n, xi)]
+    rates = {"xi_max": known_limit("xi_max", [1 / k for k in n], xi, 0.0, n=n).as_dict(), "xi_decay": decay_of(rows)}
+    return RefineStudy(rows, {"fe-P2-lumped": {"T0_II/2": rates}}, {}, {})
+
+
+def test_refine_states_no_decay_law_after_no_rate():
+    from plbar.cli.studies import _refine_lines
+
+    wander = [0.031264, 0.024611, 0.013656, 0.011029, 0.0057532, 0.0015713, 0.0020888]   # grows at the end
+    lines = [ln.strip() for ln in _refine_lines(_refine(wander))]
+    (xi,) = [ln for ln in lines if ln.startswith("xi_max")]
+    assert xi.startswith("xi_max        no rate")
+    lines = [ln.strip() for ln in _refine_lines(_refine(wander), always=True)]
+    assert any("decays like" in ln and "not a verdict" in ln for ln in lines)
+    decay = [0.031264, 0.024611, 0.013656, 0.011029, 0.0057532, 0.0015713]                # decays throughout
+    lines = [ln.strip() for ln in _refine_lines(_refine(decay))]
+    assert [ln for ln in lines if ln.startswith("xi_max")][0].startswith("xi_max        -> 0: rate")
+    assert any(ln.startswith("xi_max decays like q ~") and "verdict" not in ln for ln in lines)
