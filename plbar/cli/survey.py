@@ -169,20 +169,32 @@ def _refine(a, case, T, out) -> int:
     with get_executor(kind, a.scheduler, a.workers) as ex:
         r = run_survey_refine(case, a.sizes, T, a.periods, a.record, out, ex, progress(a), a.overwrite,
                               plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
-    inf = 0 in r.surveys
-    lines = [f"plbar survey over N = {', '.join(str(n) for n in sorted(set(a.sizes)))}"
+    report(a, r.summary, r.files, "\n".join(_refine_lines(r.rates, a.sizes, 0 in r.surveys, r.files)), rates=r.rates)
+    return 0
+
+
+def _refine_lines(rates: dict, sizes, inf: bool, files: dict) -> list[str]:
+    """The summary of a survey refinement: per T/L and mean, the values and their limit (the continuum's where
+    there is one), or why no limit is stated."""
+    lines = [f"plbar survey over N = {', '.join(str(n) for n in sorted(set(sizes)))}"
              + (", infinity (the continuum, plbar.continuum)" if inf else "") + ":"]
-    for key, d in r.rates.items():
+    for key, d in rates.items():
         cont = d.get("continuum")
         lines.append(f"  {key}: kinds {', '.join(d['kinds'])}"
                      + (f"; continuum {cont['kind']}" if isinstance(cont, dict) else f"; no continuum: {cont}"))
         for q in ("loss_per_T", "xi_eq", "xi_w"):
             c = d[q]
             vals = ", ".join(f"{v:.4g}" for v in c["values"])
-            rate = (f"-> {c['limit']:.4g}, rate {c['rate']:.2f} ({len(c['h'])} meshes)" if c["rate"] is not None
-                    and c["limit"] is not None else f"no rate: {c['why']}")
-            lines.append(f"    {q:10s} {vals}  {rate}")
             ac = c.get("against_continuum")
+            if c.get("method") == "continuum":          # the limit is the continuum's value (the line below)
+                rate = "-> the continuum (N = infinity, below)"
+            elif c["rate"] is not None and c["limit"] is not None and not c.get("caution"):
+                rate = f"-> {c['limit']:.4g}, rate {c['rate']:.2f} ({len(c['h'])} meshes)"
+            elif c["rate"] is not None and c["limit"] is not None:
+                rate = f"no limit stated: {c['caution']}"
+            else:
+                rate = f"no rate: {c['why']}"
+            lines.append(f"    {q:10s} {vals}  {rate}")
             if ac and ac.get("continuum") is not None:
                 z = ", ".join("-" if v is None else f"{v:+.1f}" for v in ac["z"])
                 order = f"order {ac['order']:.2f}" if ac.get("order") is not None else f"no order: {ac['orders_why']}"
@@ -192,10 +204,8 @@ def _refine(a, case, T, out) -> int:
                              + (f" (z {z})" if ac["continuum_se"] else "") + f"; {order}")
             elif ac:
                 lines.append(f"    {'':10s} continuum: {ac['why']}")
-    lines.append("  wrote " + ", ".join(str(f) for v in r.files.values() for f in (v if isinstance(v, list)
-                                                                                      else [v])))
-    report(a, r.summary, r.files, "\n".join(lines), rates=r.rates)
-    return 0
+    lines.append("  wrote " + ", ".join(str(f) for v in files.values() for f in (v if isinstance(v, list) else [v])))
+    return lines
 
 
 def register(sub) -> None:

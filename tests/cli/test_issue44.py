@@ -4,6 +4,7 @@ Every test here failed on the code before the fix it covers.
 """
 
 import numpy as np
+import pytest
 
 from plbar.cli import main
 from plbar.motion import periodicity
@@ -89,3 +90,54 @@ def test_refine_states_no_decay_law_after_no_rate():
     lines = [ln.strip() for ln in _refine_lines(_refine(decay))]
     assert [ln for ln in lines if ln.startswith("xi_max")][0].startswith("xi_max        -> 0: rate")
     assert any(ln.startswith("xi_max decays like q ~") and "verdict" not in ln for ln in lines)
+
+
+#: ``plbar survey --model fe --end-mass 0.5 -N 8 16 32 64 --T-list 3`` (1,000 periods, 100 recorded): its rows
+SURVEY_REFINE = [(8, 0.88956402534951695, 0.0019645184353325059, 0.012076878668143474, 6.7359360624607152e-05,
+                  0.030062321313453239),
+                 (16, 0.6047923929366017, 0.014606381489876386, 0.024211972795888322, 0.0027960561708223592,
+                  0.076804549348292075),
+                 (32, 0.75819750122332874, 0.037602635221729332, 0.0018385654568636707, 0.00027150675356365736,
+                  0.01966970471451682),
+                 (64, 0.90579557513921583, 0.22849040924641489, 0.00032680375053910848, 8.5809889867400054e-05,
+                  0.0056160819370107383),
+                 (0, 0.89890317325441216, 0.18028794990992081, np.nan, np.nan, 0.0012313976869454447)]
+
+
+def _survey_refine_rates(continuum: bool):
+    from plbar.studies.survey.refine import _rates
+
+    rows = [{"N": n, "h": 1.0 / n if n else 0.0, "T": 3.0, "T_L": 3.0, "kind": "irregular", "impacts_per_T": 1.0,
+             "loss_per_T": lo, "loss_std": ls, "xi_eq": xi, "xi_std": xs, "xi_w": xw}
+            for n, lo, ls, xi, xs, xw in SURVEY_REFINE if continuum or n]
+    return _rates(rows, np.array([3.0]), 100, "" if continuum else "none here")
+
+
+def test_survey_refine_states_no_limit_where_the_values_do_not_converge():
+    d = _survey_refine_rates(True)["T/L=3"]
+    assert d["loss_per_T"]["limit"] == 0.89890317325441216 and d["loss_per_T"]["method"] == "continuum"
+    assert d["xi_w"]["limit"] == 0.0012313976869454447                  # the figure draws |q - continuum|
+    assert d["xi_eq"]["caution"]                                         # no continuum value: not stated
+    from plbar.cli.survey import _refine_lines
+
+    lines = _refine_lines(_survey_refine_rates(True), [8, 16, 32, 64], True, {})
+    text = "\n".join(lines)
+    assert "4.657" not in text and "rate 0.06" not in text
+    loss = next(ln for ln in lines if ln.strip().startswith("loss_per_T"))
+    assert loss.endswith("-> the continuum (N = infinity, below)")
+    xi = next(ln for ln in lines if ln.strip().startswith("xi_eq"))      # no continuum value: values that wander
+    assert "no limit stated: the successive differences change sign" in xi
+    # without a continuum row none of the three has a limit stated (each wanders)
+    lines = _refine_lines(_survey_refine_rates(False), [8, 16, 32, 64], False, {})
+    assert sum("no limit stated" in ln for ln in lines) == 3 and "4.657" not in "\n".join(lines)
+
+
+def test_a_richardson_limit_beyond_the_meshes_is_not_stated():
+    """q = 1 + h^0.1 (monotone, rate 0.1): its Richardson limit lies further out than the meshes span."""
+    from plbar.studies.survey.refine import _rates
+
+    rows = [{"N": n, "h": 1.0 / n, "T": 3.0, "T_L": 3.0, "kind": "periodic", "impacts_per_T": 1.0,
+             "loss_per_T": 1 + n ** -0.1, "loss_std": 0.0, "xi_eq": 0.1, "xi_std": 0.0, "xi_w": 0.1}
+            for n in (8, 16, 32, 64)]
+    c = _rates(rows, np.array([3.0]), 100)["T/L=3"]["loss_per_T"]
+    assert c["limit"] == pytest.approx(1.0, rel=1e-6) and c["caution"].startswith("the Richardson limit 1 (rate 0.1)")
