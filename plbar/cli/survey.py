@@ -15,7 +15,7 @@ import numpy as np
 from ..errors import InputError
 from ..util.outputs import check_creatable
 from ..util.progress import message
-from .common import case_args, case_from_args, output_args, progress, report, yes_arg
+from .common import case_args, case_from_args, output_args, progress, refuse_contact_load, report, yes_arg
 
 __all__ = ["register"]
 
@@ -26,17 +26,23 @@ _SEARCH = ("grid", "T1", "T2", "method", "signatures")
 def _periods(a, case) -> np.ndarray:
     from ..studies.survey import default_periods
 
-    if a.T_list:
+    if a.T_list:                            # explicit periods: a range's options would be ignored, so refused
+        given = [o for o, v in (("--T", a.T), ("--num", a.num)) if v is not None]
+        if given:
+            raise InputError(f"{' and '.join(given)} conflict{'s' if len(given) == 1 else ''} with --T-list (explicit "
+                             f"forcing periods, surveyed in increasing order): give a range (--T LO HI --num K) or "
+                             "the list, not both")
         return np.asarray(a.T_list, float)
-    if a.num < 2:
-        raise InputError(f"--num {a.num} is not a range of forcing periods: give --num 2 or more, or one period with "
+    num = 161 if a.num is None else a.num
+    if num < 2:
+        raise InputError(f"--num {num} is not a range of forcing periods: give --num 2 or more, or one period with "
                          "--T-list T")
     if a.T is None:
-        return default_periods(case, a.num)
+        return default_periods(case, num)
     lo, hi = a.T
     if not (np.isfinite(lo) and np.isfinite(hi) and 0 < lo <= hi):
         raise InputError(f"--T {lo:g} {hi:g} must be a range 0 < LO <= HI of forcing periods")
-    return np.linspace(lo, hi, a.num)
+    return np.linspace(lo, hi, num)
 
 
 def _cost(a, case, T) -> None:
@@ -106,6 +112,8 @@ def _cmd_survey(a) -> int:
     case, _ = case_from_args(a)
     if a.sizes and len(a.sizes) == 1:
         case = _with_n(case, a.sizes[0])
+    for n in a.sizes or [None]:           # a --load-node on the contact DOF of any size is refused
+        refuse_contact_load(case if n is None else _with_n(case, n), tuple((k, 1.0) for k in a.load_node or ()))
     T = _periods(a, case)
     _cost(a, case, T)
     out = check_creatable(a.out)              # made by the study's claim (removed again if it fails)
@@ -224,7 +232,7 @@ def register(sub) -> None:
     g.add_argument("--T", type=float, nargs=2, default=None, metavar=("LO", "HI"),
                    help="range of forcing periods [6 14 for the paper's case; 0.6-1.4 T0_I for a chain, "
                         "0.75 T0_I to the top of what 'plbar run' searches, (T0_I + T0_II)/2, for an FE bar]")
-    g.add_argument("--num", type=int, default=161, metavar="K", help="forcing periods in the range [161]")
+    g.add_argument("--num", type=int, default=None, metavar="K", help="forcing periods in the range [161]")
     g.add_argument("--T-list", dest="T_list", type=float, nargs="+", default=None, metavar="T",
                    help="explicit forcing periods (instead of --T/--num)")
     g.add_argument("--periods", type=int, default=1000, metavar="P", help="forcing periods simulated [1000]")

@@ -141,3 +141,21 @@ def test_a_richardson_limit_beyond_the_meshes_is_not_stated():
             for n in (8, 16, 32, 64)]
     c = _rates(rows, np.array([3.0]), 100)["T/L=3"]["loss_per_T"]
     assert c["limit"] == pytest.approx(1.0, rel=1e-6) and c["caution"].startswith("the Richardson limit 1 (rate 0.1)")
+
+
+# 5. input that was silently accepted ---------------------------------------------------------------------------
+
+def test_t_list_with_a_range_option_is_refused(tmp_path, capsys):
+    for extra in (["--num", "3"], ["--T", "6", "8"]):
+        code, _, err = _run(capsys, ["survey", "--T-list", "9", "7", "8", *extra, "--periods", "20", "--no-plot",
+                                     "--out", tmp_path / "s"])
+        assert code == 2 and f"{extra[0]} conflicts with --T-list" in err and err.count("\n") == 1
+    assert not (tmp_path / "s" / "survey.csv").exists()
+
+
+def test_load_on_the_contact_dof_is_refused(tmp_path, capsys):
+    code, _, err = _run(capsys, ["run", "--load-node", "5", "--out", tmp_path / "r", "--no-plot"])
+    assert code == 2 and "--load-node 5 is the contact DOF" in err and "1..4" in err and err.count("\n") == 1
+    code, _, err = _run(capsys, ["survey", "--model", "fe", "--element", "P2", "-N", "2", "--load-node", "4",
+                                 "--T-list", "3", "--out", tmp_path / "s"])
+    assert code == 2 and "--load-node 4 is the contact DOF" in err and "1..3" in err
