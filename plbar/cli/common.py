@@ -185,6 +185,8 @@ def case_from_args(a):
               end_mass_absolute=a.end_mass_absolute, rayleigh=_rayleigh(a),
               restitution=getattr(a, "restitution", None))
     case = Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None})
+    if not hasattr(a, "sizes"):          # a list of sizes (-N): each size's case is checked where it is made
+        refuse_contact_load(case, nodes)
     if nodes or points or amp == 1.0:
         return case, None
     return replace(case, load_nodes=tuple((k, amp * q) for k, q in case.load_nodes),   # the default load, scaled
@@ -199,6 +201,16 @@ def _amplitude(amp) -> float:
         raise InputError(f"--amplitude {amp:g} is not allowed; it must be a finite force > 0 (the amplitude of every "
                          "force of the load; a negative one is the same load half a period later)")
     return float(amp)
+
+
+def refuse_contact_load(case, nodes) -> None:
+    """Refuse a ``--load-node`` (``nodes``) on the contact DOF of ``case``: the paper loads the bar away from its
+    contact (the last DOF, at the wall), where a force goes straight into the reaction."""
+    n = case.bar().n_dofs
+    if any(k == n for k, _ in nodes):
+        raise InputError(f"--load-node {n} is the contact DOF (at the wall); the paper's load acts on DOFs 1..{n - 1} "
+                         f"(a force on the contact goes straight into the reaction): give --load-node 1..{n - 1} "
+                         "or --load-at S")
 
 
 def case_flags(a, skip=()) -> str:

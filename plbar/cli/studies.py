@@ -42,8 +42,8 @@ def _cmd_sweep(a) -> int:
              f"({s['times']['solve']:.3g} s), {plural(s['positions'], 'position')} and the load of the largest "
              f"xi_eq in {s['times']['load_study']:.3g} s"]
     for fam, e in s.get("families", {}).items():
-        lines.append(f"  {fam:8s}: largest xi_eq of any load = {e['xi_worst_max']:.4f}, best single force "
-                     f"{e['xi_best_single_max']:.4f} at s = {e['s_at_best_single']:.4g}")
+        lines.append(f"  {fam:8s}: largest xi_eq of any load = {e['xi_worst_max']:.4g}, best single force "
+                     f"{e['xi_best_single_max']:.4g} at s = {e['s_at_best_single']:.4g}")
     if s.get("no_path"):
         lines.append(f"  {plural(len(s['no_path']), 'load')} with no path (h(q) = 0): see summary.json 'no_path'")
     lines.append("  wrote " + ", ".join(str(f) for f in r.files.values()))
@@ -101,15 +101,21 @@ def _refine_lines(r, always: bool = False) -> list[str]:
         for row in fam:
             rng = (f"[{scale * row['T_min_L']:.5g}, {scale * row['T_max_L']:.5g}]"
                    if np.isfinite(row["T_min_L"]) else "-").ljust(22)
-            xi = (f"{row['xi_max']:.5f}  {scale * row['T_at_max_L']:<8.5g}" if np.isfinite(row["xi_max"])
-                  else "-".ljust(16))
-            sm = f"{row['impact_mass'] / row['end_mass']:.5f}" if row["end_mass"] > 0 else "-"
+            # xi_max and S/M_e in significant digits (a small end mass makes both small: 0.00000 says nothing)
+            xi = (f"{row['xi_max']:<13.5g}  {scale * row['T_at_max_L']:<8.5g}" if np.isfinite(row["xi_max"])
+                  else "-".ljust(22))
+            sm = f"{row['impact_mass'] / row['end_mass']:.5g}" if row["end_mass"] > 0 else "-"
             lines.append(f"  {row['n']:5d}  {row['status']:12s} {row['admissible']:5d}  {rng} {xi}  {sm}")
         rates = r.rates[key[0]][key[1]]
         lines += [_rate_line(q, rates[q], always) for q in PLOTTED if q in rates]
-        d = rates["xi_decay"]
-        if d.get("model") and (always or len(d["h"]) >= MIN_MESHES):
-            lines.append(f"    xi_max decays like {d['formula']} ({d['model']} law fits best, {len(d['h'])} meshes)")
+        # one verdict for xi_max: its decay law only where the line above states a rate (its limit, 0, is
+        # approached), never after "no rate": values that wander or grow do not decay like anything
+        d, x = rates["xi_decay"], rates.get("xi_max", {})
+        stated = x.get("rate") is not None and not x.get("caution")
+        if d.get("model") and (always or (stated and len(d["h"]) >= MIN_MESHES)):
+            tag = "" if stated else " [not a verdict: xi_max has no rate stated]"
+            lines.append(f"    xi_max decays like {d['formula']} ({d['model']} law fits best, {len(d['h'])} "
+                         f"meshes){tag}")
     return lines
 
 

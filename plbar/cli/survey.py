@@ -15,7 +15,7 @@ import numpy as np
 from ..errors import InputError
 from ..util.outputs import check_creatable
 from ..util.progress import message
-from .common import case_args, case_from_args, output_args, progress, report, yes_arg
+from .common import case_args, case_from_args, output_args, progress, refuse_contact_load, report, yes_arg
 
 __all__ = ["register"]
 
@@ -26,17 +26,23 @@ _SEARCH = ("grid", "T1", "T2", "method", "signatures")
 def _periods(a, case) -> np.ndarray:
     from ..studies.survey import default_periods
 
-    if a.T_list:
+    if a.T_list:                            # explicit periods: a range's options would be ignored, so refused
+        given = [o for o, v in (("--T", a.T), ("--num", a.num)) if v is not None]
+        if given:
+            raise InputError(f"{' and '.join(given)} conflict{'s' if len(given) == 1 else ''} with --T-list (explicit "
+                             f"forcing periods, surveyed in increasing order): give a range (--T LO HI --num K) or "
+                             "the list, not both")
         return np.asarray(a.T_list, float)
-    if a.num < 2:
-        raise InputError(f"--num {a.num} is not a range of forcing periods: give --num 2 or more, or one period with "
+    num = 161 if a.num is None else a.num
+    if num < 2:
+        raise InputError(f"--num {num} is not a range of forcing periods: give --num 2 or more, or one period with "
                          "--T-list T")
     if a.T is None:
-        return default_periods(case, a.num)
+        return default_periods(case, num)
     lo, hi = a.T
     if not (np.isfinite(lo) and np.isfinite(hi) and 0 < lo <= hi):
         raise InputError(f"--T {lo:g} {hi:g} must be a range 0 < LO <= HI of forcing periods")
-    return np.linspace(lo, hi, a.num)
+    return np.linspace(lo, hi, num)
 
 
 def _cost(a, case, T) -> None:
@@ -76,16 +82,19 @@ def _lines(s, T) -> list[str]:
         settling = f"; {int(sel.sum())} still settling on their orbit" if sel.any() else ""
         lines.append(f"  from {start:4s}: {k['periodic']} periodic ({by_m or '-'}{settling}), {k['irregular']} "
                      "irregular" + (f", {k['failed']} failed" if k["failed"] else ""))
+    if s.summary["record"] < 2:                 # periodic needs two repeats of the period in the window
+        lines.append("  1 recorded period cannot show a motion repeat: every motion is irregular (give --record 2 "
+                     "or more)")
     per = (t["kind"] == "periodic") & (t["start"] == "rest")
     if per.any():
         i = int(np.nanargmax(np.where(per, t["xi_eq"], -np.inf)))
-        lines.append(f"  largest xi_eq of a periodic motion: {t['xi_eq'][i]:.4f} at T = {t['T'][i]:.6g} "
+        lines.append(f"  largest xi_eq of a periodic motion: {t['xi_eq'][i]:.4g} at T = {t['T'][i]:.6g} "
                      f"(m = {t['m'][i]}, loss per period {t['loss_per_T'][i]:.4g})")
     fin = np.isfinite(t["xi_eq"])
     if fin.any():
-        lines.append(f"  xi_eq of every motion: {np.nanmin(t['xi_eq']):.4f} .. {np.nanmax(t['xi_eq']):.4f} "
-                     f"(median {np.nanmedian(t['xi_eq']):.4f}); xi_w: {np.nanmin(t['xi_w']):.4f} .. "
-                     f"{np.nanmax(t['xi_w']):.4f}")
+        lines.append(f"  xi_eq of every motion: {np.nanmin(t['xi_eq']):.4g} .. {np.nanmax(t['xi_eq']):.4g} "
+                     f"(median {np.nanmedian(t['xi_eq']):.4g}); xi_w: {np.nanmin(t['xi_w']):.4g} .. "
+                     f"{np.nanmax(t['xi_w']):.4g}")
     drift = (t["steady"] == 0) & (t["kind"] != "failed")
     if drift.any():
         lines.append(f"  {int(drift.sum())} motion(s) drift over the recorded window (loss or int v^T M v changes by "
@@ -107,6 +116,8 @@ def _cmd_survey(a) -> int:
     case, _ = case_from_args(a)
     if a.sizes and len(a.sizes) == 1:
         case = _with_n(case, a.sizes[0])
+    for n in a.sizes or [None]:           # a --load-node on the contact DOF of any size is refused
+        refuse_contact_load(case if n is None else _with_n(case, n), tuple((k, 1.0) for k in a.load_node or ()))
     T = _periods(a, case)
     _cost(a, case, T)
     out = check_creatable(a.out)              # made by the study's claim (removed again if it fails)
@@ -148,7 +159,7 @@ def _loads(a, case, T, out) -> int:
         mean = np.asarray(d["mean_xi_eq_per_position"])
         lines.append(f"  N = {n}: {k['periodic']} periodic, {k['irregular']} irregular"
                      + (f", {k['failed']} failed" if k["failed"] else "")
-                     + f"; mean xi_eq over T by position {mean.min():.4f} .. {mean.max():.4f}, largest at s = "
+                     + f"; mean xi_eq over T by position {mean.min():.4g} .. {mean.max():.4g}, largest at s = "
                        f"{d['position_of_largest_mean_xi_eq']:g}")
     lines.append(f"  energy budget closes to {r.summary['energy_residual_max']:.1e} of the work")
     lines.append("  wrote " + ", ".join(str(f) for v in r.files.values() for f in (v if isinstance(v, list) else [v])))
@@ -170,21 +181,33 @@ def _refine(a, case, T, out) -> int:
     with get_executor(kind, a.scheduler, a.workers) as ex:
         r = run_survey_refine(case, a.sizes, T, a.periods, a.record, out, ex, progress(a), a.overwrite,
                               plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
-    inf = 0 in r.surveys
-    L = case.bar().length
-    lines = [f"plbar survey over N = {', '.join(str(n) for n in sorted(set(a.sizes)))}"
+    text = "\n".join(_refine_lines(r.rates, a.sizes, 0 in r.surveys, r.files, case.bar().length))
+    report(a, r.summary, r.files, text, rates=r.rates)
+    return 0
+
+
+def _refine_lines(rates: dict, sizes, inf: bool, files: dict, L: float = 1.0) -> list[str]:
+    """The summary of a survey refinement: per forcing period (in the case's time unit, and T/L for a bar of length
+    ``L``) and mean, the values and their limit (the continuum's where there is one), or why no limit is stated."""
+    lines = [f"plbar survey over N = {', '.join(str(n) for n in sorted(set(sizes)))}"
              + (", infinity (the continuum, plbar.continuum)" if inf else "") + ":"]
-    for d in r.rates.values():
+    for d in rates.values():
         cont = d.get("continuum")
         lines.append(f"  T = {d['T']:.6g} (T/L = {d['T'] / L:.4g}): kinds {', '.join(d['kinds'])}"
                      + (f"; continuum {cont['kind']}" if isinstance(cont, dict) else f"; no continuum: {cont}"))
         for q in ("loss_per_T", "xi_eq", "xi_w"):
             c = d[q]
             vals = ", ".join(f"{v:.4g}" for v in c["values"])
-            rate = (f"-> {c['limit']:.4g}, rate {c['rate']:.2f} ({len(c['h'])} meshes)" if c["rate"] is not None
-                    and c["limit"] is not None else f"no rate: {c['why']}")
-            lines.append(f"    {q:10s} {vals}  {rate}")
             ac = c.get("against_continuum")
+            if c.get("method") == "continuum":          # the limit is the continuum's value (the line below)
+                rate = "-> the continuum (N = infinity, below)"
+            elif c["rate"] is not None and c["limit"] is not None and not c.get("caution"):
+                rate = f"-> {c['limit']:.4g}, rate {c['rate']:.2f} ({len(c['h'])} meshes)"
+            elif c["rate"] is not None and c["limit"] is not None:
+                rate = f"no limit stated: {c['caution']}"
+            else:
+                rate = f"no rate: {c['why']}"
+            lines.append(f"    {q:10s} {vals}  {rate}")
             if ac and ac.get("continuum") is not None:
                 z = ", ".join("-" if v is None else f"{v:+.1f}" for v in ac["z"])
                 order = f"order {ac['order']:.2f}" if ac.get("order") is not None else f"no order: {ac['orders_why']}"
@@ -194,10 +217,8 @@ def _refine(a, case, T, out) -> int:
                              + (f" (z {z})" if ac["continuum_se"] else "") + f"; {order}")
             elif ac:
                 lines.append(f"    {'':10s} continuum: {ac['why']}")
-    lines.append("  wrote " + ", ".join(str(f) for v in r.files.values() for f in (v if isinstance(v, list)
-                                                                                      else [v])))
-    report(a, r.summary, r.files, "\n".join(lines), rates=r.rates)
-    return 0
+    lines.append("  wrote " + ", ".join(str(f) for v in files.values() for f in (v if isinstance(v, list) else [v])))
+    return lines
 
 
 def register(sub) -> None:
@@ -216,7 +237,7 @@ def register(sub) -> None:
     g.add_argument("--T", type=float, nargs=2, default=None, metavar=("LO", "HI"),
                    help="range of forcing periods [6 14 for the paper's case; 0.6-1.4 T0_I for a chain, "
                         "0.75 T0_I to the top of what 'plbar run' searches, (T0_I + T0_II)/2, for an FE bar]")
-    g.add_argument("--num", type=int, default=161, metavar="K", help="forcing periods in the range [161]")
+    g.add_argument("--num", type=int, default=None, metavar="K", help="forcing periods in the range [161]")
     g.add_argument("--T-list", dest="T_list", type=float, nargs="+", default=None, metavar="T",
                    help="explicit forcing periods (instead of --T/--num)")
     g.add_argument("--periods", type=int, default=1000, metavar="P", help="forcing periods simulated [1000]")

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model import Problem
-from ..util.reprs import build, rng
+from ..util.reprs import build, listing, rng
 from ..util.threads import map_chunks, n_threads
 from .compile import kind
 from .model import OK, STUCK, Padded, padded
@@ -63,6 +63,8 @@ class Run:
         Totals over the whole run: the energy budget is ``work - losses - viscous - (energy_end - energy0)``.
     viscous, viscous_rec : ndarray, shapes (B,), (B, R)
         Energy taken by inherent damping over the whole run and per recorded period (0 undamped).
+    stop_time : ndarray, shape (B,)
+        Where a stopped trajectory (``status`` not 0) stopped (absolute time); nan where it ran to the end.
     final : Start
         The state at the end (to continue from).
     rounds : int
@@ -94,6 +96,20 @@ class Run:
     rounds: int
     viscous: np.ndarray = None
     viscous_rec: np.ndarray = None
+    stop_time: np.ndarray = None
+
+    @property
+    def messages(self) -> list[str]:
+        """One line for each trajectory that stopped before the end (none when all ran to the end)."""
+        why = {1: "a chattering contact (switches ever closer in time: a contact that sticks, or a contact node "
+                  "of a very small mass: give it more, e.g. a larger end mass)",
+               2: "a stall (no progress in time: a stiff contact)"}
+        out = []
+        for b in np.flatnonzero(self.status != 0):
+            t = np.nan if self.stop_time is None else float(self.stop_time[b])
+            out.append(f"T = {self.T[b]:.10g}: stopped at t = {t:.10g} (forcing period {int(t // self.T[b])} of "
+                       f"{self.periods}) by {why.get(int(self.status[b]), 'an unknown status')}")
+        return out
 
     @property
     def energy_residual(self) -> np.ndarray:
@@ -104,8 +120,10 @@ class Run:
 
     def __repr__(self) -> str:
         return build("Run", {"B": self.T.size, "T": rng(self.T), "periods": self.periods, "record": self.record,
+                             "stopped": int(np.sum(self.status != 0)),
                              "impacts/T": rng(self.impacts.mean(axis=1)) if self.record else "-",
-                             "energy_residual": rng(np.abs(self.energy_residual)), "rounds": self.rounds})
+                             "energy_residual": rng(np.abs(self.energy_residual)), "rounds": self.rounds},
+                     listing(self.messages, 3))
 
 
 def _check(T, phi, periods, record):
@@ -198,12 +216,14 @@ def _collect(pad: Padded, T, phi, periods, record, tr, rc, acc, e0) -> Run:
     events = {"traj": rows, "time": ev[rows, cols, D.TIME], "kind": ev[rows, cols, D.KIND].astype(int),
               "loss": ev[rows, cols, D.LOSS]}
     a = acc if acc is not None else np.zeros((B, record, 6))
+    tf = tr[0]
+    stop = np.where(ti[:, D.STATUS] != OK, ti[:, D.PERIOD] * tf[:, D.T] + tf[:, D.TP] + tf[:, D.P], np.nan)
     return Run(T, phi, periods, record, ti[:, D.STATUS].copy(), per[..., D.IMPACTS].astype(int),
                per[..., D.OPENINGS].astype(int), per[..., D.LOSS].copy(), a[..., D.D_EQ].copy(), a[..., D.D_W].copy(),
                a[..., D.WORK_REC].copy(), a[..., D.STUCK_T].copy(), a[..., D.AMP].copy(), _physical(pad, ss, sx),
                _physical(pad, ss, sv), ss, events, tot[:, D.WORK].copy(), tot[:, D.LOSSES].copy(), e0, e_end,
                Start(state, z[:, 0].copy(), z[:, 1].copy()), int(ti[:, D.ROUNDS].sum()), tot[:, D.VISC].copy(),
-               a[..., D.VISC_REC].copy())
+               a[..., D.VISC_REC].copy(), stop)
 
 
 def _physical(pad: Padded, state, modal) -> np.ndarray:

@@ -99,7 +99,9 @@ def periodicity(x, v, m_max: int = M_MAX, tol: float = PERIODIC_TOL):
 
     The distance at ``m`` is ``max_r |z_(r+m) - z_r| / max_r |z_r|`` over the
     window, ``z = (x, v)``; ``m`` is used only if the window holds at least
-    two repeats (``R >= 2 m``).
+    two repeats (``R >= 2 m``).  A window too short for any such ``m`` (one
+    recorded period) is never periodic; its distance is then the one repeat
+    at ``m = 1`` it holds (finite, so that the table can hold it).
     """
     z = np.concatenate([x, v], axis=2)
     B, R1, _ = z.shape
@@ -111,6 +113,8 @@ def periodicity(x, v, m_max: int = M_MAX, tol: float = PERIODIC_TOL):
         new = (best_m == 0) & (dist <= tol)
         best_m[new] = m
         best_d = np.where(new | ((best_m == 0) & (dist < best_d)), dist, best_d)
+    if R1 == 2:                                        # one recorded period: the one repeat it has, never periodic
+        best_d = np.linalg.norm(z[:, 1] - z[:, 0], axis=1) / scale
     return best_m, best_d
 
 
@@ -137,6 +141,16 @@ def trend(a, batches: int = BATCHES) -> tuple[np.ndarray, np.ndarray]:
     return drift, t
 
 
+def _repeat(r: Run, b: int, m: int, default: float) -> float:
+    """The relative repeat distance of trajectory ``b``'s window at ``m`` (:func:`periodicity`), ``default``
+    where the window is not longer than ``m``."""
+    z = np.concatenate([r.strobe_x[b], r.strobe_v[b]], axis=1)
+    if z.shape[0] <= m:
+        return float(default)
+    scale = max(float(np.linalg.norm(z, axis=1).max()), 1e-300)
+    return float(np.linalg.norm(z[m:] - z[:-m], axis=1).max() / scale)
+
+
 def _spread(a, use):
     """Mean, min, max and standard deviation of each row over its ``use``d periods."""
     rows = [a[b][use[b]] for b in range(a.shape[0])]
@@ -146,16 +160,21 @@ def _spread(a, use):
 def steady(r: Run, m_max: int = M_MAX, tol: float = PERIODIC_TOL, settled=None) -> Steady:
     """Characterise the recorded window of ``r`` (needs ``r.record >= 1``).
 
-    ``settled`` (int array (B,), optional): periods of trajectories that the caller has shown to settle on a
-    stable orbit though the window does not repeat to ``tol`` yet (:mod:`plbar.studies.survey.settle`); they
-    are reported periodic with that period, averaged over whole orbits (0: no such evidence).
+    ``settled`` (int array (B,), optional): periods of the exact orbits that the caller has shown trajectories
+    to be on, or to settle on though the window does not repeat to ``tol`` yet
+    (:mod:`plbar.studies.survey.settle`); they are reported periodic with that period, averaged over whole
+    orbits of it, their ``distance`` the repeat distance at it (0: no such evidence).  The orbit's period
+    replaces the window's repeat: a motion settling on an orbit of period 1 may repeat to ``tol`` at ``m = 7``
+    first (a slow approach that turns by about ``2 pi / 7`` a period), and its row must not name one period
+    and average over another (issue 44).
     """
     if r.record < 1:
         raise ValueError("the run recorded no period; give record >= 1")
     m, dist = periodicity(r.strobe_x, r.strobe_v, m_max, tol)
     if settled is not None:
         settled = np.asarray(settled, int)
-        m = np.where((m == 0) & (settled > 0), settled, m)
+        for b in np.flatnonzero((settled > 0) & (settled != m) & (r.status == 0)):
+            m[b], dist[b] = settled[b], _repeat(r, b, int(settled[b]), dist[b])
     kind = np.where(r.status != 0, 2, np.where(m > 0, 0, 1))
     m = np.where(kind == 0, m, 0)
     # a periodic motion is averaged over whole orbits: the last m floor(R / m) periods

@@ -9,7 +9,7 @@ the column names below are the only way the kernel and :mod:`plbar.motion.run` i
   IMPACT_VEL | OPEN_VEL]`` the switch maps (:class:`plbar.motion.Padded`);
 * damping: None (undamped: no damped code is compiled) or ``damping[state, ZETA | CV]``;
 * trajectories ``tr = (tf, ti, z, tot)``: ``tf[b, T | OMEGA | PHI | TP | P]``, ``ti[b, PERIOD | STATE | ZEROS |
-  STALL | STATUS | ROUNDS | NEED | EVENTS]``, the modal state ``z[b, 0 | 1]`` (``eta, eta'``) at the start of
+  STALL | STATUS | ROUNDS | NEED | EVENTS | SHORT]``, the modal state ``z[b, 0 | 1]`` (``eta, eta'``) at the start of
   the current segment and the totals ``tot[b, WORK | LOSSES | VISC]``; a call may stop anywhere (a block of
   periods done, or no room to record an event: ``NEED``) and the next one goes on;
 * records ``rc = (per, ev, sx, sv, ss)``: per recorded period ``per[b, r, IMPACTS | OPENINGS | LOSS]``, the
@@ -30,7 +30,7 @@ RQ, SIZE = 0, 1
 OPEN, IMPACT_POS, IMPACT_VEL, OPEN_VEL = 0, 1, 2, 3
 ZETA, CV = 0, 1
 T, OMEGA, PHI, TP, P = 0, 1, 2, 3, 4
-PERIOD, STATE, ZEROS, STALL, STATUS, ROUNDS, NEED, EVENTS = 0, 1, 2, 3, 4, 5, 6, 7
+PERIOD, STATE, ZEROS, STALL, STATUS, ROUNDS, NEED, EVENTS, SHORT = 0, 1, 2, 3, 4, 5, 6, 7, 8
 IMPACTS, OPENINGS, LOSS = 0, 1, 2
 TIME, KIND = 0, 1
 OPENS, IMPACT, REBOUND, STICK = 1, 2, 3, 4   #: event kinds: the gap opens; a plastic impact; a rebound; rebounds
@@ -69,7 +69,7 @@ def trajectories(T, phi, state, eta, vel) -> tuple:
     B = T.size
     tf = np.zeros((B, 5))
     tf[:, 0], tf[:, 1], tf[:, 2] = T, 2 * np.pi / T, phi
-    ti = np.zeros((B, 8), np.int64)
+    ti = np.zeros((B, 9), np.int64)
     ti[:, 1] = state
     return tf, ti, _f64(np.stack([np.asarray(eta, float), np.asarray(vel, float)], axis=1)), np.zeros((B, 3))
 

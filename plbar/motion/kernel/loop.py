@@ -38,6 +38,7 @@ __all__ = [
     "MAX_STALL",
     "PROGRESS",
     "MAX_ZERO",
+    "MAX_SHORT",
     "OK",
     "ORDER",
     "STALLED",
@@ -50,6 +51,9 @@ __all__ = [
 
 TINY = 1e-12        #: step (in periods) where no derivative decides, and the snap of a step onto a period boundary
 MAX_ZERO = 50       #: consecutive zero-length segments before a trajectory is stopped as chattering
+MAX_SHORT = 1000    #: consecutive events, each ending a segment shorter than PROGRESS, before it is stopped as
+                    #: chattering: impacts and openings a few ulps apart (a contact node of a tiny mass) are never
+                    #: zero-length and each resets the stall count, so without this they go on for ever (issue 44)
 MAX_STALL = 5000    #: rounds without progress (below PROGRESS) since an event or a period boundary: stalled
 #: a round that steps on by this fraction of a period or more is progress, however many it takes
 #: (stiff Rayleigh modes make the Taylor model's steps short: P2, N = 256, 2 % needs ~6,000 a period)
@@ -244,8 +248,9 @@ def _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, work, damping):
         ev[b, n, D.TIME], ev[b, n, D.KIND], ev[b, n, D.LOSS] = time + dt, kind, loss
         s[D.EVENTS] = n + 1
     s[D.ZEROS] = s[D.ZEROS] + 1 if p == 0.0 else 0
+    s[D.SHORT] = s[D.SHORT] + 1 if p <= PROGRESS * f[D.T] else 0
     s[D.STALL] = 0
-    if s[D.ZEROS] > MAX_ZERO:
+    if s[D.ZEROS] > MAX_ZERO or s[D.SHORT] > MAX_SHORT:
         s[D.STATUS] = CHATTER
 
 

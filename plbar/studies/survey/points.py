@@ -132,16 +132,19 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
     exact = True                           # the exact orbits (plbar.hybrid), with rebounds where e > 0
     settled = {b: settle(prob, r, b) for b in np.flatnonzero(s.kind == KINDS.index("irregular"))} if exact else {}
     settled = {b: a for b, a in settled.items() if a is not None}
-    if settled:
-        s = steady(r, settled=[settled[b].orbit.sig.m if b in settled else 0 for b in range(T.size)])
+    # the exact orbit of each periodic motion (any restitution: R in the signature for a rebound)
+    orbit = {b: a for b in np.flatnonzero(s.kind == KINDS.index("periodic"))
+             if (a := _polish(prob, r, b, int(s.m[b]), float(s.loss_per_T[b])))}
+    orbit.update({b: _orbit_fields(a) for b, a in settled.items()})
+    # a row names its orbit's period: its statistics are taken over whole orbits of it (not the window's repeat)
+    period = [int(orbit[b].get("m", 0)) if b in orbit else 0 for b in range(T.size)]
+    if any(p and p != s.m[b] for b, p in enumerate(period)):
+        s = steady(r, settled=period)
     rows = []
     for i in range(T.size):
         row = _row(s, r, i)
         row.update(xi_total=float(prob.system.rayleigh_ratio(2 * np.pi / T[i]) + s.xi_eq[i])
                    if getattr(prob.system, "damped", False) else float(s.xi_eq[i]))
-        if i in settled:
-            row.update(_orbit_fields(settled[i]))
-        elif row["kind"] == "periodic":             # any restitution: R in the signature for a rebound
-            row.update(_polish(prob, r, i, row["m"], row["loss_per_T"]))
+        row.update(orbit.get(i, {}))
         rows.append(row)
     return rows, r.final

@@ -198,14 +198,37 @@ def _rates(rows: list[dict], TL, record: int, no_continuum: str = "", length: fl
             if len(sel) < MIN_MESHES:
                 c.update(rate=None, limit=None, error=None, fitted=None,
                          why=f"{len(sel)} meshes: a rate needs at least {MIN_MESHES}")
+            if c["limit"] is not None and not c["caution"] and _beyond(vals, c["limit"]):
+                c["caution"] = (f"the Richardson limit {c['limit']:.4g} (rate {c['rate']:.2g}) lies further from the "
+                                "finest mesh than the meshes span: the values do not converge at that rate yet")
             out[key][q] = {"values": vals.tolist(), "meshes": len(sel), **c}
             if cont is not None:
-                out[key][q]["against_continuum"] = _against(sel, cont, q, spread, record)
+                ac = out[key][q]["against_continuum"] = _against(sel, cont, q, spread, record)
+                if ac.get("continuum") is not None:            # the continuum is the limit, not an extrapolation
+                    out[key][q].update(_continuum_limit(out[key][q], ac, h, vals, n))
         if cont is None:
             out[key]["continuum"] = no_continuum or "none"
         else:
             out[key]["continuum"] = {"kind": cont["kind"], "impacts_per_T": float(cont["impacts_per_T"])}
     return out
+
+
+def _beyond(vals, limit: float) -> bool:
+    """The extrapolated ``limit`` is further from the finest value than the values span (a rate near 0 sends it
+    far beyond them: ``1 / (r^p - 1)`` times the last difference)."""
+    v = np.asarray(vals, float)
+    v = v[np.isfinite(v)]
+    return bool(v.size >= 2 and abs(limit - v[-1]) > np.ptp(v))
+
+
+def _continuum_limit(d: dict, ac: dict, h, vals, n) -> dict:
+    """The fields of a mean whose limit is the continuum's value: the orders against it (:func:`known_limit`,
+    ``against_continuum``), the Richardson numbers kept aside (``richardson``)."""
+    k = known_limit(d["name"], h, vals, ac["continuum"], n=n).as_dict() if len(h) >= 2 else {}
+    return {"richardson": {f: d.get(f) for f in ("rate", "limit", "error", "fitted", "why", "caution")},
+            "limit": ac["continuum"], "error": ac.get("continuum_se", 0.0), "rate": ac.get("order"),
+            "fitted": k.get("fitted"), "method": "continuum", "why": ac.get("orders_why") or "",
+            "caution": k.get("caution", "")}
 
 
 def _write(folder: Path, rows: list[dict], rates: dict) -> dict:
@@ -224,6 +247,7 @@ def _plot(folder: Path, rates: dict):
         def __init__(self, name, d):
             self.name, self.h, self.q = name, d["h"], d["q"]
             self.limit, self.rate, self.fitted = d.get("limit"), d.get("rate"), d.get("fitted")
+            self.caution = d.get("caution") or ""      # a limit not stated is not drawn as one
 
     items = [_Item(f"T = {d['T']:.6g} {q}", d[q]) for d in rates.values() for q, _ in REFINED]
     return convergence_plot(items, folder, "survey_refine", "the real motion under mesh refinement")

@@ -1,0 +1,161 @@
+"""Issue 44 (what a newcomer met): each finding through ``main(argv)`` or the function behind it.
+
+Every test here failed on the code before the fix it covers.
+"""
+
+import numpy as np
+import pytest
+
+from plbar.cli import main
+from plbar.motion import periodicity
+
+
+def _run(capsys, argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+# 1. a survey of few periods (one recorded) ran into "solver failure" ------------------------------------------
+
+def test_a_window_of_one_period_has_a_finite_repeat_distance():
+    """One recorded period (two boundary states): never periodic, its distance the one repeat it holds."""
+    rng = np.random.default_rng(44)
+    x, v = rng.normal(size=(3, 2, 4)), rng.normal(size=(3, 2, 4))
+    m, d = periodicity(x, v)
+    z = np.concatenate([x, v], axis=2)
+    want = [np.linalg.norm(z[b, 1] - z[b, 0]) / max(np.linalg.norm(z[b, 0]), np.linalg.norm(z[b, 1]))
+            for b in range(3)]
+    assert np.all(m == 0) and np.allclose(d, want, rtol=1e-14)
+    assert periodicity(x[:, [0, 0]], v[:, [0, 0]])[0][0] == 0        # one repeat is no evidence of a period
+
+
+def test_survey_of_five_periods_runs(tmp_path, capsys):
+    code, out, err = _run(capsys, ["survey", "--periods", "5", "--T-list", "9", "12", "--no-plot", "--no-paths",
+                                   "--out", tmp_path / "s"])
+    assert code == 0, err
+    assert "2 irregular" in out and "1 recorded period cannot show a motion repeat" in out
+    text = (tmp_path / "s" / "survey.csv").read_text().splitlines()
+    cols = text[0].split(",")
+    assert all(np.isfinite(float(r.split(",")[cols.index("distance")])) for r in text[1:])
+
+
+# 3. small numbers are printed with the digits they have ------------------------------------------------------
+
+def test_survey_prints_small_xi_in_significant_digits(tmp_path, capsys):
+    """An end mass of 1e-4 on the contact node only (redistributed): xi_eq ~ 1e-5 printed as such, not 0.0000."""
+    import csv
+    import re
+
+    code, out, err = _run(capsys, ["survey", "--model", "fe", "-N", "4", "--mass", "redistributed", "--end-mass",
+                                   "1e-4", "--T-list", "2.5", "3", "--periods", "40", "--no-plot", "--no-paths",
+                                   "--out", tmp_path / "s"])
+    assert code == 0, err
+    rows = list(csv.DictReader((tmp_path / "s" / "survey.csv").open()))
+    xi, xw = (np.array([float(r[c]) for r in rows]) for c in ("xi_eq", "xi_w"))
+    assert xi.max() < 1e-4                                             # the case is the one of the finding
+    num = r"([-+0-9.e]+)"
+    m = re.search(rf"xi_eq of every motion: {num} \.\. {num} \(median {num}\); xi_w: {num} \.\. {num}", out)
+    assert m, out
+    printed = [float(g) for g in m.groups()]
+    want = [xi.min(), xi.max(), np.median(xi), xw.min(), xw.max()]
+    assert np.allclose(printed, want, rtol=1e-3, atol=0)              # four significant digits
+
+
+# 4. one verdict per quantity in the refinement output --------------------------------------------------------
+
+def _refine(xi):
+    """A refine result of one family with ``xi_max`` per N = 3 ... (the P2 lumped family T0_II/2 of the issue)."""
+    from plbar.studies.refine import RefineStudy, known_limit
+    from plbar.studies.refine.tables import decay_of
+
+    n = [3, 4, 5, 6, 8, 12, 16][:len(xi)]
+    rows = [{"series": "fe-P2-lumped", "family": "T0_II/2", "n": k, "status": "split", "admissible": 100,
+             "T_min_L": 2.0, "T_max_L": 2.1, "xi_max": x, "T_at_max_L": 2.05, "impact_mass": 0.0, "end_mass": 0.0}
+            for k, x in zip(n, xi)]
+    rates = {"xi_max": known_limit("xi_max", [1 / k for k in n], xi, 0.0, n=n).as_dict(), "xi_decay": decay_of(rows)}
+    return RefineStudy(rows, {"fe-P2-lumped": {"T0_II/2": rates}}, {}, {})
+
+
+def test_refine_states_no_decay_law_after_no_rate():
+    from plbar.cli.studies import _refine_lines
+
+    wander = [0.031264, 0.024611, 0.013656, 0.011029, 0.0057532, 0.0015713, 0.0020888]   # grows at the end
+    lines = [ln.strip() for ln in _refine_lines(_refine(wander))]
+    (xi,) = [ln for ln in lines if ln.startswith("xi_max")]
+    assert xi.startswith("xi_max        no rate")
+    lines = [ln.strip() for ln in _refine_lines(_refine(wander), always=True)]
+    assert any("decays like" in ln and "not a verdict" in ln for ln in lines)
+    decay = [0.031264, 0.024611, 0.013656, 0.011029, 0.0057532, 0.0015713]                # decays throughout
+    lines = [ln.strip() for ln in _refine_lines(_refine(decay))]
+    assert [ln for ln in lines if ln.startswith("xi_max")][0].startswith("xi_max        -> 0: rate")
+    assert any(ln.startswith("xi_max decays like q ~") and "verdict" not in ln for ln in lines)
+
+
+#: ``plbar survey --model fe --end-mass 0.5 -N 8 16 32 64 --T-list 3`` (1,000 periods, 100 recorded): its rows
+SURVEY_REFINE = [(8, 0.88956402534951695, 0.0019645184353325059, 0.012076878668143474, 6.7359360624607152e-05,
+                  0.030062321313453239),
+                 (16, 0.6047923929366017, 0.014606381489876386, 0.024211972795888322, 0.0027960561708223592,
+                  0.076804549348292075),
+                 (32, 0.75819750122332874, 0.037602635221729332, 0.0018385654568636707, 0.00027150675356365736,
+                  0.01966970471451682),
+                 (64, 0.90579557513921583, 0.22849040924641489, 0.00032680375053910848, 8.5809889867400054e-05,
+                  0.0056160819370107383),
+                 (0, 0.89890317325441216, 0.18028794990992081, np.nan, np.nan, 0.0012313976869454447)]
+
+
+def _survey_refine_rates(continuum: bool):
+    from plbar.studies.survey.refine import _rates
+
+    rows = [{"N": n, "h": 1.0 / n if n else 0.0, "T": 3.0, "T_L": 3.0, "kind": "irregular", "impacts_per_T": 1.0,
+             "loss_per_T": lo, "loss_std": ls, "xi_eq": xi, "xi_std": xs, "xi_w": xw}
+            for n, lo, ls, xi, xs, xw in SURVEY_REFINE if continuum or n]
+    return _rates(rows, np.array([3.0]), 100, "" if continuum else "none here")
+
+
+def test_survey_refine_states_no_limit_where_the_values_do_not_converge():
+    d = _survey_refine_rates(True)["T/L=3"]
+    assert d["loss_per_T"]["limit"] == 0.89890317325441216 and d["loss_per_T"]["method"] == "continuum"
+    assert d["xi_w"]["limit"] == 0.0012313976869454447                  # the figure draws |q - continuum|
+    assert d["xi_eq"]["caution"]                                         # no continuum value: not stated
+    from plbar.cli.survey import _refine_lines
+
+    lines = _refine_lines(_survey_refine_rates(True), [8, 16, 32, 64], True, {})
+    text = "\n".join(lines)
+    assert "4.657" not in text and "rate 0.06" not in text
+    loss = next(ln for ln in lines if ln.strip().startswith("loss_per_T"))
+    assert loss.endswith("-> the continuum (N = infinity, below)")
+    xi = next(ln for ln in lines if ln.strip().startswith("xi_eq"))      # no continuum value: values that wander
+    assert "no limit stated: the successive differences change sign" in xi
+    # without a continuum row none of the three has a limit stated (each wanders)
+    lines = _refine_lines(_survey_refine_rates(False), [8, 16, 32, 64], False, {})
+    assert sum("no limit stated" in ln for ln in lines) == 3 and "4.657" not in "\n".join(lines)
+
+
+def test_a_richardson_limit_beyond_the_meshes_is_not_stated():
+    """q = 1 + h^0.1 (monotone, rate 0.1): its Richardson limit lies further out than the meshes span."""
+    from plbar.studies.survey.refine import _rates
+
+    rows = [{"N": n, "h": 1.0 / n, "T": 3.0, "T_L": 3.0, "kind": "periodic", "impacts_per_T": 1.0,
+             "loss_per_T": 1 + n ** -0.1, "loss_std": 0.0, "xi_eq": 0.1, "xi_std": 0.0, "xi_w": 0.1}
+            for n in (8, 16, 32, 64)]
+    c = _rates(rows, np.array([3.0]), 100)["T/L=3"]["loss_per_T"]
+    assert c["limit"] == pytest.approx(1.0, rel=1e-6) and c["caution"].startswith("the Richardson limit 1 (rate 0.1)")
+
+
+# 5. input that was silently accepted ---------------------------------------------------------------------------
+
+def test_t_list_with_a_range_option_is_refused(tmp_path, capsys):
+    for extra in (["--num", "3"], ["--T", "6", "8"]):
+        code, _, err = _run(capsys, ["survey", "--T-list", "9", "7", "8", *extra, "--periods", "20", "--no-plot",
+                                     "--out", tmp_path / "s"])
+        assert code == 2 and f"{extra[0]} conflicts with --T-list" in err and err.count("\n") == 1
+    assert not (tmp_path / "s" / "survey.csv").exists()
+
+
+def test_load_on_the_contact_dof_is_refused(tmp_path, capsys):
+    code, _, err = _run(capsys, ["run", "--load-node", "5", "--out", tmp_path / "r", "--no-plot"])
+    assert code == 2 and "--load-node 5 is the contact DOF" in err and "1..4" in err and err.count("\n") == 1
+    code, _, err = _run(capsys, ["survey", "--model", "fe", "--element", "P2", "-N", "2", "--load-node", "4",
+                                 "--T-list", "3", "--out", tmp_path / "s"])
+    assert code == 2 and "--load-node 4 is the contact DOF" in err and "1..3" in err
