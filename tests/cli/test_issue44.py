@@ -71,7 +71,8 @@ def _refine(xi):
 
     n = [3, 4, 5, 6, 8, 12, 16][:len(xi)]
     rows = [{"series": "fe-P2-lumped", "family": "T0_II/2", "n": k, "status": "split", "admissible": 100,
-             "T_min_L": 2.0, "T_max_L": 2.1, "xi_max": x, "T_at_max_L": 2.05, "impact_mass": 0.0, "end_mass": 0.0}
+             "T_min_L": 2.0, "T_max_L": 2.1, "xi_max": x, "T_at_max_L": 2.05, "impact_mass": 0.0, "end_mass": 0.0,
+             "length": 1.0}
             for k, x in zip(n, xi)]
     rates = {"xi_max": known_limit("xi_max", [1 / k for k in n], xi, 0.0, n=n).as_dict(), "xi_decay": decay_of(rows)}
     return RefineStudy(rows, {"fe-P2-lumped": {"T0_II/2": rates}}, {}, {})
