@@ -47,3 +47,86 @@ def test_figures_2_and_3_mark_the_exact_points_the_example_computes(res, figures
         t, x1 = _marker(fig3, f"{name} x1").get_data()         # the time history is the exact orbit's
         assert np.allclose(x1, o.response(np.mod(t, o.T[0]))[0][0, :, 0], atol=1e-12, rtol=0)
         assert np.isclose(t[1200], o.T[0])                      # two periods of the exact T
+
+
+def _doc() -> str:
+    return " ".join(DOCS.read_text().split())
+
+
+def test_figure_9_marks_the_optimum_sweep_loads_states(figures):
+    from plbar.studies.loads import sweep_loads
+
+    pf.fig9_xi_position("unused", grid=(60, 60), ns=(3,), per_element=1)
+    (fig,) = figures
+    T, s = (v[0] for v in _marker(fig, "optimum").get_data())
+    e = sweep_loads(plbar.Case(n=3, grid=(60, 60)), pairs=False, plot=False).summary["families"]["T0_II/2"]
+    assert np.isclose(s, e["s_at_best_single"], rtol=1e-12) and np.isclose(T, e["T_at_best_single"], rtol=1e-12)
+    assert f"{e['xi_best_single_max']:.4f} at s = {e['s_at_best_single']:.4g}" in fig.axes[0].get_title()
+
+
+def test_the_docs_quote_the_best_load_position_of_sweep_loads():
+    from plbar.studies.loads import sweep_loads
+
+    e = sweep_loads(plbar.Case(n=5), pairs=False, plot=False, per_element=1).summary["families"]["T0_II/2"]
+    m = re.search(r"best single force .{0,80}?\$s = ([0-9.]+)\$.{0,40}?\$\\xi_\{\\mathrm\{eq\}\} = ([0-9.]+)\$",
+                  _doc())
+    assert m, "docs/paper.md: the sentence with the best single force on N = 5 is gone"
+    assert m.group(1) == f"{e['s_at_best_single']:.3f}" and m.group(2) == f"{e['xi_best_single_max']:.4f}"
+    assert "plbar sweep-loads -N 5" in _doc()
+
+
+def _independent_xi(o):
+    """``xi_eq`` of one orbit by another route: the modes by ``scipy.linalg.eigh`` of the state matrices, the
+    modal velocities ``eta' = Phi^T M v`` by Gauss-Legendre quadrature of the replayed response, the loss as
+    the contact mass's kinetic energy just before the impact (plastic, lumped mass)."""
+    from numpy.polynomial.legendre import leggauss
+    from scipy.linalg import eigh
+
+    s = o.prob.system
+    M, K = (np.asarray(a.toarray() if hasattr(a, "toarray") else a, float) for a in (s.M, s.K))
+    w1, P1 = eigh(K[:-1, :-1], M[:-1, :-1])
+    w2, P2 = eigh(K, M)
+    xg, wg = leggauss(300)
+    den = 0.0
+    for (a, b), P, Mi, w, cut in (((0.0, o.T1[0]), P1, M[:-1, :-1], w1, -1), ((o.T1[0], o.T[0]), P2, M, w2, None)):
+        t = 0.5 * (b - a) * xg + 0.5 * (b + a)
+        v = o.response(t)[1][0][:, :cut]
+        eta = P.T @ Mi @ v.T
+        den += (eta ** 2 @ (0.5 * (b - a) * wg)) @ np.sqrt(w)
+    vc = o.response(np.array([o.T[0] * (1 - 1e-14)]))[1][0, 0, -1]
+    return 0.5 * M[-1, -1] * vc ** 2 / (2 * den), vc
+
+
+def test_xi_at_the_papers_zero_on_path_1_is_not_zero():
+    """The paper's zero xi_eq at T = 10.167 (= T0_I) on path 1: Eq. (22) at the exact path point of T = T0_I,
+    by plbar and by the independent route, is 0.0226, and the only zero on path 1 is its grazing end."""
+    from scipy.optimize import brentq, minimize_scalar
+
+    from plbar.paths.continuation import G
+    from plbar.response import coefficients, phase
+    from plbar.studies.paper.points import point_at_period
+
+    res = plbar.solve(plbar.Case(signatures="paper"))
+    fams = pf.families_of(res)
+    (b,) = [b for b, f in zip(res.branches, fams) if f == "T0_I"]
+    prob = res.paths.prob
+    T0I = prob.system.T0[0]
+    o = point_at_period(prob, T0I, b.T1[int(np.argmin(abs(b.T - T0I)))])
+    xi, vc = _independent_xi(o)
+    d = plbar.damping(o)
+    assert np.isclose(d.xi[0], xi, rtol=1e-9, atol=0) and abs(xi - 0.0226) < 5e-5 and vc > 0.9
+    # the zero: the impact velocity of path 1 touches 0 (grazing) at its end, found on D = 0 by a minimisation
+    j = int(np.argmin(b.T))
+
+    def vc2(t1):                                            # v_c(T-)^2 on D = 0 at T^I = t1 (either phase)
+        t2 = b.T2[j] - (t1 - b.T1[j])
+        t2 = brentq(lambda x: G(prob, np.array([t1]), np.array([x]))[0], t2 - 0.03, t2 + 0.03, xtol=1e-14)
+        p = plbar.orbits(prob, [t1], [t2], phase(coefficients(prob, [t1], [t2])))
+        return p.response(np.array([p.T[0] * (1 - 1e-14)]))[1][0, 0, -1] ** 2, t1 + t2
+
+    r = minimize_scalar(lambda t1: vc2(t1)[0], bracket=(b.T1[j] - 0.03, b.T1[j], b.T1[j] + 0.03), tol=1e-10)
+    Tg = vc2(r.x)[1]
+    assert r.fun < 1e-12 and abs(Tg - 9.9037) < 2e-4 and T0I - Tg > 0.25
+    assert np.all(b.xi[b.T > Tg + 0.01] > 2e-4) and b.xi[j] < 1e-9     # plbar's zero is there, and only there
+    doc = _doc()
+    assert f"{xi:.4f}" in doc and f"{Tg:.3f}" in doc and f"{T0I:.4f}" in doc
