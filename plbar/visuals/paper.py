@@ -275,7 +275,7 @@ def draw_fig9(out, allres, families, optima=None) -> list[Path]:
         if P.size:
             sc = ax.scatter(P[:, 0], P[:, 1], c=P[:, 2], s=6, cmap="viridis", vmin=0, vmax=vmax)
             j = int(np.argmax(P[:, 2]))
-            grid = f"grid of s: {P[j, 2]:.4f} at s = {P[j, 1]:.3g}"
+            grid = f"grid of s: max {P[j, 2]:.4f} at s = {P[j, 1]:.3g}"
             if opt is None:
                 ax.plot(P[j, 0], P[j, 1], "*", color="red", ms=12, mec="k", gid="optimum")
                 lines.append(f"(star) {grid}")
@@ -284,7 +284,7 @@ def draw_fig9(out, allres, families, optima=None) -> list[Path]:
                 lines.append(f"(circle) {grid}")
         if opt is not None:
             ax.plot(opt["T"], opt["s"], "*", color="red", ms=12, mec="k", gid="optimum")
-            lines.insert(0, f"(star) best: {opt['xi']:.4f} at s = {opt['s']:.4g}")
+            lines.insert(0, f"(star) max {opt['xi']:.4f} at s = {opt['s']:.4g}")
         ax.axvline(T0II / 2, color="k", ls=":", lw=0.8)
         ax.set(xlabel=T_)
         ax.set_title("\n".join([f"{lab}) N = {n}"] + lines), fontsize=8)

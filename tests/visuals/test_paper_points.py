@@ -61,7 +61,7 @@ def test_figure_9_marks_the_optimum_sweep_loads_states(figures):
     T, s = (v[0] for v in _marker(fig, "optimum").get_data())
     e = sweep_loads(plbar.Case(n=3, grid=(60, 60)), pairs=False, plot=False).summary["families"]["T0_II/2"]
     assert np.isclose(s, e["s_at_best_single"], rtol=1e-12) and np.isclose(T, e["T_at_best_single"], rtol=1e-12)
-    assert f"{e['xi_best_single_max']:.4f} at s = {e['s_at_best_single']:.4g}" in fig.axes[0].get_title()
+    assert f"max {e['xi_best_single_max']:.4f} at s = {e['s_at_best_single']:.4g}" in fig.axes[0].get_title()
 
 
 def test_the_docs_quote_the_best_load_position_of_sweep_loads():
@@ -130,3 +130,95 @@ def test_xi_at_the_papers_zero_on_path_1_is_not_zero():
     assert np.all(b.xi[b.T > Tg + 0.01] > 2e-4) and b.xi[j] < 1e-9     # plbar's zero is there, and only there
     doc = _doc()
     assert f"{xi:.4f}" in doc and f"{Tg:.3f}" in doc and f"{T0I:.4f}" in doc
+
+
+# -- layout: titles and legends off the data and off each other (issue 44, finding 10) -------------------------
+def _box(artist, fig):
+    return artist.get_window_extent(fig.canvas.get_renderer())
+
+
+def _apart(a, b) -> bool:
+    return not a.overlaps(b)
+
+
+def _fig9_input():
+    T = np.linspace(11.0, 12.5, 30)
+    rs = [{"T0_II": 22.0, "branches": [{"T1": list(T / 5), "T2": list(T * 4 / 5), "xi": list(0.05 + 0.01 * s * T / 12)}]}
+          for s in (1.0, 2.0, 3.0)]
+    return [(5, [1.0, 2.0, 3.0], rs), (6, [1.0, 2.0, 3.0], rs)], [[["T0_II/2"]] * 3] * 2
+
+
+def test_figure_9_suptitle_clears_the_panel_titles(figures):
+    allres, labels = _fig9_input()
+    vp.draw_fig9("unused", allres, labels, [{"xi": 0.1, "s": 2.5, "T": 12.0}, None])
+    (fig,) = figures
+    fig.canvas.draw()
+    sup = _box(fig._suptitle, fig)
+    for ax in fig.axes:
+        assert _apart(sup, _box(ax, fig)) and _apart(sup, _box(ax.title, fig))
+    titles = [_box(ax.title, fig) for ax in fig.axes[:2]]
+    assert _apart(*titles)
+
+
+def test_figure_2b_legend_covers_no_branch(res, figures):
+    vp.draw_fig2("unused", res, pf.families_of(res), pf.sample_points(res))
+    (fig,) = figures
+    fig.canvas.draw()
+    ax2 = fig.axes[1]
+    leg = _box(ax2.get_legend(), fig)
+    for line in ax2.lines:
+        xy = ax2.transData.transform(np.c_[line.get_xdata(), line.get_ydata()])
+        inside = (xy[:, 0] >= leg.x0) & (xy[:, 0] <= leg.x1) & (xy[:, 1] >= leg.y0) & (xy[:, 1] <= leg.y1)
+        assert not inside.any(), line.get_label()
+    assert _apart(leg, _box(ax2, fig))
+
+
+def test_refine_family_titles_do_not_run_into_each_other(keep_figures):
+    import plbar.visuals.refinement as vr
+
+    got = keep_figures(vr)
+    lv = [{"n": n, "T0_I": 2.0, "A": 2.9, "pieces": [{"T1": [0.1, 0.1], "T2": [2.8, 2.9], "xi": [0.01, 0.02 / n],
+                                                      "good": [1, 1]}]} for n in (8, 16, 32)]
+    label = "fe-P1-lumped+Me0.5, family near $T_0^{II}/2$"
+    vr.refine_family_plot([(label, lv), (label, lv)], "unused")
+    (fig,) = got
+    fig.canvas.draw()
+    boxes = [(_box(ax.title, fig), _box(ax, fig), _box(ax.yaxis.label, fig)) for ax in fig.axes]
+    for i, (ti, _, _) in enumerate(boxes):
+        for j, (tj, aj, yj) in enumerate(boxes):
+            if i != j:
+                assert _apart(ti, tj) and _apart(ti, aj) and _apart(ti, yj), (fig.axes[i].get_title(), j)
+    assert all(fig.axes[i].get_title() and len(fig.axes[i].get_title()) < 50 for i in range(len(fig.axes)))
+    heads = [sf._suptitle.get_text() for sf in fig.subfigs]
+    assert heads == [label, label]
+
+
+class _Branch:
+    def __init__(self, label, T, stable):
+        self.label, self.T = label, np.asarray(T, float)
+        self.stable = np.full(self.T.size, stable)
+        self.xi = 0.01 * self.T
+        self.orbits = [type("O", (), {"amplitude": 1.0 + t})() for t in self.T]
+
+
+def test_frequency_response_legend_has_at_most_eight_entries():
+    import matplotlib.pyplot as plt
+
+    from plbar.visuals import plots
+
+    labels = ["1Z", "1PZ", "1PP", "2PZ", "2PZZ", "3PPZZ", "2ZZ", "1ZZ", "2PZPZ", "3PZPZZ", "1PPZ", "2ZZZ"]
+    branches = [_Branch(lab, np.linspace(5 + k, 5.5 + k, 3 + k), k % 2 == 0) for k, lab in enumerate(labels)]
+    branches.append(_Branch("1P", [9.0, 10.0], True))
+    fig, (ax1, ax2) = plt.subplots(2, 1)
+    try:
+        plots._draw_signatures(ax1, ax2, branches)
+        ax1.plot([], [], "o", label="1P (paper's class), stable")
+        ax1.plot([], [], "x", label="1P, unstable")
+        names = ax1.get_legend_handles_labels()[1]
+        assert len(names) <= 8
+        big = [lab for lab in labels[::-1][:plots.MAX_SIGNATURE_ENTRIES]]     # the most points: named
+        assert all(f"signature {lab}" in names for lab in big)
+        other = [n for n in names if "other signatures" in n]
+        assert len(other) == 1 and all(lab in other[0].replace("\n", " ") for lab in labels if lab not in big)
+    finally:
+        plt.close(fig)
