@@ -143,7 +143,8 @@ def _apart(a, b) -> bool:
 
 def _fig9_input():
     T = np.linspace(11.0, 12.5, 30)
-    rs = [{"T0_II": 22.0, "branches": [{"T1": list(T / 5), "T2": list(T * 4 / 5), "xi": list(0.05 + 0.01 * s * T / 12)}]}
+    rs = [{"T0_II": 22.0,
+           "branches": [{"T1": list(T / 5), "T2": list(T * 4 / 5), "xi": list(0.05 + 0.01 * s * T / 12)}]}
           for s in (1.0, 2.0, 3.0)]
     return [(5, [1.0, 2.0, 3.0], rs), (6, [1.0, 2.0, 3.0], rs)], [[["T0_II/2"]] * 3] * 2
 

@@ -19,7 +19,8 @@ from ..execution import solve_task
 from ..loads import assign_families, default_positions
 from .points import PAPER_POINTS, exact_point
 
-__all__ = ["families_of", "sample_points", "load_optima", "fig2_paths", "fig3_time_histories", "fig4_energies", "fig5_loss_damping",
+__all__ = ["families_of", "sample_points", "load_optima",
+           "fig2_paths", "fig3_time_histories", "fig4_energies", "fig5_loss_damping",
            "fig6_damping_paths", "fig7_load_responses", "fig8_xi_per_load", "fig9_xi_position", "make_all", "FIGURES"]
 
 
