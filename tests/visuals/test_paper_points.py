@@ -10,7 +10,6 @@ import pytest
 import plbar
 import plbar.visuals.paper as vp
 from plbar.studies.paper import figures as pf
-from plbar.studies.paper.points import exact_point
 
 pytest.importorskip("matplotlib")
 
@@ -33,6 +32,8 @@ def _marker(fig, gid):
 
 
 def test_figures_2_and_3_mark_the_exact_points_the_example_computes(res, figures):
+    from plbar.studies.paper.points import exact_point
+
     pts = pf.sample_points(res)
     fams = pf.families_of(res)
     vp.draw_fig2("unused", res, fams, pts)
@@ -151,7 +152,7 @@ def _fig9_input():
 
 def test_figure_9_suptitle_clears_the_panel_titles(figures):
     allres, labels = _fig9_input()
-    vp.draw_fig9("unused", allres, labels, [{"xi": 0.1, "s": 2.5, "T": 12.0}, None])
+    vp.draw_fig9("unused", allres, labels)
     (fig,) = figures
     fig.canvas.draw()
     sup = _box(fig._suptitle, fig)
@@ -162,7 +163,7 @@ def test_figure_9_suptitle_clears_the_panel_titles(figures):
 
 
 def test_figure_2b_legend_covers_no_branch(res, figures):
-    vp.draw_fig2("unused", res, pf.families_of(res), pf.sample_points(res))
+    vp.draw_fig2("unused", res, pf.families_of(res))
     (fig,) = figures
     fig.canvas.draw()
     ax2 = fig.axes[1]
