@@ -7,12 +7,9 @@ Run:  python examples/paper_sec41.py
 """
 
 import numpy as np
-from scipy.optimize import brentq
 
 import plbar
-import plbar.response
-from plbar.paths.continuation import G
-from plbar.response import coefficients, phase
+from plbar.studies.paper.points import exact_point as path_point
 
 PAPER = {
     "T0_I": 10.166, "T0_II": 22.075,
@@ -26,15 +23,11 @@ T0_I, T0_II = prob.system.T0
 
 
 def exact_point(T1, T2_guess):
-    """The path point at the paper's T1 (T2 from D = 0 on a short bracket, phi exact, admissible)."""
-    T2 = brentq(lambda x: G(prob, np.array([T1]), np.array([x]))[0], T2_guess - 0.02, T2_guess + 0.02,
-                xtol=1e-15, rtol=1e-15)
-    phi0 = phase(coefficients(prob, [T1], [T2]))[0]
-    orb = plbar.orbits(prob, [T1, T1], [T2, T2], [phi0, phi0 + np.pi])
-    ok = plbar.response.check(orb).ok
-    k = int(np.flatnonzero(ok)[0])
-    d = plbar.damping(orb.take([k]))
-    return dict(T1=T1, T2=T2, phi=float(np.mod(orb.phi[k], 2 * np.pi)), T=T1 + T2,
+    """The path point at the paper's T1 (T2 from D = 0 on a short bracket, phi exact, admissible): the point
+    Figs. 2-6 mark (plbar.studies.paper.points.exact_point)."""
+    o = path_point(prob, T1, T2_guess)
+    d = plbar.damping(o)
+    return dict(T1=T1, T2=float(o.T2[0]), phi=float(np.mod(o.phi[0], 2 * np.pi)), T=float(o.T[0]),
                 dPL=float(d.dPL[0]), xi=float(d.xi[0]))
 
 

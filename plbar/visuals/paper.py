@@ -4,8 +4,11 @@ Each ``draw_fig*`` takes results (and the family label of each branch, see
 :mod:`plbar.studies.loads.families`), writes PNG and PDF files atomically into
 ``out`` and returns their paths; :mod:`plbar.studies.paper.figures` computes the
 results and calls them (``plbar figures``).  The paper's sample points
-(Fig. 2b) are four-digit roundings; each figure uses the nearest point of the
-computed paths (:func:`nearest_point`).
+(Fig. 2b) are four-digit roundings off its scan grid; Figs. 2-6 mark the exact
+path points at the paper's ``T^I`` (``points``: the red and green
+:class:`plbar.Orbits` of :func:`plbar.studies.paper.points.exact_point`, what
+``examples/paper_sec41.py`` prints), or, without them, the nearest computed
+path point (:func:`nearest_point`).
 """
 
 from __future__ import annotations
@@ -51,10 +54,26 @@ def nearest_point(res, fams, target, family: str | None = None):
     return best
 
 
-def draw_fig2(out, res, fams) -> list[Path]:
-    """Fig. 2: the periodic paths in ``(T1, T2, phi)`` and in the ``T1-T2`` plane."""
+def _sample(res, fams, points, name: str):
+    """The red or green point: ``(orbit, xi, dPL)`` of the exact point of ``points``, else the nearest path point."""
+    if points and name in points:
+        from ..response import damping
+
+        o = points[name]
+        d = damping(o)
+        return o, float(d.xi[0]), float(d.dPL[0])
+    o, b, i, _ = nearest_point(res, fams, RED if name == "red" else GREEN)
+    return o, float(b.xi[i]), float(b.dPL[i])
+
+
+def draw_fig2(out, res, fams, points=None) -> list[Path]:
+    """Fig. 2: the periodic paths in ``(T1, T2, phi)`` and in the ``T1-T2`` plane.
+
+    ``points``: ``{"red": Orbits, "green": Orbits}``, the exact sample points to mark (default: the nearest
+    computed path points).
+    """
     plt = _plt()
-    fig = plt.figure(figsize=(11, 4.6))
+    fig = plt.figure(figsize=(11, 4.6), layout="constrained")
     ax3 = fig.add_subplot(1, 2, 1, projection="3d")
     ax2 = fig.add_subplot(1, 2, 2)
     seen = set()
@@ -65,14 +84,16 @@ def draw_fig2(out, res, fams) -> list[Path]:
         phi = np.mod(b.phi, 2 * np.pi)
         ax3.plot(b.T1, b.T2, phi, ".-", color=c, ms=2, lw=0.8, label=lab)
         ax2.plot(b.T1, b.T2, ".-", color=c, ms=2.5, lw=0.8, label=lab)
-    for tgt, col, nm in ((RED, "red", "red point"), (GREEN, "green", "green point")):
-        o, _, _, d = nearest_point(res, fams, tgt)
+    for col in ("red", "green"):
+        o, _, _ = _sample(res, fams, points, col)
         ax3.scatter(o.T1, o.T2, np.mod(o.phi, 2 * np.pi), color=col, s=40, depthshade=False, zorder=5)
-        ax2.plot(o.T1, o.T2, "o", color=col, ms=7, mec="k",
-                 label=f"{nm}: $T^I$={o.T1[0]:.4f}, $T^{{II}}$={o.T2[0]:.4f}")
+        ax2.plot(o.T1, o.T2, "o", color=col, ms=7, mec="k", gid=f"{col} point",
+                 label=f"{col} point: $T^I$={o.T1[0]:.4f}, $T^{{II}}$={o.T2[0]:.4f}")
     ax3.set(xlabel=TI, ylabel=TII, zlabel=r"$\phi$ [rad]", title="a) parameter space")
+    ax3.set_box_aspect(None, zoom=0.88)                   # the z label inside the 3D panel's box
+    fig.get_layout_engine().set(wspace=0.08)
     ax2.set(xlabel=TI, ylabel=TII, title="b) $T^I$-$T^{II}$ plane")
-    ax2.legend(loc="best")
+    ax2.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), frameon=False)     # outside: never on a branch
     s = res.paths.prob.system
     fig.suptitle(f"Periodic paths, chain N = {s.n}, unit force on DOF 1 "
                  f"($T_0^I$ = {s.T0[0]:.3f}, $T_0^{{II}}$ = {s.T0[1]:.3f})")
@@ -85,18 +106,19 @@ def _two_periods(o, k=1200):
     return t, np.mod(t, T), T
 
 
-def draw_fig3(out, res, fams) -> list[Path]:
-    """Fig. 3: displacement of every DOF over two periods at the red and green points."""
+def draw_fig3(out, res, fams, points=None) -> list[Path]:
+    """Fig. 3: displacement of every DOF over two periods at the red and green points (``points`` as in
+    :func:`draw_fig2`)."""
     plt = _plt()
     n = res.paths.prob.system.n
     fig, axes = plt.subplots(n, 2, figsize=(10, 1.5 * n + 1), sharex="col")
-    for col, (tgt, nm) in enumerate(((RED, "red"), (GREEN, "green"))):
-        o, _, _, _ = nearest_point(res, fams, tgt)
+    for col, nm in enumerate(("red", "green")):
+        o, _, _ = _sample(res, fams, points, nm)
         t, tm, T = _two_periods(o)
         x, _, _ = o.response(tm)
         for k in range(n):
             ax = axes[k, col]
-            ax.plot(t, x[0, :, k], color=DOF_COLORS[k % len(DOF_COLORS)], lw=1.2)
+            ax.plot(t, x[0, :, k], color=DOF_COLORS[k % len(DOF_COLORS)], lw=1.2, gid=f"{nm} x{k + 1}")
             for m in (1, 2):
                 ax.axvline(m * T, color="red", ls="--", lw=0.8)
             ax.axvline(float(o.T1[0]), color="0.5", ls=":", lw=0.8)
@@ -109,12 +131,13 @@ def draw_fig3(out, res, fams) -> list[Path]:
     return _save(fig, out, "fig3_time_histories")
 
 
-def draw_fig4(out, res, fams) -> list[Path]:
-    """Fig. 4: kinetic, potential and total energy over two periods; the drop at the impact."""
+def draw_fig4(out, res, fams, points=None) -> list[Path]:
+    """Fig. 4: kinetic, potential and total energy over two periods; the drop at the impact (``points`` as in
+    :func:`draw_fig2`)."""
     plt = _plt()
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
-    for ax, (tgt, nm), lab in zip(axes, ((RED, "red"), (GREEN, "green")), "ab"):
-        o, b, i, _ = nearest_point(res, fams, tgt)
+    for ax, nm, lab in zip(axes, ("red", "green"), "ab"):
+        o, xi, dpl = _sample(res, fams, points, nm)
         t, tm, T = _two_periods(o, 2000)
         ek, ep = o.energies(tm)
         ax.plot(t, ek[0], label="kinetic $E_K$", color="tab:blue")
@@ -123,7 +146,7 @@ def draw_fig4(out, res, fams) -> list[Path]:
         for m in (1, 2):
             ax.axvline(m * T, color="red", ls="--", lw=0.8)
         ax.set(xlabel=t_, ylabel=with_units("energy", UNITS), title=f"{lab}) {nm} point, T = {T:.4f}: "
-                                                 rf"$\Delta_{{PL}}$ = {b.dPL[i]:.4f}, $\xi_{{eq}}$ = {b.xi[i]:.4f}")
+                                                 rf"$\Delta_{{PL}}$ = {dpl:.4f}, $\xi_{{eq}}$ = {xi:.4f}")
         ax.legend(loc="upper left")
     fig.suptitle("Mechanical energy over two periods (drop of $E_K$ at the plastic impact, t = T)")
     fig.tight_layout()
@@ -151,8 +174,8 @@ def draw_fig5(out, res, fams) -> list[Path]:
     return _save(fig, out, "fig5_loss_damping")
 
 
-def draw_fig6(out, res, fams) -> list[Path]:
-    """Fig. 6: ``xi_eq`` against ``T`` separately for path 1 and path 2."""
+def draw_fig6(out, res, fams, points=None) -> list[Path]:
+    """Fig. 6: ``xi_eq`` against ``T`` separately for path 1 and path 2 (``points`` as in :func:`draw_fig2`)."""
     plt = _plt()
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
     for ax, fam, lab in zip(axes, FAMILIES, "ab"):
@@ -160,10 +183,10 @@ def draw_fig6(out, res, fams) -> list[Path]:
             if f == fam:
                 ax.plot(b.T, b.xi, ".-", color=FAM_STYLE[fam][0], ms=3, lw=1)
         ax.set(xlabel=T_, ylabel=XI, title=f"{lab}) {FAM_STYLE[fam][1]}")
-    for tgt, col in ((RED, "red"), (GREEN, "green")):
-        o, b, i, _ = nearest_point(res, fams, tgt)
+    for col in ("red", "green"):
+        o, xi, _ = _sample(res, fams, points, col)
         ax = axes[0] if col == "red" else axes[1]
-        ax.plot(b.T[i], b.xi[i], "o", color=col, mec="k", ms=7, label=f"{col} point: {b.xi[i]:.4f}")
+        ax.plot(o.T[0], xi, "o", color=col, mec="k", ms=7, label=f"{col} point: {xi:.4f}")
         ax.legend()
     T0 = res.paths.prob.system.T0
     axes[0].axvline(T0[0], color="k", ls=":", lw=0.8)
@@ -218,16 +241,21 @@ def draw_fig8(out, cases, fams_list) -> list[Path]:
     return _save(fig, out, "fig8_xi_per_load")
 
 
-def draw_fig9(out, allres, families) -> list[Path]:
+def draw_fig9(out, allres, families, optima=None) -> list[Path]:
     """Fig. 9: ``xi_eq`` on the family near ``T0^II/2`` against ``T`` and the load position.
 
     ``allres`` is a list of ``(N, positions, task results)`` (see
     :func:`plbar.studies.execution.tasks.solve_task`), ``families`` the family labels of
-    each result's branches, in the same nesting.
+    each result's branches, in the same nesting.  ``optima`` (one per ``N``, or None):
+    ``{"xi", "s", "T"}`` of the best single force, continuous in ``s``
+    (:func:`plbar.studies.paper.figures.load_optima`, what ``plbar sweep-loads`` states),
+    marked by a star (``gid="optimum"``); the best position of the grid is an open circle
+    (``gid="grid best"``).  Without ``optima`` the star is the grid's best.
     """
     plt = _plt()
-    fig, axes = plt.subplots(1, len(allres), figsize=(3.8 * len(allres), 4.0), squeeze=False)
+    fig, axes = plt.subplots(1, len(allres), figsize=(3.8 * len(allres), 4.4), squeeze=False, layout="constrained")
     axes = axes[0]
+    optima = list(optima) if optima is not None else [None] * len(allres)
     sc = None
     vmax = 0.0
     pts = []
@@ -242,18 +270,27 @@ def draw_fig9(out, allres, families) -> list[Path]:
         pts.append((n, pos, P, rs[0]["T0_II"]))
         if P.size:
             vmax = max(vmax, float(np.quantile(P[:, 2], 0.99)))
-    for ax, (n, pos, P, T0II), lab in zip(axes, pts, "abcd"):
-        best = ""
+    for ax, (n, pos, P, T0II), opt, lab in zip(axes, pts, optima, "abcdefgh"):
+        lines = []
         if P.size:
             sc = ax.scatter(P[:, 0], P[:, 1], c=P[:, 2], s=6, cmap="viridis", vmin=0, vmax=vmax)
             j = int(np.argmax(P[:, 2]))
-            ax.plot(P[j, 0], P[j, 1], "*", color="red", ms=12, mec="k")
-            best = f"\n(star) max $\\xi_{{eq}}$ = {P[j, 2]:.4f} at s = {P[j, 1]:.3g}"    # no legend on the data
+            grid = f"grid of s: max {P[j, 2]:.4f} at s = {P[j, 1]:.3g}"
+            if opt is None:
+                ax.plot(P[j, 0], P[j, 1], "*", color="red", ms=12, mec="k", gid="optimum")
+                lines.append(f"(star) {grid}")
+            else:
+                ax.plot(P[j, 0], P[j, 1], "o", mfc="none", mec="red", ms=9, gid="grid best")
+                lines.append(f"(circle) {grid}")
+        if opt is not None:
+            ax.plot(opt["T"], opt["s"], "*", color="red", ms=12, mec="k", gid="optimum")
+            lines.insert(0, f"(star) max {opt['xi']:.4f} at s = {opt['s']:.4g}")
         ax.axvline(T0II / 2, color="k", ls=":", lw=0.8)
         ax.set(xlabel=T_)
-        ax.set_title(f"{lab}) N = {n}{best}", fontsize=9)
+        ax.set_title("\n".join([f"{lab}) N = {n}"] + lines), fontsize=8)
     axes[0].set_ylabel("load position s (0 = clamp, DOF k at s = k; m = k = 1)")
     if sc is not None:
         fig.colorbar(sc, ax=list(axes), label=r"$\xi_{eq}$", shrink=0.9)
-    fig.suptitle(r"$\xi_{eq}$ on the path near $T_0^{II}/2$ against T and load position (dotted: $T_0^{II}/2$)")
+    fig.suptitle(r"$\xi_{eq}$ on the path near $T_0^{II}/2$ against T and load position (dotted: $T_0^{II}/2$; "
+                 "star: best single force, continuous in s, as plbar sweep-loads states it)", fontsize=9)
     return _save(fig, out, "fig9_xi_position")

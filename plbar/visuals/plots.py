@@ -193,10 +193,25 @@ def frequency_response(res, out, name: str = "frequency_response", xi: str = "eq
     return _save(fig, out, name)[0]
 
 
+#: the signatures (other than ``1P``) with the most points keep their colour and a legend entry each; the rest are
+#: drawn grey (their markers kept) under one entry, so the legend stays at most this + 3 entries
+MAX_SIGNATURE_ENTRIES = 5
+#: the colour of the signatures beyond :data:`MAX_SIGNATURE_ENTRIES`
+OTHER_COLOR = "0.45"
+
+
 def _draw_signatures(ax1, ax2, branches, xi: str = "eq") -> None:
     """The branches the signature search found, one colour and marker per signature (:func:`signature_styles`):
-    filled stable, hollow unstable; those of the paper's class (``1P``) as the paper's (blue, red crosses)."""
+    filled stable, hollow unstable; those of the paper's class (``1P``) as the paper's (blue, red crosses).
+
+    The :data:`MAX_SIGNATURE_ENTRIES` signatures with the most points have a legend entry each; the others
+    keep their markers in grey (:data:`OTHER_COLOR`) under one entry that names them."""
     styles = signature_styles(b.label for b in branches)
+    size = {lab: sum(len(b.T) for b in branches if b.label == lab) for lab in styles if lab != PAPER_SIGNATURE}
+    named = sorted(size, key=lambda lab: -size[lab])[:MAX_SIGNATURE_ENTRIES]
+    rest = [lab for lab in styles if lab in size and lab not in named]
+    styles = {lab: (col if lab == PAPER_SIGNATURE or lab in named else OTHER_COLOR, mk)
+              for lab, (col, mk) in styles.items()}
     for lab, (col, mk) in styles.items():            # one artist per signature and stability: a fast savefig
         bs = [b for b in branches if b.label == lab]
         Ts, st = [b.T for b in bs], [np.asarray(b.stable, bool) for b in bs]
@@ -210,9 +225,20 @@ def _draw_signatures(ax1, ax2, branches, xi: str = "eq") -> None:
             ax.plot(*_picked(Ts, ys, st), mk, ms=3.2, color=col, ls="none", zorder=3)
             ax.plot(*_picked(Ts, ys, [~s for s in st]), mk, ms=3.2, color=col, mfc="none", alpha=0.5, ls="none",
                     zorder=2)
-    for lab, (col, mk) in styles.items():
-        if lab != PAPER_SIGNATURE:
-            ax1.plot([], [], mk, color=col, ls="none", label=f"signature {lab}")
+    for lab in named:
+        col, mk = styles[lab]
+        ax1.plot([], [], mk, color=col, ls="none", label=f"signature {lab}")
+    if rest:
+        ax1.plot([], [], "o", color=OTHER_COLOR, ls="none",
+                 label=f"{len(rest)} other signature{'s' if len(rest) > 1 else ''} (grey):\n"
+                       + _wrap(", ".join(rest), 28))
+
+
+def _wrap(text: str, width: int) -> str:
+    """``text`` broken at ", " into lines of about ``width`` characters."""
+    import textwrap
+
+    return "\n".join(textwrap.wrap(text, width, break_long_words=False))
 
 
 #: at most this many branches (those with the largest ``xi_eq``) get their id written in :func:`paths_plane`

@@ -28,7 +28,7 @@ def _points(level: dict):
     return T[good] / level["T0_I"], xi[good]
 
 
-def _responses(ax, label: str, levels: list[dict], cmap) -> None:
+def _responses(ax, levels: list[dict], cmap) -> None:
     ns = [lv["n"] for lv in levels]
     for k, lv in enumerate(levels):
         T, xi = _points(lv)
@@ -36,11 +36,11 @@ def _responses(ax, label: str, levels: list[dict], cmap) -> None:
         ax.plot(T, xi, ".", ms=3, color=col, label=f"N = {lv['n']}" if len(ns) <= 8 or k in (0, len(ns) - 1) else None)
     ax.set_xlabel("$T / T_0^I$ (dimensionless)")
     ax.set_ylabel(r"$\xi_{eq}$ (dimensionless)")
-    ax.set_title(f"{label}: admissible responses")
+    ax.set_title("a) admissible responses (colour: N)")
     ax.legend(loc="best", ncol=2)
 
 
-def _ranges(ax, label: str, levels: list[dict], cmap) -> None:
+def _ranges(ax, levels: list[dict], cmap) -> None:
     for k, lv in enumerate(levels):
         T, _ = _points(lv)
         col = cmap(k / max(len(levels) - 1, 1))
@@ -51,11 +51,11 @@ def _ranges(ax, label: str, levels: list[dict], cmap) -> None:
         ax.plot(lv["n"], lv["A"] / lv["T0_I"], "_", ms=12, color="k")
     ax.set_xscale("log", base=2)
     ax.set_xlabel("N (elements)")
-    ax.set_ylabel("$T / T_0^I$ (dimensionless; bar: admissible range, dash: anchor)")
-    ax.set_title(f"{label}: period range")
+    ax.set_ylabel("$T / T_0^I$ (dimensionless)")
+    ax.set_title("b) period range (bar: admissible, dash: anchor)")
 
 
-def _largest(ax, label: str, levels: list[dict]) -> None:
+def _largest(ax, levels: list[dict]) -> None:
     n, xi = [], []
     for lv in levels:
         _, x = _points(lv)
@@ -67,11 +67,14 @@ def _largest(ax, label: str, levels: list[dict]) -> None:
     ax.set_xscale("log", base=2)
     ax.set_xlabel("N (elements)")
     ax.set_ylabel(r"largest $\xi_{eq}$ of the family (dimensionless)")
-    ax.set_title(f"{label}: largest " + r"$\xi_{eq}$")
+    ax.set_title("c) largest " + r"$\xi_{eq}$")
 
 
 def refine_family_plot(families, out, name: str = "refine_family") -> list[Path]:
     """One row of panels per family: responses (``xi`` vs ``T / T0^I``, colour = N), period range, largest ``xi``.
+
+    Each row is a subfigure headed by the family's label (short panel titles under it: none runs into its
+    neighbour), laid out by matplotlib's constrained layout.
 
     Parameters
     ----------
@@ -83,13 +86,15 @@ def refine_family_plot(families, out, name: str = "refine_family") -> list[Path]
     plt = _plt()
     families = list(families)
     rows = max(len(families), 1)
-    fig, axes = plt.subplots(rows, 3, figsize=(13, 3.6 * rows), squeeze=False)
+    fig = plt.figure(figsize=(13, 3.9 * rows), layout="constrained")
+    subs = np.atleast_1d(fig.subfigures(rows, 1))
     cmap = plt.get_cmap("viridis")
-    for (label, levels), ax in zip(families, axes):
-        _responses(ax[0], label, levels, cmap)
-        _ranges(ax[1], label, levels, cmap)
-        _largest(ax[2], label, levels)
+    for sub, (label, levels) in zip(subs, families):
+        ax = sub.subplots(1, 3)
+        sub.suptitle(label, fontsize=10)
+        _responses(ax[0], levels, cmap)
+        _ranges(ax[1], levels, cmap)
+        _largest(ax[2], levels)
     if not families:
-        axes[0, 0].set_title("no family")
-    fig.tight_layout()
+        subs[0].subplots(1, 3)[0].set_title("no family")
     return _save(fig, out, name)
