@@ -13,4 +13,4 @@ from .survey import survey_damping_plot, survey_loads_plot, survey_plot, survey_
 
 __all__ = ["GREEN", "RED", "nearest_point", "contact_amplitude", "frequency_response", "paths_plane", "xi_load_map",
            "RenderFiles", "render", "convergence_plot", "refine_family_plot", "survey_plot", "survey_loads_plot",
-           "survey_restitution_plot", "xi_rayleigh_plot"]
+           "survey_restitution_plot", "survey_damping_plot", "xi_rayleigh_plot"]

@@ -20,7 +20,8 @@ def _panel(ax, runs, title: str, units: str = "") -> None:
     """One case: ``xi_eq(T)`` per ratio (stable points filled, unstable hollow), the ratio itself dotted."""
     for k, r in enumerate(runs):
         col = RATIO_COLORS[k % len(RATIO_COLORS)]
-        lab = "undamped (the paper)" if r.ratio == 0 else f"Rayleigh {100 * r.ratio:g} % at T = {r.at[0]:.3g}, {r.at[1]:.3g}"
+        lab = ("undamped (the paper)" if r.ratio == 0
+               else f"Rayleigh {100 * r.ratio:g} % at T = {r.at[0]:.3g}, {r.at[1]:.3g}")
         first = True
         for b in r.branches:
             st = np.asarray(b.stable, bool)

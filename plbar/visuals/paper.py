@@ -230,7 +230,8 @@ def draw_fig8(out, cases, fams_list) -> list[Path]:
             for b, f in zip(res.branches, fams):
                 if f == fam:
                     ax.plot(b.T, b.xi, ".-", color=DOF_COLORS[li], ms=2.5, lw=1,
-                            label=f"DOF {li + 1} forced (max {max(x.xi.max() for x, g in zip(res.branches, fams) if g == fam):.4f})"
+                            label=f"DOF {li + 1} forced (max "
+                                  f"{max(x.xi.max() for x, g in zip(res.branches, fams) if g == fam):.4f})"
                             if first else None)
                     first = False
     for ax, fam, lab in zip(axes, FAMILIES, "ab"):
@@ -270,7 +271,7 @@ def draw_fig9(out, allres, families, optima=None) -> list[Path]:
         pts.append((n, pos, P, rs[0]["T0_II"]))
         if P.size:
             vmax = max(vmax, float(np.quantile(P[:, 2], 0.99)))
-    for ax, (n, pos, P, T0II), opt, lab in zip(axes, pts, optima, "abcdefgh"):
+    for ax, (n, _pos, P, T0II), opt, lab in zip(axes, pts, optima, "abcdefgh"):
         lines = []
         if P.size:
             sc = ax.scatter(P[:, 0], P[:, 1], c=P[:, 2], s=6, cmap="viridis", vmin=0, vmax=vmax)

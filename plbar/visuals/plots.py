@@ -14,7 +14,8 @@ from ..paths import FOLD_MU, FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING
 from ..util.files import atomic_path
 from .style import PAPER_SIGNATURE, signature_styles, unit_note, with_units
 
-__all__ = ["frequency_response", "paths_plane", "contact_amplitude", "xi_load_map", "FAM_STYLE", "DOF_COLORS", "FAMILIES"]
+__all__ = ["frequency_response", "paths_plane", "contact_amplitude", "xi_load_map", "FAM_STYLE", "DOF_COLORS",
+           "FAMILIES"]
 
 FAMILIES = ("T0_I", "T0_II/2")      #: the branch families drawn in their own colours
 FAM_STYLE = {"T0_I": ("tab:blue", "path 1 (near $T_0^I$)"), "T0_II/2": ("tab:orange", "path 2 (near $T_0^{II}/2$)"),

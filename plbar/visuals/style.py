@@ -76,7 +76,8 @@ def unit_note(bar) -> str:
     Parameters
     ----------
     bar : plbar.model.Bar or None
-        None (no bar known): ``""``.  The chain (``paper_chain``: masses ``m = rhoA``, springs ``k = EA``; time in units of ``sqrt(m/k)``)
+        None (no bar known): ``""``.  The chain (``paper_chain``: masses ``m = rhoA``, springs ``k = EA``; time in
+        units of ``sqrt(m/k)``)
         or an FE bar (length ``L``, wave speed ``c = sqrt(EA/rhoA)``; time in units of ``L/c``).
     """
     if bar is None:
