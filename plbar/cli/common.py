@@ -19,11 +19,13 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import warnings
 from dataclasses import replace
 
 from ..app import Case, load_case
-from ..errors import InputError
+from ..errors import InputError, PlbarWarning
 from ..model import MASSES, rayleigh_from_ratio
+from ..model.damping import outside_fit
 
 __all__ = ["output_args", "yes_arg", "case_args", "case_from_args", "case_flags", "progress", "report", "hidden",
            "plural"]
@@ -164,6 +166,15 @@ def _rayleigh(a):
         raise InputError("--damping-ratio XI needs --at T_A T_B (the two periods where the ratio holds), and "
                          "the other way round")
     return rayleigh_from_ratio(ratio, *at)
+
+
+def warn_damping_fit(a, T) -> None:
+    """One :class:`~plbar.errors.PlbarWarning` when ``--damping-ratio XI --at T_A T_B`` is evaluated at forcing
+    periods ``T`` far outside ``[T_A, T_B]`` (:func:`plbar.model.damping.outside_fit`), where the ratio is not XI."""
+    ratio, at = getattr(a, "damping_ratio", None), getattr(a, "damping_at", None)
+    text = outside_fit(ratio, at, T) if ratio and at is not None and len(T) else None
+    if text:
+        warnings.warn(text, PlbarWarning, stacklevel=2)
 
 
 def case_from_args(a):
