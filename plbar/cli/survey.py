@@ -15,8 +15,8 @@ import numpy as np
 from ..errors import InputError
 from ..util.outputs import check_creatable
 from ..util.progress import message
-from .common import (case_args, case_from_args, output_args, progress, refuse_contact_load, report, warn_damping_fit,
-                     yes_arg)
+from .common import (case_args, case_from_args, note_no_contact_mass, output_args, progress, refuse_contact_load,
+                     report, warn_damping_fit, yes_arg)
 
 __all__ = ["register"]
 
@@ -126,6 +126,7 @@ def _cmd_survey(a) -> int:
     T = _periods(a, case)
     warn_damping_fit(a, T)
     _cost(a, case, T)
+    note_no_contact_mass(a, case)
     out = check_creatable(a.out)              # made by the study's claim (removed again if it fails)
     if a.positions is not None or a.per_element is not None:
         return _loads(a, case, T, out)

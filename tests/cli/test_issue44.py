@@ -194,3 +194,37 @@ def test_undamped_survey_prints_no_xi_total(tmp_path, capsys):
                                    "--no-plot", "--no-paths", "--out", tmp_path / "s"])
     assert code == 0, err
     assert "xi_total" not in out and "Rayleigh" not in err
+
+
+# an FE bar with no mass at its contact: its xi_eq is a mesh artefact, said once ------------------------------
+
+@pytest.mark.parametrize("argv, noted", [
+    (["--model", "fe", "-N", "4"], True),
+    (["--model", "fe", "-N", "4", "--element", "P2", "--mass", "consistent"], True),
+    (["--model", "fe", "-N", "4", "--end-mass", "0.5"], False),
+    (["--model", "chain", "-N", "4"], False),
+])
+def test_survey_notes_an_fe_bar_without_contact_mass_once(tmp_path, capsys, argv, noted):
+    code, out, err = _run(capsys, ["survey", *argv, "--T-list", "3", "3.5", "--periods", "6", "--no-plot",
+                                   "--no-paths", "--out", tmp_path / "s"])
+    assert code == 0, err
+    assert err.count("xi_eq is a mesh artefact") == noted
+    if noted:
+        assert "plbar: note: this FE bar has no mass of its own at the contact" in err
+        assert "docs/continuum.md" in err and "--end-mass M" in err
+
+
+def test_no_contact_mass_sees_point_masses_on_the_contact_node():
+    import contextlib
+    import io
+    from types import SimpleNamespace
+
+    import plbar
+    from plbar.cli.common import note_no_contact_mass
+
+    for pm, quiet, noted in [((), False, True), (((0.5, 0.2),), False, True), (((1.0, 0.2),), False, False),
+                             ((), True, False)]:
+        err = io.StringIO()
+        with contextlib.redirect_stderr(err):
+            note_no_contact_mass(SimpleNamespace(quiet=quiet, json=False), plbar.Case(model="fe", n=4, point_masses=pm))
+        assert ("mesh artefact" in err.getvalue()) == noted, pm
