@@ -19,11 +19,16 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import warnings
 from dataclasses import replace
 
+import numpy as np
+
 from ..app import Case, load_case
-from ..errors import InputError
+from ..errors import InputError, PlbarWarning
 from ..model import MASSES, rayleigh_from_ratio
+from ..model.damping import outside_fit
+from ..util.progress import message
 
 __all__ = ["output_args", "yes_arg", "case_args", "case_from_args", "case_flags", "progress", "report", "hidden",
            "plural"]
@@ -164,6 +169,32 @@ def _rayleigh(a):
         raise InputError("--damping-ratio XI needs --at T_A T_B (the two periods where the ratio holds), and "
                          "the other way round")
     return rayleigh_from_ratio(ratio, *at)
+
+
+#: the one note of ``run`` and ``survey`` on an FE bar without a mass on its contact node (issue 44)
+NO_CONTACT_MASS = ("plbar: note: this FE bar has no mass of its own at the contact (no --end-mass): its xi_eq is "
+                   "a mesh artefact, the loss of the contact node's share of the element mass, and it vanishes "
+                   "under refinement (the continuum bar without an end mass has no impact loss: docs/continuum.md); "
+                   "give --end-mass M for a physical contact mass")
+
+
+def note_no_contact_mass(a, case) -> None:
+    """Print :data:`NO_CONTACT_MASS` once for an FE case with no point mass on its contact node (unless quiet)."""
+    if case.model != "fe" or getattr(a, "quiet", False) or getattr(a, "json", False):
+        return
+    bar = case.bar()
+    x = np.asarray(bar.nodes, float)
+    if not any(int(np.argmin(np.abs(x - xp))) == x.size - 1 and mp > 0 for xp, mp in bar.point_masses):
+        message(NO_CONTACT_MASS)
+
+
+def warn_damping_fit(a, T) -> None:
+    """One :class:`~plbar.errors.PlbarWarning` when ``--damping-ratio XI --at T_A T_B`` is evaluated at forcing
+    periods ``T`` far outside ``[T_A, T_B]`` (:func:`plbar.model.damping.outside_fit`), where the ratio is not XI."""
+    ratio, at = getattr(a, "damping_ratio", None), getattr(a, "damping_at", None)
+    text = outside_fit(ratio, at, T) if ratio and at is not None and len(T) else None
+    if text:
+        warnings.warn(text, PlbarWarning, stacklevel=2)
 
 
 def case_from_args(a):

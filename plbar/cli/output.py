@@ -30,7 +30,8 @@ def _source_args(p, kind: str) -> None:
     p.add_argument("--from", dest="src", default=None, metavar="DIR",
                    help="folder of a previous 'plbar run' [plbar-out], or of a 'plbar survey' (with --T)")
     p.add_argument("--T", type=float, default=None, metavar="T",
-                   help="with --from SURVEY: the forcing period whose simulated motion to show")
+                   help="with --from SURVEY: the forcing period whose simulated motion to show (the surveyed one "
+                        "within 1e-3 of it)")
     p.add_argument("--start", choices=("rest", "up", "down"), default=None,
                    help="with --from SURVEY: the motion from rest, or of the survey's sweep up or down [rest]")
     p.add_argument("--case", default=None, metavar="FILE.toml", help="a TOML case file: solve it first")
@@ -85,6 +86,8 @@ def _survey_source(a):
                          "--T (and --start)")
     _check_options(a)
     sm = survey_motion(a.src, a.T, 10 if a.periods is None else a.periods, a.start or "rest")
+    if sm.T != a.T and not (a.quiet or a.json):    # the JSON summary has T_forcing
+        message(f"plbar: --T {a.T:.10g} is taken as the survey's forcing period T = {sm.T:.10g}")
     return sm.case, motion_data(sm.series, 40 if a.steps is None else a.steps, sm.info)
 
 

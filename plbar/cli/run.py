@@ -12,7 +12,8 @@ from ..util.check import MIN_BRANCH_POINTS
 from ..util.outputs import claim_folder, fingerprint
 from ..util.progress import message
 from ..visuals.style import PAPER_SIGNATURE, unit_note
-from .common import case_args, case_flags, case_from_args, output_args, plural, progress, report, yes_arg
+from .common import (case_args, case_flags, case_from_args, note_no_contact_mass, output_args, plural, progress, report,
+                     warn_damping_fit, yes_arg)
 
 __all__ = ["register"]
 
@@ -153,6 +154,8 @@ def _cmd_run(a) -> int:
             files = write_results(res, out, overwrite=overwrite)
         files.update(_plots(res, out, a))            # still holding the folder's lock
     s = res.summary()
+    warn_damping_fit(a, [t for b in s["branches"] for t in b["T_range"]])
+    note_no_contact_mass(a, case)
     report(a, s, files, _human(s, files, a.verbose, case_flags(a, skip=SEARCH), unit_note(res.paths.prob.bar)))
     return 0
 

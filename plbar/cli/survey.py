@@ -15,7 +15,8 @@ import numpy as np
 from ..errors import InputError
 from ..util.outputs import check_creatable
 from ..util.progress import message
-from .common import case_args, case_from_args, output_args, progress, refuse_contact_load, report, yes_arg
+from .common import (case_args, case_from_args, note_no_contact_mass, output_args, progress, refuse_contact_load,
+                     report, warn_damping_fit, yes_arg)
 
 __all__ = ["register"]
 
@@ -69,7 +70,7 @@ def _cost(a, case, T) -> None:
         message(f"plbar: note: {what}")
 
 
-def _lines(s, T) -> list[str]:
+def _lines(s, T, damped: bool = False) -> list[str]:
     from ..motion import PERIODIC_TOL
 
     t = s.table
@@ -95,6 +96,10 @@ def _lines(s, T) -> list[str]:
         lines.append(f"  xi_eq of every motion: {np.nanmin(t['xi_eq']):.4g} .. {np.nanmax(t['xi_eq']):.4g} "
                      f"(median {np.nanmedian(t['xi_eq']):.4g}); xi_w: {np.nanmin(t['xi_w']):.4g} .. "
                      f"{np.nanmax(t['xi_w']):.4g}")
+    if damped and "xi_total" in t and np.isfinite(t["xi_total"]).any():   # Rayleigh's ratio at W + xi_eq
+        tot = t["xi_total"]
+        lines.append(f"  xi_total (Rayleigh's ratio at the forcing frequency + xi_eq): {np.nanmin(tot):.4g} .. "
+                     f"{np.nanmax(tot):.4g} (median {np.nanmedian(tot):.4g})")
     drift = (t["steady"] == 0) & (t["kind"] != "failed")
     if drift.any():
         lines.append(f"  {int(drift.sum())} motion(s) drift over the recorded window (loss or int v^T M v changes by "
@@ -119,7 +124,9 @@ def _cmd_survey(a) -> int:
     for n in a.sizes or [None]:           # a --load-node on the contact DOF of any size is refused
         refuse_contact_load(case if n is None else _with_n(case, n), tuple((k, 1.0) for k in a.load_node or ()))
     T = _periods(a, case)
+    warn_damping_fit(a, T)
     _cost(a, case, T)
+    note_no_contact_mass(a, case)
     out = check_creatable(a.out)              # made by the study's claim (removed again if it fails)
     if a.positions is not None or a.per_element is not None:
         return _loads(a, case, T, out)
@@ -136,7 +143,7 @@ def _cmd_survey(a) -> int:
     with get_executor(kind, a.scheduler, a.workers) as ex:
         s = run_survey(case, T, a.periods, a.record, out, modes, ex, progress=progress(a), overwrite=a.overwrite,
                        plot=plot, chunks=a.chunks, paths=paths)
-    report(a, s.summary, s.files, "\n".join(_lines(s, T)))
+    report(a, s.summary, s.files, "\n".join(_lines(s, T, case.rayleigh is not None)))
     return 0
 
 

@@ -19,7 +19,10 @@ import numpy as np
 from ..errors import InputError
 from ..util.check import show
 
-__all__ = ["rayleigh_from_ratio", "rayleigh_ratio", "check_rayleigh"]
+__all__ = ["rayleigh_from_ratio", "rayleigh_ratio", "check_rayleigh", "outside_fit", "FIT_FACTOR"]
+
+#: forcing periods farther than this factor outside the fit's interval ``[T_A, T_B]`` get a warning
+FIT_FACTOR = 2.0
 
 
 def rayleigh_ratio(alpha: float, beta: float, w):
@@ -82,3 +85,24 @@ def check_rayleigh(rayleigh) -> tuple[float, float] | None:
     if not (math.isfinite(a) and math.isfinite(b) and a >= 0 and b >= 0):
         raise InputError(bad)
     return None if a == 0 and b == 0 else (a, b)
+
+
+def outside_fit(xi, at, T, factor: float = FIT_FACTOR) -> str | None:
+    """Why the Rayleigh damping of ratio ``xi`` fitted at the periods ``at`` is not that ratio at the forcing
+    periods ``T``, or None where every ``T`` is within ``factor`` of ``[T_A, T_B]``.
+
+    Below ``T_A / factor`` the stiffness term ``beta w / 2`` grows, above ``factor T_B`` the mass term
+    ``alpha / (2 w)``: the text names the forcing period farthest out and the ratio there.
+    """
+    lo, hi = sorted(float(t) for t in at)
+    T = np.asarray(T, float).ravel()
+    out = T[(T < lo / factor) | (T > factor * hi)]
+    if not out.size:
+        return None
+    far = out[np.argmax(np.maximum(lo / out, out / hi))]
+    a, b = rayleigh_from_ratio(xi, lo, hi)
+    z = float(rayleigh_ratio(a, b, 2 * math.pi / far))
+    term = "mass term alpha / (2 w)" if far > hi else "stiffness term beta w / 2"
+    return (f"the Rayleigh damping fitted to {xi:g} at T = {lo:.4g} and {hi:.4g} is evaluated at forcing periods "
+            f"up to a factor {max(lo / far, far / hi):.3g} outside them: its ratio at T = {far:.4g} is {z:.3g}, "
+            f"dominated by the {term} (zeta = alpha / (2 w) + beta w / 2); fit --at around the forcing periods")

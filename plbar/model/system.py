@@ -25,9 +25,13 @@ from .bar import Assembled, Bar, assemble
 from .damping import check_rayleigh, rayleigh_ratio
 from ..errors import InputError
 from .load import Load
+from .matrices import check_matrices
 from ..util.reprs import build, rng
 
 __all__ = ["TwoStateSystem", "Problem", "two_state", "problem", "with_load_vector", "check_restitution"]
+
+#: a stiffness whose smallest eigenvalue is below this times the largest is singular (rigid-body motion)
+SINGULAR_RTOL = 1e-13
 
 
 def _modes(K: np.ndarray, M: np.ndarray, what: str, m: int | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -36,8 +40,11 @@ def _modes(K: np.ndarray, M: np.ndarray, what: str, m: int | None = None) -> tup
         lam, V = sla.eigh(K, M)
     else:
         lam, V = sla.eigh(K, M, subset_by_index=[0, m - 1])
-    if lam[0] <= 0:
-        raise InputError(f"the {what} stiffness matrix is not positive definite (smallest eigenvalue {lam[0]:.3g})")
+    # a singular K gives lam[0] ~ +-eps lam_max; max(K_ii / M_ii) <= lam_max (Rayleigh quotients of unit vectors)
+    top = float(np.max(np.diag(K) / np.diag(M)))
+    if lam[0] <= SINGULAR_RTOL * top:
+        raise InputError(f"the {what} stiffness matrix is not positive definite (smallest eigenvalue {lam[0]:.3g} "
+                         f"of K v = lam M v, against {top:.3g} or more: is the bar held against rigid-body motion?)")
     k = np.argmax(np.abs(V), axis=0)
     V = V * np.sign(V[k, np.arange(V.shape[1])])
     return np.sqrt(lam), V
@@ -199,7 +206,9 @@ def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray, modes=None, rayleigh=
     Parameters
     ----------
     M, K : ndarray, shape (n, n)
-        Mass and stiffness over the free DOFs, the contact DOF last.
+        Mass and stiffness over the free DOFs, the contact DOF last: finite and symmetric
+        (to a relative ``1e-8``), ``M`` positive definite, and the stiffness of each state
+        (``K`` and ``K_rr``, the contact held) positive definite; else :class:`~plbar.errors.InputError`.
     x : ndarray, shape (n,)
         DOF positions (for output only).
     modes : int or (int, int), optional
@@ -212,8 +221,7 @@ def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray, modes=None, rayleigh=
         Rayleigh damping ``(alpha, beta)``, ``C = alpha M + beta K`` (both ``>= 0``);
         default none (the paper).  See :func:`plbar.rayleigh_from_ratio`.
     """
-    M = np.asarray(M, float)
-    K = np.asarray(K, float)
+    M, K, x = check_matrices(M, K, x)
     n = M.shape[0]
     if n < 2:
         raise InputError(f"the system needs at least 2 free DOFs, got {n}")
@@ -231,7 +239,7 @@ def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray, modes=None, rayleigh=
     r_eta = K[-1, :-1] @ V1 - MV1_c * w1**2
     lumped = bool(np.all(M[-1, :-1] == 0) and np.allclose(M[:-1, :-1], np.diag(np.diag(M[:-1, :-1]))))
     a, b = check_rayleigh(rayleigh) or (0.0, 0.0)
-    return TwoStateSystem(M, K, np.asarray(x, float), w1, V1, w2, V2, P12, P21, Q21, r_eta, MV1_c,
+    return TwoStateSystem(M, K, x, w1, V1, w2, V2, P12, P21, Q21, r_eta, MV1_c,
                           V2[-1, :].copy(), lumped, a, b)
 
 

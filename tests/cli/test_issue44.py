@@ -160,3 +160,71 @@ def test_load_on_the_contact_dof_is_refused(tmp_path, capsys):
     code, _, err = _run(capsys, ["survey", "--model", "fe", "--element", "P2", "-N", "2", "--load-node", "4",
                                  "--T-list", "3", "--out", tmp_path / "s"])
     assert code == 2 and "--load-node 4 is the contact DOF" in err and "1..3" in err
+
+
+# Rayleigh damping evaluated far from its fit: a warning with the ratio there, and xi_total printed -------------
+
+def test_outside_fit_names_the_ratio_at_the_forcing_period():
+    """The finding's column (L = 3 m, c = sqrt(2.7e9 / 216)): 2 % fitted at its periods, 0.784 at 5 Hz."""
+    from plbar.model.damping import outside_fit
+
+    c = np.sqrt(2.7e9 / 216)
+    at = (2 * 3 / c, 4 * 3 / c)
+    text = outside_fit(0.02, at, [0.2])
+    assert "its ratio at T = 0.2 is 0.78" in text and "mass term" in text
+    assert outside_fit(0.02, at, [at[0] / 1.9, 1.9 * at[1]]) is None
+    assert "stiffness term" in outside_fit(0.02, (4.0, 8.0), [1.0, 5.0])
+
+
+@pytest.mark.parametrize("T, warned", [("10", True), ("3", False)])
+def test_survey_warns_of_damping_far_from_its_fit_and_prints_xi_total(tmp_path, capsys, T, warned):
+    code, out, err = _run(capsys, ["survey", "--model", "fe", "-N", "4", "--damping-ratio", "0.02", "--at", "2.05",
+                                   "4.03", "--T-list", T, "--periods", "10", "--no-plot", "--no-paths",
+                                   "--out", tmp_path / "s"])
+    assert code == 0, err
+    line = [w for w in err.splitlines() if "Rayleigh damping fitted" in w]
+    assert len(line) == warned and all(w.startswith("plbar: warning: ") for w in line)
+    if warned:
+        assert "its ratio at T = 10 is 0.0356" in line[0]         # alpha / (2 w) + beta w / 2 at T = 10
+    assert "xi_total (Rayleigh's ratio at the forcing frequency + xi_eq)" in out
+
+
+def test_undamped_survey_prints_no_xi_total(tmp_path, capsys):
+    code, out, err = _run(capsys, ["survey", "--model", "fe", "-N", "4", "--T-list", "3", "--periods", "10",
+                                   "--no-plot", "--no-paths", "--out", tmp_path / "s"])
+    assert code == 0, err
+    assert "xi_total" not in out and "Rayleigh" not in err
+
+
+# an FE bar with no mass at its contact: its xi_eq is a mesh artefact, said once ------------------------------
+
+@pytest.mark.parametrize("argv, noted", [
+    (["--model", "fe", "-N", "4"], True),
+    (["--model", "fe", "-N", "4", "--element", "P2", "--mass", "consistent"], True),
+    (["--model", "fe", "-N", "4", "--end-mass", "0.5"], False),
+    (["--model", "chain", "-N", "4"], False),
+])
+def test_survey_notes_an_fe_bar_without_contact_mass_once(tmp_path, capsys, argv, noted):
+    code, out, err = _run(capsys, ["survey", *argv, "--T-list", "3", "3.5", "--periods", "6", "--no-plot",
+                                   "--no-paths", "--out", tmp_path / "s"])
+    assert code == 0, err
+    assert err.count("xi_eq is a mesh artefact") == noted
+    if noted:
+        assert "plbar: note: this FE bar has no mass of its own at the contact" in err
+        assert "docs/continuum.md" in err and "--end-mass M" in err
+
+
+def test_no_contact_mass_sees_point_masses_on_the_contact_node():
+    import contextlib
+    import io
+    from types import SimpleNamespace
+
+    import plbar
+    from plbar.cli.common import note_no_contact_mass
+
+    for pm, quiet, noted in [((), False, True), (((0.5, 0.2),), False, True), (((1.0, 0.2),), False, False),
+                             ((), True, False)]:
+        err = io.StringIO()
+        with contextlib.redirect_stderr(err):
+            note_no_contact_mass(SimpleNamespace(quiet=quiet, json=False), plbar.Case(model="fe", n=4, point_masses=pm))
+        assert ("mesh artefact" in err.getvalue()) == noted, pm

@@ -130,3 +130,36 @@ def test_motion_with_rebounds_and_chattering(e, T):
     assert np.sum(ev == 4) == np.sum(kinds == 3) > 0 and np.sum(ev == 5) == np.sum(kinds == 4)
     assert d.field_data["impact_loss"].sum() == pytest.approx(r.loss[0].sum(), rel=1e-12)
     assert np.all(d.field_data["state"][ev == 4] == 2) and np.all(d.field_data["state"][ev == 5] == 1)
+
+
+def test_a_period_near_a_surveyed_one_is_taken_and_says_so(folder, capsys):
+    """Issue 44: ``--T`` within 1e-3 of a surveyed period (and nearer it than half the spacing to the next) shows
+    that period and says so; farther off it is refused, naming the surveyed periods on either side."""
+    pytest.importorskip("pyvista")
+    assert main(["export", "--from", str(folder), "--T", "7.004", "--periods", "2", "--steps", "8", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["summary"]["T_forcing"] == 7.0
+    assert main(["render", "--from", str(folder), "--T", "9.5921", "--periods", "2", "--steps", "8",
+                 "--no-gif"]) == 0
+    assert "--T 9.5921 is taken as the survey's forcing period T = 9.6" in capsys.readouterr().err
+    assert main(["export", "--from", str(folder), "--T", "7.02", "-q"]) == 2
+    assert "the nearest: 7 and 9.6" in capsys.readouterr().err
+    assert survey_motion(folder, 6.9999, 2).T == 7.0
+
+
+def test_surveyed_period_tolerance():
+    from plbar.studies.survey.motion import surveyed_period
+
+    Ts = [2.4, 2.499581703, 3.0]
+    assert surveyed_period(Ts, 2.4) == 2.4
+    assert surveyed_period(Ts, 2.3981) == 2.4                       # within 1e-3 T
+    assert surveyed_period(Ts, 2.5) == 2.499581703
+    with pytest.raises(InputError, match=r"the nearest: 2.499581703 and 3\)"):
+        surveyed_period(Ts, 2.5028)                                 # beyond 1e-3 T
+    close = [2.4995, 2.5, 2.6]                                      # 5e-4 apart: half of it is the tolerance
+    assert surveyed_period(close, 2.5002) == 2.5
+    with pytest.raises(InputError, match=r"the nearest: 2.5 and 2.6\)"):
+        surveyed_period(close, 2.5003)
+    with pytest.raises(InputError, match=r"the nearest: 2.4\)"):
+        surveyed_period(Ts, 2.39)
+    with pytest.raises(InputError, match=r"the nearest: 3\)"):
+        surveyed_period(Ts, 3.1)

@@ -153,3 +153,40 @@ def test_mesh_file_case_matches_generated_bar():
     f = Path(__file__).parents[2] / "meshes" / "bar_uniform_8.msh"
     c = plbar.Case(model="fe", mesh_file=str(f))
     np.testing.assert_allclose(c.bar().nodes, plbar.uniform_nodes(8), atol=1e-15)
+
+
+_M3, _K3, _X3 = np.eye(3), np.array([[2.0, -1, 0], [-1, 2, -1], [0, -1, 1]]), np.arange(1.0, 4.0)
+
+
+@pytest.mark.parametrize("M,K,x,match", [
+    (_M3, np.array([[2.0, -1, 0], [-1.5, 2, -1], [0, -1, 1]]), _X3, "K is not symmetric"),
+    (_M3 + 1e-3 * np.triu(np.ones((3, 3)), 1), _K3, _X3, "M is not symmetric"),
+    (_M3, np.ones((3, 2)), _X3, r"K must be a square matrix \(n, n\), got shape \(3, 2\)"),
+    (np.ones(3), _K3, _X3, r"M must be a square matrix"),
+    (np.eye(4), _K3, _X3, r"M and K must have the same shape, got \(4, 4\) and \(3, 3\)"),
+    (_M3, np.where(np.eye(3) == 1, np.nan, _K3), _X3, "K has 3 non-finite entries"),
+    (np.diag([1.0, np.inf, 1.0]), _K3, _X3, "M has 1 non-finite entry"),
+    (_M3, _K3, _X3[:2], r"x must hold one position per DOF, shape \(3,\), got shape \(2,\)"),
+    (_M3, _K3, [0.0, np.nan, 1.0], "x .* non-finite"),
+    (np.diag([1.0, -1.0, 1.0]), _K3, _X3, "the mass matrix is not positive definite"),
+    (np.diag([1.0, 0.0, 1.0]), _K3, _X3, "the mass matrix is not positive definite"),
+    (_M3, np.array([[1.0, -1, 0], [-1, 1, 0], [0, 0, 1]]), _X3,
+     "the state I stiffness matrix is not positive definite"),
+    (3.3 * _M3, 7.1 * np.array([[1.0, -1, 0], [-1, 2, -1], [0, -1, 1]]), _X3,   # free-free: singular to round-off
+     "the state II stiffness matrix is not positive definite"),
+    ("M", _K3, _X3, "M must be a square array of numbers"),
+])
+def test_two_state_refuses_bad_matrices_in_one_line(M, K, x, match):
+    """Issue 44: bad matrices give a one-line InputError, not a numpy/LAPACK error or a silent answer."""
+    with pytest.raises(InputError, match=match) as err:
+        two_state(M, K, x)
+    assert "\n" not in str(err.value)
+
+
+def test_two_state_accepts_round_off_asymmetry_and_symmetrises():
+    a = assemble(plbar.uniform_bar(5, element="P2", mass="consistent"))
+    K = a.K.copy()
+    K[0, 1] *= 1 + 1e-12
+    s, s0 = two_state(a.M, K, a.x), two_state(a.M, a.K, a.x)
+    np.testing.assert_array_equal(s.K, s.K.T)
+    np.testing.assert_allclose(s.w2, s0.w2, rtol=1e-10)

@@ -112,3 +112,19 @@ def test_the_study_is_a_frozen_result_object(study):
     assert res.tables["worst"] is res.worst_load and res.pairs["family"] and res.case == plbar.Case(grid=GRID)
     r = repr(res)
     assert r.startswith("LoadStudy(path_points=") and len(r) < 300 and "xi_worst=" in r
+
+
+def test_xi_along_mesh_holds_the_evaluated_positions(study):
+    """Issue 44: the .vtu is a line through the 50 evaluated positions with the table's values, not the mesh's 6
+    vertices."""
+    meshio = pytest.importorskip("meshio")
+    out, res, _ = study
+    pos = np.load(out / "xi_positions.npz")
+    m = meshio.read(out / "xi_along_mesh.vtu")
+    order = np.argsort(pos["s"])
+    assert m.points.shape[0] == pos["s"].size == 50
+    np.testing.assert_array_equal(m.points[:, 0], pos["s"][order])
+    np.testing.assert_array_equal(m.point_data["xi_eq_max"], pos["xi"].max(axis=0)[order])
+    np.testing.assert_array_equal(m.point_data["dPL_max"], pos["dPL"].max(axis=0)[order])
+    assert np.all(m.point_data["has_value"] == 1)
+    assert sum(c.data.shape[0] for c in m.cells) == 49          # the polyline's segments

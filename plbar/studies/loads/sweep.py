@@ -19,8 +19,9 @@ quadratic forms of :mod:`.forms` and writes into ``out``:
 ``worst_load_shapes.npz``
     The worst load ``q*`` (unit norm) per path point, with ``x`` (DOF positions).
 ``xi_along_mesh.vtu``
-    Per family: max over the family's path points of ``xi_eq`` when the unit
-    force acts at that DOF position of the mesh.
+    A polyline through the evaluated positions (``xi_positions.npz``'s ``s``), one
+    point each: the max over all path points (and per family) of ``xi_eq`` and
+    ``Delta_PL`` when the unit force acts there.
 ``load_pairs.csv``
     The paper's Fig. 9 cases as special cases of the quadratic form: a unit
     force on each free non-contact vertex and every pair of them (0.5 each);

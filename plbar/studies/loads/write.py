@@ -71,15 +71,19 @@ def _write_tables(out: Path, pos, wcols, w, fam, pairs_rows, lf, csv: bool = Fal
     return files
 
 
-def _write_mesh(out: Path, lf, fam, bar) -> Path:
+def _write_mesh(out: Path, pos: dict, fam) -> Path:
+    """``xi_along_mesh.vtu``: a polyline through the evaluated load positions (``xi_positions.npz``'s ``s``), each
+    with the largest ``xi_eq`` (over all path points and per family) and ``Delta_PL`` of a unit force there."""
     from ...io import write_xi_along_mesh
 
-    xi, dpl = lf.point_loads(lf.x)
+    s, k = np.unique(np.asarray(pos["s"], float), return_index=True)
+    xi, dpl = np.asarray(pos["xi"])[:, k], np.asarray(pos["dPL"])[:, k]
     fields = {"xi_eq_max": xi.max(axis=0), "dPL_max": dpl.max(axis=0)}
     for f in FAMILIES:
         m = fam == f
-        fields[f"xi_eq_max_{f.replace('/', '_')}"] = xi[m].max(axis=0) if m.any() else np.zeros(lf.n)
-    return write_xi_along_mesh(bar, lf.x, fields, out / "xi_along_mesh.vtu")
+        fields[f"xi_eq_max_{f.replace('/', '_')}"] = xi[m].max(axis=0) if m.any() else np.zeros(s.size)
+    line = s if s.size > 1 else np.r_[0.0, s]           # one position: a line from the clamp (no value there)
+    return write_xi_along_mesh(line, s, fields, out / "xi_along_mesh.vtu")
 
 
 def _plot(out: Path, lf, fam, pos, wcols, units: str) -> Path:
@@ -92,7 +96,7 @@ def _plot(out: Path, lf, fam, pos, wcols, units: str) -> Path:
 def write_all(out: Path, r: dict, res, plot: bool, csv: bool) -> dict:
     lf, fam = r["forms"], r["families"]
     files = _write_tables(out, r["positions"], r["worst_load"], r["worst"], fam, r["pairs"], lf, csv)
-    files["xi_along_mesh"] = _write_mesh(out, lf, fam, res.paths.prob.bar)
+    files["xi_along_mesh"] = _write_mesh(out, r["positions"], fam)
     if plot:
         from ...visuals.style import unit_note
 

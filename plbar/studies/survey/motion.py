@@ -23,7 +23,11 @@ from ...util.outputs import read_owner
 from .points import start_of
 from .tasks import MODES, case_of, sweep_key
 
-__all__ = ["SurveyMotion", "survey_motion", "is_survey"]
+__all__ = ["SurveyMotion", "survey_motion", "is_survey", "surveyed_period", "PERIOD_RTOL"]
+
+#: a forcing period asked for is taken as the surveyed one within this relative distance (or half the spacing
+#: to the next surveyed period, if smaller): ``--T 2.5`` picks a survey's 2.499581703
+PERIOD_RTOL = 1e-3
 
 
 def is_survey(folder) -> bool:
@@ -40,6 +44,7 @@ class SurveyMotion:
     series: MotionSeries        # or a plbar.continuum.ContinuumSeries (model = "continuum")
     row: dict
     start: str
+    T: float = float("nan")     # the surveyed forcing period shown (the one nearest the T asked for)
 
     @property
     def info(self) -> dict:
@@ -47,6 +52,24 @@ class SurveyMotion:
         keep = ("kind", "m", "signature", "loss_per_T", "xi_eq", "xi_w", "impacts_per_T", "exact_loss", "exact_xi")
         return {"survey_" + k: (v if isinstance(v, (str, int)) else float(v)) for k, v in self.row.items()
                 if k in keep and not (isinstance(v, float) and np.isnan(v))} | {"start": self.start}
+
+
+def surveyed_period(Ts, T: float) -> float:
+    """The surveyed forcing period (of ``Ts``) that ``T`` stands for, else :class:`~plbar.errors.InputError`.
+
+    ``T`` stands for the nearest surveyed period within ``PERIOD_RTOL * T`` and within half the spacing from that
+    period to its neighbours; the refusal names the surveyed periods on either side of ``T``.
+    """
+    Ts = np.unique(np.asarray(Ts, float))
+    i = int(np.argmin(np.abs(Ts - T)))
+    gaps = np.abs(np.diff(Ts[max(i - 1, 0):i + 2]))
+    tol = min(PERIOD_RTOL * abs(T), 0.5 * gaps.min() if gaps.size else np.inf)
+    if abs(Ts[i] - T) <= tol:
+        return float(Ts[i])
+    below, above = Ts[Ts < T], Ts[Ts > T]
+    near = " and ".join(f"{v:.10g}" for v in (below[-1:].tolist() + above[:1].tolist()))
+    raise InputError(f"T = {T:.10g} is not a forcing period of this survey ({Ts.size} in [{Ts.min():.10g}, "
+                     f"{Ts.max():.10g}]; the nearest: {near})")
 
 
 def _study(folder: Path) -> dict:
@@ -73,17 +96,12 @@ def survey_motion(folder, T: float, periods: int = 10, start: str = "rest") -> S
         got = sorted({t["task"]["mode"] for t in study["tasks"]})
         raise InputError(f"the survey in {str(folder)!r} has no '{start}' start (it has {', '.join(got)}); "
                          "run it with --continue up/down for a sweep")
-    Ts = np.array([t for task in tasks for t in task["T"]], float)
-    i = int(np.argmin(np.abs(Ts - T)))
-    if not abs(Ts[i] - T) <= 1e-9 * max(abs(T), 1.0):
-        raise InputError(f"T = {T:g} is not a forcing period of this survey ({Ts.size} in [{Ts.min():g}, "
-                         f"{Ts.max():g}]; nearest {Ts[i]:.10g})")
-    task = next(tk for tk in tasks if any(abs(t - Ts[i]) <= 1e-12 * abs(t) for t in tk["T"]))
+    T = surveyed_period(np.array([t for task in tasks for t in task["T"]], float), T)
+    task = next(tk for tk in tasks if any(abs(t - T) <= 1e-12 * abs(t) for t in tk["T"]))
     total = int(task["periods"])
     if isinstance(periods, bool) or int(periods) != periods or not 1 <= periods <= total:
         raise InputError(f"--periods {periods!r} must be an integer in [1, {total}] (the survey simulated {total})")
     case = case_of(task["case"])
-    T = float(Ts[i])
     s0 = None
     if start != "rest":
         j = [abs(t - T) <= 1e-12 * abs(T) for t in task["T"]].index(True)
@@ -103,10 +121,10 @@ def survey_motion(folder, T: float, periods: int = 10, start: str = "rest") -> S
 
         cr = simulate(case.continuum(), T, periods=total, steps_per_L=case.n_eff, record=int(periods))
         grid = replace(case, model="fe").problem()     # P1 on the continuum's grid: the mesh the samples sit on
-        return SurveyMotion(case, ContinuumSeries(cr, int(periods), grid), row, start)
+        return SurveyMotion(case, ContinuumSeries(cr, int(periods), grid), row, start, T)
     prob = case.problem()
     r = run(padded(prob), np.array([T]), 0.0, total, int(periods), s0)
-    return SurveyMotion(case, MotionSeries(prob, r, 0, int(periods)), row, start)
+    return SurveyMotion(case, MotionSeries(prob, r, 0, int(periods)), row, start, T)
 
 
 def _row(folder: Path, T: float, start: str) -> dict:
