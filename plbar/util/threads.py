@@ -11,13 +11,14 @@ from __future__ import annotations
 
 import os
 import threading
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, wait
 
-__all__ = ["n_threads", "map_chunks"]
+__all__ = ["n_threads", "map_chunks", "off_main"]
 
 _local = threading.local()
 _pool: ThreadPoolExecutor | None = None
 _pool_lock = threading.Lock()
+_helper: ThreadPoolExecutor | None = None     #: the one thread :func:`off_main` runs on
 
 
 def n_threads() -> int:
@@ -45,8 +46,8 @@ def _get_pool(n: int) -> ThreadPoolExecutor:
 
 def _after_fork_in_child():
     """A forked child (process pools of the studies) has none of the parent's threads: start afresh."""
-    global _pool, _pool_lock
-    _pool = None
+    global _pool, _pool_lock, _helper
+    _pool = _helper = None
     _pool_lock = threading.Lock()
     _local.__dict__.clear()
 
@@ -94,3 +95,26 @@ def map_chunks(fn, size: int, min_chunk: int, max_chunk: int | None = None, done
         if done is not None:
             done(b - a)
     return out
+
+
+def off_main(fn, stop, grace: float = 5.0):
+    """``fn()``, run on a helper thread when called from the main thread, so that a Ctrl-C arrives at once.
+
+    Python runs its SIGINT handler in the main thread between bytecodes: while the main thread is in a compiled
+    kernel, a Ctrl-C waits for the kernel to return.  Here the main thread only waits (a wait that the signal
+    interrupts); on any exception there ``stop()`` is called (it sets the kernels' halt flag), the helper is
+    given ``grace`` s to return, and the exception goes on.  From any other thread ``fn()`` runs in place.
+    """
+    global _helper
+    if threading.current_thread() is not threading.main_thread():
+        return fn()
+    with _pool_lock:
+        if _helper is None:
+            _helper = ThreadPoolExecutor(max_workers=1, thread_name_prefix="plbar-kernel")
+        fut = _helper.submit(fn)
+    try:
+        return fut.result()
+    except BaseException:
+        stop()
+        wait([fut], timeout=grace)
+        raise
