@@ -11,6 +11,7 @@ import sys
 import time
 
 import numpy as np
+import pytest
 
 import plbar
 
@@ -18,6 +19,7 @@ import plbar
 CASE = ["--model", "fe", "-N", "20", "--modes", "5"]
 
 
+@pytest.mark.filterwarnings("ignore::plbar.errors.TruncationWarning")
 def test_a_truncated_fe_case_with_every_signature_is_solved():
     """As cheap as the full model's search, and its paper's class the same as without the search."""
     case = plbar.Case(model="fe", n=20, modes=5)
