@@ -131,9 +131,14 @@ class Search:
             with progress_bar(1, self.progress, "signatures: loading the chain's kernel", "step"):
                 prepare(self.prob, paths.branches)
             seeds = _seeds(self.prob, self._simulation(), self.kinds, self.progress)
-            with progress_bar(None, self.progress, "signatures: following curves", "curve") as bar:
+            # the seeds of the structure come first (zero-dwell grid, doublings, branch ends), then each curve
+            with progress_bar(None, self.progress, "signatures: seeding the curves", "curve") as bar:
+                def curve():
+                    bar.set_description("signatures: following curves")
+                    bar.update(1)
+
                 return find_hybrid(self.prob, self.window, paths.branches, seeds, kinds=self.kinds,
-                                   m_max=4 if self.kinds == "default" else 8, progress=lambda: bar.update(1))
+                                   m_max=4 if self.kinds == "default" else 8, progress=curve)
         finally:
             self.cancel()
 

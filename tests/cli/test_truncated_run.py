@@ -48,7 +48,8 @@ def test_ctrl_c_during_the_signature_search_exits_130_within_2_s(tmp_path):
                                 env=dict(os.environ, MPLBACKEND="agg", PLBAR_PROGRESS_DELAY="0"),
                                 preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     t0 = time.monotonic()
-    searching = ("plbar: signatures: simulating", "plbar: signatures: polishing", "plbar: signatures: following")
+    searching = ("plbar: signatures: simulating", "plbar: signatures: polishing", "plbar: signatures: seeding",
+                 "plbar: signatures: following")
     while proc.poll() is None and time.monotonic() - t0 < 300:
         if any(line.startswith(searching) for line in _lines(err)):
             break
