@@ -24,6 +24,7 @@ from ..motion import COMPILE_NOTE, compile_elsewhere, compiled, halt_flag, padde
 from ..model import Problem
 from ..paths import Domain, Paths
 from ..util.progress import message, progress_bar
+from ..util.threads import signals_to_main
 
 __all__ = ["Search", "hybrid_window", "hybrid_rows", "hybrid_summary", "simulated_seeds", "SEED_PERIODS"]
 
@@ -99,7 +100,7 @@ class Search:
         self.done, self._halt = 0, halt_flag()
         self._other = self._pool = self._future = None
         if compiled(self.pad, accounts=False):
-            self._pool = ThreadPoolExecutor(1, thread_name_prefix="plbar-seeding")
+            self._pool = ThreadPoolExecutor(1, thread_name_prefix="plbar-seeding", initializer=signals_to_main)
             self._future = self._pool.submit(_seeding, prob, self.window, kinds, self._count, self.pad, self._halt)
         else:
             self._other = compile_elsewhere(self.pad, accounts=False)

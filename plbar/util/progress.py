@@ -21,6 +21,8 @@ import sys
 import threading
 import time
 
+from .threads import signals_to_main
+
 __all__ = ["progress_bar", "message", "EVERY"]
 
 EVERY = 5.0         #: seconds between two progress lines when stderr is not a terminal
@@ -73,6 +75,7 @@ class _Beat:
                 self.open.remove(bar)
 
     def _loop(self) -> None:
+        signals_to_main()
         while True:
             time.sleep(BEAT)
             with self.lock:
