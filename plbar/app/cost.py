@@ -24,7 +24,8 @@ import numpy as np
 from ..errors import InputError
 from .case import Case
 
-__all__ = ["Cost", "estimate_cost", "cost_note", "search_note", "check_cost", "survey_seconds", "duration", "MEASURED", "MEMORY",
+__all__ = ["Cost", "estimate_cost", "cost_note", "search_note", "check_cost", "survey_seconds", "duration", "MEASURED",
+           "MEMORY",
            "NOTE_SECONDS", "LIMIT_SECONDS", "RAM_SHARE", "SIGNATURES", "SURVEY_PERIOD"]
 
 #: (modes per state, seconds) measured for a 200 x 200 grid (README "Speed"; the chain N = 5 for n = 5)

@@ -1,6 +1,6 @@
 """Issue 45: ``plbar run`` of a truncated FE model with every signature ends, says what it does, and stops on Ctrl-C.
 
-The truncated model's chatter (:func:`tests.motion.test_motion.test_a_truncated_chatter_of_short_flights_is_stopped_at_once`)
+The truncated model's chatter (``tests/motion/test_motion.py``, ``test_a_truncated_chatter_of_short_flights_...``)
 made the seeding simulation run for hours without a line on stderr, and a Ctrl-C waited for the compiled kernel.
 """
 
