@@ -25,8 +25,9 @@ import numpy as np
 from ..errors import InputError
 from .case import Case
 
-__all__ = ["Cost", "estimate_cost", "cost_note", "check_cost", "survey_seconds", "duration", "duration_range", "BUSY",
-           "MEASURED", "MEMORY", "NOTE_SECONDS", "LIMIT_SECONDS", "RAM_SHARE", "SIGNATURES", "SURVEY_PERIOD"]
+__all__ = ["Cost", "estimate_cost", "cost_note", "search_note", "check_cost", "survey_seconds", "duration",
+           "duration_range", "BUSY", "MEASURED", "MEMORY", "NOTE_SECONDS", "LIMIT_SECONDS", "RAM_SHARE", "SIGNATURES",
+           "SURVEY_PERIOD"]
 
 #: (modes per state, seconds) measured for a 200 x 200 grid (README "Speed"; the chain N = 5 for n = 5)
 MEASURED = ((5, 0.7), (10, 5.0), (20, 29.0), (50, 239.0), (100, 583.0))
@@ -39,6 +40,7 @@ SIGNATURES_EXPONENT = 1.7    #: beyond the largest size measured
 TIME_EXPONENT = 2.1      #: beyond the largest size measured
 MEMORY_EXPONENT = 0.56   #: beyond the largest size measured
 NOTE_SECONDS = 60.0      #: above this estimate ``plbar run`` says so before it starts
+SEARCH_NOTE_SECONDS = 10.0   #: ... and above this estimate of its signature search, says so before the search
 LIMIT_SECONDS = 3600.0   #: above this estimate a command starts only with ``--yes``
 RAM_SHARE = 0.5          #: ... or above this share of the machine's memory
 DENSE_COPIES = 3         #: dense n x n arrays of the eigenproblem (K, M, the modes): the memory floor
@@ -152,6 +154,16 @@ def cost_note(case: Case, threshold: float = NOTE_SECONDS, yes: bool = False) ->
     if c.seconds <= threshold:
         return None
     return f"plbar: note: {_solve_text(case, c)}; {CHEAPER}"
+
+
+def search_note(case: Case) -> str | None:
+    """One line before a signature search of about :data:`SEARCH_NOTE_SECONDS` s or more that the cost note
+    (:func:`cost_note`, above :data:`NOTE_SECONDS` in all) did not announce; else None."""
+    c = estimate_cost(case)
+    if c.signatures < SEARCH_NOTE_SECONDS or c.seconds > NOTE_SECONDS:
+        return None
+    return (f"plbar: note: the search for every other signature ({c.modes} modes per state) will take about "
+            f"{duration(c.signatures)} (--signatures paper skips it)")
 
 
 def _machine_gigabytes() -> float | None:

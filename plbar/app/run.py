@@ -17,9 +17,11 @@ from ..util.check import MIN_BRANCH_POINTS, show
 from ..util.check import grid as check_grid
 from ..util.files import check_finite, write_csv, write_json
 from ..util.outputs import Claim, check_folder, clear_owned, fingerprint
+from ..util.progress import message
 from ..util.version import __version__
 from ..visuals.plots import contact_amplitude
 from .case import Case
+from .cost import search_note
 from .signatures import Search, hybrid_rows, hybrid_summary
 
 __all__ = ["Result", "solve", "write_results", "read_paths", "check_output", "case_fingerprint", "PATHS_COLUMNS",
@@ -132,6 +134,9 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
     t0 = time.perf_counter()
     prob = case.problem()
     domain = case.domain(prob)
+    note = search_note(case) if progress and case.signatures != "paper" else None
+    if note:
+        message(note)
     with contextlib.ExitStack() as stack:        # the other signatures begin beside the paper's class
         search = None if case.signatures == "paper" else stack.enter_context(
             Search(prob, domain, case.signatures, progress))

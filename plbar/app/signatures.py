@@ -20,10 +20,11 @@ import numpy as np
 
 from ..hybrid import NotConverged, canonical, find_hybrid, from_motion, prepare
 from ..hybrid import compiled as chain_compiled
-from ..motion import COMPILE_NOTE, compile_elsewhere, compiled, padded, run, steady
+from ..motion import COMPILE_NOTE, compile_elsewhere, compiled, halt_flag, padded, run, steady
 from ..model import Problem
 from ..paths import Domain, Paths
 from ..util.progress import message, progress_bar
+from ..util.threads import signals_to_main
 
 __all__ = ["Search", "hybrid_window", "hybrid_rows", "hybrid_summary", "SEED_PERIODS"]
 
@@ -37,35 +38,41 @@ def hybrid_window(prob: Problem, domain: Domain) -> tuple[float, float]:
     return 0.5 * T0I, float(domain.T1[1] + domain.T2[1])
 
 
-def _seeding(prob: Problem, window, kinds: str, progress=None, pad=None):
+def _seeding(prob: Problem, window, kinds: str, progress=None, pad=None, halt=None):
     """The seeding simulation: ``SEED_PERIODS[kinds]`` forcing periods across ``window`` from rest, the switches
-    only (``progress(n)`` after each block of periods)."""
+    only (``progress(n)`` after each block of periods; ``halt``: its kernel's halt flag, :func:`plbar.motion.run`)."""
     num, periods, record = SEED_PERIODS[kinds]
     T = np.linspace(window[0], window[1], num)
-    return run(padded(prob) if pad is None else pad, T, 0.0, periods, record, progress=progress, accounts=False)
+    return run(padded(prob) if pad is None else pad, T, 0.0, periods, record, progress=progress, accounts=False,
+               halt=halt)
 
 
-def _seeds(prob: Problem, r, kinds: str) -> list:
+def _seeds(prob: Problem, r, kinds: str, progress: bool = False) -> list:
     """Orbits polished (:func:`plbar.hybrid.from_motion`) from the periodic motions of the seeding simulation ``r``."""
     _, periods, record = SEED_PERIODS[kinds]
-    T = r.T
     s = steady(r, tol=1e-4)
+    periodic = np.flatnonzero(s.kind == 0)
     out = []
-    first = periods - record
-    for b in np.flatnonzero(s.kind == 0):
-        sel = r.events["traj"] == b
-        te, ke = r.events["time"][sel], r.events["kind"][sel]
-        after = te >= first * T[b]
-        try:
-            out.append(from_motion(prob, float(T[b]), int(s.m[b]), first * T[b], r.strobe_x[b, 0], r.strobe_v[b, 0],
-                                   int(r.strobe_state[b, 0]), te[after], ke[after]))
-        except (NotConverged, ValueError, np.linalg.LinAlgError):
-            continue
+    with progress_bar(periodic.size, progress, "signatures: polishing the periodic motions", "motion") as bar:
+        for b in periodic:
+            out += _seed(prob, r, int(b), int(s.m[b]), periods - record)
+            bar.update(1)
     return out
 
 
-class _Stopped(Exception):
-    """The seeding simulation was stopped (:meth:`Search.cancel`)."""
+def _seed(prob: Problem, r, b: int, m: int, first: int) -> list:
+    """The orbit of ``m`` periods polished from motion ``b`` of ``r``, its periods from ``first`` on (none where
+    Newton fails)."""
+    T = float(r.T[b])
+    sel = r.events["traj"] == b
+    te, ke = r.events["time"][sel], r.events["kind"][sel]
+    after = te >= first * T
+    try:
+        return [from_motion(prob, T, m, first * T, r.strobe_x[b, 0], r.strobe_v[b, 0], int(r.strobe_state[b, 0]),
+                            te[after], ke[after])]
+    except (NotConverged, ValueError, np.linalg.LinAlgError):
+        return []
+
 
 
 class Search:
@@ -75,26 +82,25 @@ class Search:
     simulator in another process (:func:`plbar.motion.compile_elsewhere`), else the seeding simulation in a
     thread (the compiled kernel releases the GIL).  :meth:`finish` does the rest once the paper's branches are
     known: the chain compiled or loaded (:func:`plbar.hybrid.prepare`), the seeds polished, the curves followed.
-    :meth:`cancel` (or leaving the ``with`` block) stops what still runs.
+    :meth:`cancel` (or leaving the ``with`` block, a Ctrl-C) stops what still runs: the simulation's kernel at its
+    next round (its halt flag, :func:`plbar.motion.halt_flag`), the compile elsewhere at once.
     """
 
     def __init__(self, prob: Problem, domain: Domain, kinds: str, progress: bool = False):
         self.prob, self.kinds, self.progress = prob, kinds, progress
         self.window = hybrid_window(prob, domain)
         self.pad = padded(prob)
-        self.done, self._stop = 0, False
+        self.done, self._halt = 0, halt_flag()
         self._other = self._pool = self._future = None
         if compiled(self.pad, accounts=False):
-            self._pool = ThreadPoolExecutor(1, thread_name_prefix="plbar-seeding")
-            self._future = self._pool.submit(_seeding, prob, self.window, kinds, self._count, self.pad)
+            self._pool = ThreadPoolExecutor(1, thread_name_prefix="plbar-seeding", initializer=signals_to_main)
+            self._future = self._pool.submit(_seeding, prob, self.window, kinds, self._count, self.pad, self._halt)
         else:
             self._other = compile_elsewhere(self.pad, accounts=False)
         if progress and not (self._other is None and chain_compiled(prob)):
             message(f"plbar: {COMPILE_NOTE}")
 
     def _count(self, n: int) -> None:
-        if self._stop:
-            raise _Stopped
         self.done += n
 
     def _simulation(self):
@@ -103,7 +109,7 @@ class Search:
         if self._future is None:                       # compiled elsewhere meanwhile: simulate here
             self._other.wait()
             with progress_bar(periods, self.progress, desc, "period") as bar:
-                return _seeding(self.prob, self.window, self.kinds, bar.update, self.pad)
+                return _seeding(self.prob, self.window, self.kinds, bar.update, self.pad, self._halt)
         with progress_bar(periods, self.progress, desc, "period", initial=self.done) as bar:
             shown = self.done
             while not self._future.done():
@@ -116,17 +122,23 @@ class Search:
         """The branches of every signature but the paper's class (:func:`plbar.hybrid.find_hybrid`), seeded by the
         paper's branches ``paths`` and the simulation."""
         try:
-            prepare(self.prob, paths.branches)
-            seeds = _seeds(self.prob, self._simulation(), self.kinds)
-            with progress_bar(None, self.progress, "signatures: following curves", "curve") as bar:
+            with progress_bar(1, self.progress, "signatures: loading the chain's kernel", "step"):
+                prepare(self.prob, paths.branches)
+            seeds = _seeds(self.prob, self._simulation(), self.kinds, self.progress)
+            # the seeds of the structure come first (zero-dwell grid, doublings, branch ends), then each curve
+            with progress_bar(None, self.progress, "signatures: seeding the curves", "curve") as bar:
+                def curve():
+                    bar.set_description("signatures: following curves")
+                    bar.update(1)
+
                 return find_hybrid(self.prob, self.window, paths.branches, seeds, kinds=self.kinds,
-                                   m_max=4 if self.kinds == "default" else 8, progress=lambda: bar.update(1))
+                                   m_max=4 if self.kinds == "default" else 8, progress=curve)
         finally:
             self.cancel()
 
     def cancel(self) -> None:
-        """Stop the simulation (at its next block of periods) or the compile elsewhere; wait for them."""
-        self._stop = True
+        """Stop the simulation (its kernel at its next round) or the compile elsewhere; wait for them."""
+        self._halt[0] = 1
         if self._other is not None:
             self._other.cancel()
         if self._pool is not None:

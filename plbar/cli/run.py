@@ -10,7 +10,7 @@ from ..errors import InputError
 from ..io import SHIPPED, write_shipped
 from ..util.check import MIN_BRANCH_POINTS
 from ..util.outputs import claim_folder, fingerprint
-from ..util.progress import message
+from ..util.progress import message, progress_bar
 from ..visuals.style import PAPER_SIGNATURE, unit_note
 from .common import (case_args, case_flags, case_from_args, note_no_contact_mass, output_args, plural, progress, report,
                      warn_damping_fit, yes_arg)
@@ -151,8 +151,10 @@ def _cmd_run(a) -> int:
         else:
             res = solve(case, progress=progress(a))
             claim.take()
-            files = write_results(res, out, overwrite=overwrite)
-        files.update(_plots(res, out, a))            # still holding the folder's lock
+            with progress_bar(1, progress(a), "writing paths.csv and summary.json", "step"):
+                files = write_results(res, out, overwrite=overwrite)   # (every orbit's amplitude: seconds)
+        with progress_bar(1, progress(a) and not a.no_plot, "plotting", "step"):
+            files.update(_plots(res, out, a))        # still holding the folder's lock
     s = res.summary()
     warn_damping_fit(a, [t for b in s["branches"] for t in b["T_range"]])
     note_no_contact_mass(a, case)

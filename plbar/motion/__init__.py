@@ -11,7 +11,7 @@
 
 from .model import CHATTER, FREE, OK, STALLED, STUCK, Padded, padded
 from .compile import COMPILE_NOTE, Elsewhere, compile_elsewhere, compiled
-from .run import Run, Start, energy, prepare, rest, run
+from .run import Run, Start, Stopped, energy, halt_flag, prepare, rest, run
 from .series import MotionSeries
 from .steady import BATCHES, DRIFT_TOL, KINDS, M_MAX, PERIODIC_TOL, T_CRIT, Steady, periodicity, steady, trend
 
@@ -34,6 +34,8 @@ __all__ = [
            "Padded",
            "Run",
            "Start",
+           "Stopped",
+           "halt_flag",
            "Steady",
            "compile_elsewhere",
            "compiled",

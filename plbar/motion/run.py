@@ -12,11 +12,21 @@ import numpy as np
 from ..errors import InputError
 from ..model import Problem
 from ..util.reprs import build, listing, rng
-from ..util.threads import map_chunks, n_threads
+from ..util.threads import map_chunks, n_threads, off_main
 from .compile import kind
 from .model import OK, STUCK, Padded, padded
 
-__all__ = ["Run", "Start", "energy", "prepare", "rest", "run"]
+__all__ = ["Run", "Start", "Stopped", "energy", "prepare", "rest", "run", "halt_flag"]
+
+
+class Stopped(Exception):
+    """A simulation stopped by its halt flag (:func:`halt_flag`, set by another thread: a cancelled search)."""
+
+
+def halt_flag() -> np.ndarray:
+    """A fresh halt flag for :func:`run`: ``flag[0] = 1`` from any thread stops the compiled kernel at its next
+    round (every trajectory, within microseconds) and :func:`run` raises :class:`Stopped`."""
+    return np.zeros(1, np.int64)
 
 
 @dataclass(frozen=True)
@@ -141,7 +151,7 @@ def _check(T, phi, periods, record):
 
 
 def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 100, start: Start | None = None,
-        progress=None, accounts: bool = True) -> Run:
+        progress=None, accounts: bool = True, halt: np.ndarray | None = None) -> Run:
     """Simulate trajectories from ``start`` (default: at rest against the wall) and record the last periods.
 
     Each trajectory runs in the compiled kernel (:mod:`plbar.motion.kernel`), one at a time, on
@@ -165,10 +175,18 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
     accounts : bool
         Account the pieces (work, ``Psi`` sums, amplitude); without, only events and boundary states are
         recorded (a replay that checks the switches) and the energy budget is not closed (``work`` is 0).
+    halt : ndarray, optional
+        A :func:`halt_flag` another thread may set to stop the simulation; a Ctrl-C in the calling thread sets it
+        too, so that the kernels on the other threads return before the KeyboardInterrupt goes on.
 
     Returns
     -------
     Run
+
+    Raises
+    ------
+    Stopped
+        If ``halt`` was set.
     """
     from .kernel import advance, jit  # numba: only a simulation pays its import (and first compile)
     from .kernel import data as D
@@ -184,9 +202,10 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
     if record == periods:                         # the boundary at t = 0 is recorded too
         rc[2][:, 0], rc[3][:, 0], rc[4][:, 0] = z[:, 0], z[:, 1], ti[:, D.STATE]
     e0 = energy(pad, ti[:, D.STATE], z[:, 0], z[:, 1])
+    halt = halt_flag() if halt is None else halt
     step = partial(advance, D.model(pad), tr, first=periods - record, damping=D.damping(pad), acc=acc,
-                   large=D.large(pad))
-    rc = _drive(step, ti, rc, periods, progress)
+                   large=D.large(pad), halt=halt)
+    rc = _drive(step, ti, rc, periods, progress, halt)
     jit.mark_compiled(advance, kind(pad, accounts))
     return _collect(pad, T, phi, periods, record, tr, rc, acc, e0)
 
@@ -235,11 +254,12 @@ def _physical(pad: Padded, state, modal) -> np.ndarray:
     return out
 
 
-def _drive(step, ti, rc, periods: int, progress):
+def _drive(step, ti, rc, periods: int, progress, halt):
     """Advance every trajectory to the end, in blocks of periods (progress between them), on every core.
 
     ``step(rc, idx, stop)`` advances trajectories ``idx`` to period ``stop``; where one has no room left to
-    record an event it stops there, the records grow and it goes on.
+    record an event it stops there, the records grow and it goes on.  Raises :class:`Stopped` once ``halt[0]``
+    is set; an exception here (a Ctrl-C) sets it first, so no kernel runs on after it.
     """
     from .kernel import data as D
 
@@ -253,9 +273,9 @@ def _drive(step, ti, rc, periods: int, progress):
             if not idx.size:
                 break
             ti[:, D.NEED] = 0
-            n = max(1, min(n_threads(), idx.size))
-            map_chunks(lambda a, b, rc=rc, idx=idx, n=n, stop=stop:        # (contiguous: one compiled layout)
-                       [step(rc=rc, idx=np.ascontiguousarray(idx[i::n]), stop=stop) for i in range(a, b)], n, 1)
+            off_main(partial(_on_threads, step, rc, idx, stop), partial(halt.fill, 1))   # a Ctrl-C: halt at once
+            if halt[0]:
+                raise Stopped("the simulation was stopped")
             if not ti[:, D.NEED].any():
                 break
             rc = D.grow_events(rc)
@@ -269,6 +289,13 @@ def _drive(step, ti, rc, periods: int, progress):
     if progress is not None and periods > done:
         progress(periods - done)                     # the last periods (and any stopped trajectory's rest)
     return rc
+
+
+def _on_threads(step, rc, idx, stop: int) -> None:
+    """``step`` the trajectories ``idx`` to period ``stop`` on every core (each thread a contiguous share: one
+    compiled layout)."""
+    n = max(1, min(n_threads(), idx.size))
+    map_chunks(lambda a, b: [step(rc=rc, idx=np.ascontiguousarray(idx[i::n]), stop=stop) for i in range(a, b)], n, 1)
 
 
 def energy(pad: Padded, state, eta, vel) -> np.ndarray:

@@ -3,9 +3,12 @@
 * On a terminal, :func:`progress_bar` is a tqdm bar (shown after ``delay`` s, cleared when done) and
   :func:`message` prints above the bars (``tqdm.write``), so a warning never lands on a bar's line.
 * Anywhere else (a file, a pipe, a batch job) there are no carriage returns: a phase that lasts longer
-  than ``delay`` s prints whole lines, ``plbar: scanning: 12000/40000 points (30 %), 10 s``, at most
-  every :data:`EVERY` s, and one line when it ends (``done in 12.3 s``; ``interrupted after 10.0 s`` when the
+  than ``delay`` s prints whole lines, ``plbar: scanning: 12000/40000 points (30 %), 10 s``, every
+  :data:`EVERY` s, and one line when it ends (``done in 12.3 s``; ``interrupted after 10.0 s`` when the
   phase ends by an exception, a Ctrl-C: use the bar as a context manager).
+* A phase says it is alive even while its count stands still (one long curve, one compile): a daemon thread
+  (:class:`_Beat`) prints the line of every open phase that has been silent for :data:`EVERY` s, and redraws
+  the bars on a terminal (their elapsed time goes on), so a long job never looks like a stuck one.
 
 Every message of the command line (warnings, notes, errors) goes through :func:`message`.
 """
@@ -15,11 +18,15 @@ from __future__ import annotations
 import contextlib
 import os
 import sys
+import threading
 import time
+
+from .threads import signals_to_main
 
 __all__ = ["progress_bar", "message", "EVERY"]
 
-EVERY = 10.0        #: seconds between two progress lines when stderr is not a terminal
+EVERY = 5.0         #: seconds between two progress lines when stderr is not a terminal
+BEAT = 0.5          #: seconds between two looks of the heartbeat (:class:`_Beat`) at the open phases
 DELAY_ENV = "PLBAR_PROGRESS_DELAY"   #: overrides every phase's delay (seconds; 0 shows every phase)
 _BARS: list = []    #: the tqdm bars open on a terminal (messages go above them)
 
@@ -36,12 +43,59 @@ class _Null:
     def set_description(self, *_):
         pass
 
+    def tick(self):
+        """The heartbeat's look (:class:`_Beat`): show that the phase goes on."""
+
     def __enter__(self):
         return self
 
     def __exit__(self, *exc):
         self.close()
         return False
+
+
+class _Beat:
+    """The heartbeat: one daemon thread that calls ``tick()`` on every open phase every :data:`BEAT` s."""
+
+    def __init__(self):
+        self.open: list = []
+        self.lock = threading.Lock()
+        self.thread = None
+
+    def add(self, bar) -> None:
+        with self.lock:
+            self.open.append(bar)
+            if self.thread is None or not self.thread.is_alive():      # (none after a fork)
+                self.thread = threading.Thread(target=self._loop, name="plbar-progress", daemon=True)
+                self.thread.start()
+
+    def remove(self, bar) -> None:
+        with self.lock:
+            if bar in self.open:
+                self.open.remove(bar)
+
+    def _loop(self) -> None:
+        signals_to_main()
+        while True:
+            time.sleep(BEAT)
+            with self.lock:
+                bars = list(self.open)
+            for bar in bars:
+                with contextlib.suppress(Exception):     # a bar closed meanwhile: nothing to show
+                    bar.tick()
+
+
+_BEAT = _Beat()
+
+
+def _after_fork_in_child():
+    """A forked child (the studies' process pools) has none of the parent's threads, nor its open phases."""
+    global _BEAT
+    _BEAT = _Beat()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_after_fork_in_child)
 
 
 def _tty() -> bool:
@@ -67,6 +121,8 @@ class _Lines(_Null):
     def __init__(self, total, desc: str, unit: str, delay: float, initial: int = 0):
         self.total, self.desc, self.unit, self.delay = total, desc, unit, delay
         self.n, self.t0, self.last, self.shown = initial, time.perf_counter(), None, False
+        self.lock = threading.Lock()             # the heartbeat's line and update's never both
+        _BEAT.add(self)
 
     def _line(self, end: bool = False, interrupted: bool = False) -> str:
         dt = time.perf_counter() - self.t0
@@ -85,22 +141,29 @@ class _Lines(_Null):
 
     def update(self, n=1):
         self.n += n
-        now = time.perf_counter()
         if self.total and self.n >= self.total:
             return                                   # the last line is close()'s
-        if now - self.t0 >= self.delay and (self.last is None or now - self.last >= EVERY):
-            self.last, self.shown = now, True
-            message(self._line())
+        self.tick()
+
+    def tick(self):
+        """A line, if the phase has lasted ``delay`` s and the last one is :data:`EVERY` s old."""
+        with self.lock:
+            now = time.perf_counter()
+            if now - self.t0 >= self.delay and (self.last is None or now - self.last >= EVERY):
+                self.last, self.shown = now, True
+                message(self._line())
 
     def set_description(self, desc, *_):
         self.desc = desc
 
     def close(self, interrupted: bool = False):
         """The phase's last line: ``done in``, or ``interrupted after`` when it ends by an exception (Ctrl-C)."""
-        if self.shown or time.perf_counter() - self.t0 >= self.delay:
-            message(self._line(end=True, interrupted=interrupted))
-        self.shown = False
-        self.delay = float("inf")
+        _BEAT.remove(self)
+        with self.lock:
+            if self.shown or time.perf_counter() - self.t0 >= self.delay:
+                message(self._line(end=True, interrupted=interrupted))
+            self.shown = False
+            self.delay = float("inf")
 
     def __exit__(self, kind, *exc):
         self.close(interrupted=kind is not None)
@@ -115,15 +178,23 @@ class _Bar:
 
         self._bar = tqdm(total=total, desc=desc, unit=unit, leave=False, delay=delay, initial=initial,
                          file=sys.stderr)
+        self.t0, self.delay = time.perf_counter(), delay
         _BARS.append(self)
+        _BEAT.add(self)
 
     def update(self, n=1):
         self._bar.update(n)
+
+    def tick(self):
+        """Redraw the bar once it shows (its elapsed time goes on while its count stands still)."""
+        if time.perf_counter() - self.t0 >= self.delay:
+            self._bar.refresh()
 
     def set_description(self, desc, *_):
         self._bar.set_description(desc)
 
     def close(self):
+        _BEAT.remove(self)
         if self in _BARS:
             _BARS.remove(self)
             self._bar.close()

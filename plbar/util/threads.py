@@ -10,14 +10,17 @@ count.
 from __future__ import annotations
 
 import os
+import queue
+import signal
 import threading
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor, wait
 
-__all__ = ["n_threads", "map_chunks"]
+__all__ = ["n_threads", "map_chunks", "off_main", "signals_to_main"]
 
 _local = threading.local()
 _pool: ThreadPoolExecutor | None = None
 _pool_lock = threading.Lock()
+_helper: queue.SimpleQueue | None = None      #: the jobs of the one thread :func:`off_main` runs them on
 
 
 def n_threads() -> int:
@@ -35,18 +38,26 @@ def n_threads() -> int:
     return max(1, min(cpus, 4))
 
 
+def signals_to_main() -> None:
+    """Block SIGINT in the calling thread (a helper thread, at its start), so that the kernel delivers a Ctrl-C to
+    the main thread: where the main thread holds it (a study forking its workers), it waits there, instead of
+    being taken by a helper and raised in the main thread in the middle of a fork (a worker then left behind)."""
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+
+
 def _get_pool(n: int) -> ThreadPoolExecutor:
     global _pool
     with _pool_lock:
         if _pool is None or _pool._max_workers != n:
-            _pool = ThreadPoolExecutor(max_workers=n, thread_name_prefix="plbar")
+            _pool = ThreadPoolExecutor(max_workers=n, thread_name_prefix="plbar", initializer=signals_to_main)
         return _pool
 
 
 def _after_fork_in_child():
     """A forked child (process pools of the studies) has none of the parent's threads: start afresh."""
-    global _pool, _pool_lock
-    _pool = None
+    global _pool, _pool_lock, _helper
+    _pool = _helper = None
     _pool_lock = threading.Lock()
     _local.__dict__.clear()
 
@@ -94,3 +105,41 @@ def map_chunks(fn, size: int, min_chunk: int, max_chunk: int | None = None, done
         if done is not None:
             done(b - a)
     return out
+
+
+def _serve(jobs: queue.SimpleQueue) -> None:
+    """The helper thread of :func:`off_main`: run each ``(fn, future)`` and settle its future."""
+    signals_to_main()
+    while True:
+        fn, fut = jobs.get()
+        try:
+            fut.set_result(fn())
+        except BaseException as exc:  # noqa: BLE001 - handed to the waiting caller
+            fut.set_exception(exc)
+
+
+def off_main(fn, stop, grace: float = 5.0):
+    """``fn()``, run on a helper thread when called from the main thread, so that a Ctrl-C arrives at once.
+
+    Python runs its SIGINT handler in the main thread between bytecodes: while the main thread is in a compiled
+    kernel, a Ctrl-C waits for the kernel to return.  Here the main thread only waits (a wait that the signal
+    interrupts); on any exception there ``stop()`` is called (it sets the kernels' halt flag), the helper is
+    given ``grace`` s to return, and the exception goes on.  The helper is a daemon thread: the interpreter's exit
+    does not wait for it (a kernel's first compile, which no flag stops).  From any other thread ``fn()`` runs in
+    place.
+    """
+    global _helper
+    if threading.current_thread() is not threading.main_thread():
+        return fn()
+    with _pool_lock:
+        if _helper is None:
+            _helper = queue.SimpleQueue()
+            threading.Thread(target=_serve, args=(_helper,), name="plbar-kernel", daemon=True).start()
+        fut: Future = Future()
+        _helper.put((fn, fut))
+    try:
+        return fut.result()
+    except BaseException:
+        stop()
+        wait([fut], timeout=grace)
+        raise

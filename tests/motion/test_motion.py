@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import plbar
-from plbar.motion import FREE, STUCK, padded, periodicity, run, steady
+from plbar.motion import CHATTER, FREE, STUCK, padded, periodicity, run, steady
 from plbar.response import segment, work_closed_form
 from plbar.response.power import work_quadrature_segment
 
@@ -195,3 +195,35 @@ def test_progress_counts_every_period_once():
     calls = []
     run(plbar.Case().problem(), [8.5, 12.0, 13.5], periods=30, record=5, progress=calls.append)
     assert sum(calls) == 30 and min(calls) > 0
+
+
+def test_a_truncated_chatter_of_short_flights_is_stopped_at_once():
+    """Issue 45: the opening of a truncated model (5 of 20 modes) gives the contact a velocity into the wall, so an
+    impact whose reaction pulls at once opens and hits again 1e-5 T later, over and over: 275,992 rounds in two
+    periods, and the seeding simulation of ``plbar run --modes 5`` ran for hours.  The chatter guard counts those
+    short flights between zero-length stuck phases: the trajectory is stopped as chattering within a few hundred
+    rounds."""
+    prob = plbar.Case(model="fe", n=20, modes=5).problem()
+    r = run(padded(prob), [2.2013], 0.0, 3, 3, accounts=False)
+    assert r.status[0] == CHATTER and r.rounds < 1000
+
+
+def test_the_halt_flag_stops_a_run_from_another_thread():
+    """A set halt flag stops the compiled kernel at its next round (``plbar run``'s Ctrl-C and cancelled search)."""
+    import threading
+
+    from plbar.motion import Stopped, halt_flag
+
+    halt = halt_flag()
+    halt[0] = 1
+    with pytest.raises(Stopped):
+        run(plbar.Case().problem(), [8.5], periods=10, record=1, halt=halt)
+    halt, started = halt_flag(), threading.Event()
+
+    def progress(_):
+        started.set()
+        halt[0] = 1                                   # as another thread would, once the run is under way
+
+    with pytest.raises(Stopped):
+        run(plbar.Case().problem(), [8.5, 12.0], periods=10 ** 7, record=1, progress=progress, halt=halt)
+    assert started.is_set()
