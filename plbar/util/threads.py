@@ -118,15 +118,16 @@ def _serve(jobs: queue.SimpleQueue) -> None:
             fut.set_exception(exc)
 
 
-def off_main(fn, stop, grace: float = 5.0):
+def off_main(fn, stop, grace: float = 1.0):
     """``fn()``, run on a helper thread when called from the main thread, so that a Ctrl-C arrives at once.
 
     Python runs its SIGINT handler in the main thread between bytecodes: while the main thread is in a compiled
     kernel, a Ctrl-C waits for the kernel to return.  Here the main thread only waits (a wait that the signal
     interrupts); on any exception there ``stop()`` is called (it sets the kernels' halt flag), the helper is
-    given ``grace`` s to return, and the exception goes on.  The helper is a daemon thread: the interpreter's exit
-    does not wait for it (a kernel's first compile, which no flag stops).  From any other thread ``fn()`` runs in
-    place.
+    given ``grace`` s to return (a kernel returns within microseconds of the flag; a first compile does not, and a
+    Ctrl-C must end the command within 2 s), and the exception goes on.  The helper is a daemon thread: the
+    interpreter's exit does not wait for it (a kernel's first compile, which no flag stops).  From any other thread
+    ``fn()`` runs in place.
     """
     global _helper
     if threading.current_thread() is not threading.main_thread():

@@ -25,7 +25,7 @@ class Child:
 
     def __init__(self, args, env=None):
         self.p = subprocess.Popen([sys.executable, "-m", "plbar", *args], stdout=subprocess.DEVNULL,
-                                  stderr=subprocess.PIPE, text=True, env=env,
+                                  stderr=subprocess.PIPE, text=True, env=env, start_new_session=True,
                                   preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
         self.err = ""
         threading.Thread(target=self._read, daemon=True).start()
@@ -48,7 +48,7 @@ class Child:
         try:
             self.p.wait(timeout=60)
         except subprocess.TimeoutExpired:
-            self.p.kill()
+            os.killpg(self.p.pid, signal.SIGKILL)               # its workers too: nothing left running
             pytest.fail(f"not ended 60 s after Ctrl-C: {self.err[-500:]}")
         return time.time() - t0
 

@@ -32,9 +32,10 @@ def test_impacts_and_openings_ulps_apart_stop_as_chattering():
     r = json.loads(p.stdout.strip().splitlines()[-1])
     assert r["status"] == [1] and r["rounds"] < 10_000          # bounded work (seconds include a first compile)
     t = np.array(r["times"])
-    # the recorded switches end in a run of more than 1,000, each within 1e-6 of a period of the one before
+    # the recorded switches end in a run of switches each within 1e-3 of a period of the one before (zero-length
+    # stuck phases and flights of a few ulps: either chatter guard, MAX_ZERO or MAX_SHORT, may stop it first)
     gaps = np.diff(t)
-    assert gaps.size > 1000 and np.all(gaps[-1000:] <= 1e-6 * 9.0) and gaps[:10].max() > 1e-3
+    assert gaps.size > 50 and np.all(gaps[-50:] <= 1e-3 * 9.0) and gaps[:10].max() > 1e-3
     assert 0.0 < t[-1] <= r["stop"][0] < 9.0 and r["stop"][0] - t[-1] <= 1e-6 * 9.0
     (msg,) = r["messages"]
     assert msg.startswith("T = 9: stopped at t = ") and "chattering contact" in msg and msg in r["repr"]
