@@ -128,3 +128,68 @@ def test_refine_interrupted_while_following_exits_at_once_and_resumes(tmp_path):
     assert r.returncode == 0, r.stderr
     assert all(p.stat().st_mtime_ns == t for p, t in kept.items())                # resumed, not redone
     assert (out / "refine.csv").exists()
+
+
+RUN = ["run", "--no-plot"]   #: the default case, every signature
+
+
+def test_run_interrupted_while_compiling_exits_at_once(tmp_path):
+    """``plbar run`` after an install (an empty kernel cache): Ctrl-C while the kernels compile, beside the
+    paper's solve; nothing written, no compile left running."""
+    env = dict(os.environ, PLBAR_CACHE_DIR=str(tmp_path / "cache"))
+    out = tmp_path / "run"
+    c = Child([*RUN, "--out", str(out)], env=env)
+    c.wait_for(lambda: "compiling" in c.err)
+    time.sleep(0.5)                                                                # inside numba, not before it
+    dt = c.interrupt()
+    assert c.p.returncode == 130 and dt <= LIMIT, (c.p.returncode, dt, c.err[-300:])
+    assert "no results written" in c.err
+    assert not out.exists()
+
+
+#: ``plbar run`` whose write of ``paths.csv`` crawls (64 characters every 20 ms), so that a Ctrl-C lands inside it
+SLOW_WRITE = r"""
+import signal, sys, time
+signal.signal(signal.SIGINT, signal.default_int_handler)
+import plbar.util.files as files
+_write = files.write_text
+def write_text(path, text):
+    if not str(path).endswith("paths.csv"):
+        return _write(path, text)
+    with files.atomic_path(path) as tmp:
+        with open(tmp, "w") as fh:
+            for i in range(0, len(text), 64):
+                fh.write(text[i:i + 64]); fh.flush(); time.sleep(0.02)
+    return path
+files.write_text = write_text
+import plbar.cli
+sys.exit(plbar.cli.main(sys.argv[1:]))
+"""
+
+
+def test_run_interrupted_while_writing_leaves_no_partial_file(tmp_path):
+    """Ctrl-C in the middle of writing ``paths.csv``: exit 130 within 2 s, the temporary removed, no result under
+    its final name; the rerun writes the whole table."""
+    out = tmp_path / "run"
+    args = [*RUN, "--signatures", "paper", "--out", str(out)]
+    p = subprocess.Popen([sys.executable, "-c", SLOW_WRITE, *args], stdout=subprocess.DEVNULL,
+                         stderr=subprocess.PIPE, text=True, start_new_session=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    t0 = time.time()
+    while not (out.exists() and any(q.stat().st_size > 0 for q in out.glob(".paths.*.part.csv"))):
+        assert p.poll() is None and time.time() - t0 < 300, p.communicate()[1][-500:]
+        time.sleep(0.005)
+    t1 = time.time()
+    p.send_signal(signal.SIGINT)
+    try:
+        err = p.communicate(timeout=60)[1]
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        pytest.fail("not ended 60 s after Ctrl-C")
+    dt = time.time() - t1
+    assert p.returncode == 130 and dt <= LIMIT, (p.returncode, dt, err[-300:])
+    assert not _partial(out) and not (out / "paths.csv").exists() and not (out / "summary.json").exists()
+    r = subprocess.run([sys.executable, "-m", "plbar", *args], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    lines = (out / "paths.csv").read_text().splitlines()
+    assert len(lines) > 100 and not _partial(out)
