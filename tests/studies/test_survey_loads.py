@@ -53,7 +53,9 @@ def test_periodic_cells_are_the_exact_responses_at_their_load(small):
     t = small.table
     assert np.max(np.abs(t["energy_residual"])) <= 1e-12
     checked = 0
-    for i in np.flatnonzero((t["signature"] == "1P") & (t["distance"] <= 1e-6)):
+    # on the orbit at the window's end (its distance from the polished orbit; the row's repeat distance at m = 1
+    # is still 3e-6 at T = 11.8: the motion settles on the orbit more slowly than the window repeats at m = 7)
+    for i in np.flatnonzero((t["signature"] == "1P") & (t["orbit_distance"] <= 1e-6)):
         prob = replace(plbar.Case(), load_nodes=(), load_points=((float(t["s"][i]), 1.0),)).problem()
         r = find_response(prob, float(t["T"][i]), float(t["stuck_fraction"][i] * t["T"][i]))
         assert r.dPL == pytest.approx(t["exact_loss"][i], rel=1e-8)
