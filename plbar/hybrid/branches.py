@@ -116,13 +116,19 @@ def _curve(prob, orb: HybridOrbit, window, st) -> tuple[list[HybridOrbit], list[
 
 
 def _mults(prob, orbs) -> list[np.ndarray]:
-    """The Floquet multipliers of each orbit (the eigenvalues of orbits of one signature in one call)."""
+    """The Floquet multipliers of each orbit (the eigenvalues of orbits of one signature in one call).
+
+    An orbit whose monodromy is not finite gets nan multipliers (its stability unknown: not stable, and no
+    bifurcation is read off it).  This happens on a vertical family, where the forcing period is a multiple of a
+    natural period of the free state (the chain N = 3 at T = 2 T_II,3: the free flight's map has the multiplier 1
+    and the family's monodromies grow to 1e14, overflowing at some points)."""
     if not orbs:
         return []
     Ms = [monodromy(prob, o.sig, o.T, o.phi, o.chain) for o in orbs]
-    if len({M.shape for M in Ms}) == 1:
+    finite = [bool(np.isfinite(M).all()) for M in Ms]
+    if all(finite) and len({M.shape for M in Ms}) == 1:
         return list(multipliers(np.stack(Ms)))
-    return [multipliers(M) for M in Ms]
+    return [multipliers(M) if ok else np.full(M.shape[0], np.nan + 0j) for M, ok in zip(Ms, finite)]
 
 
 def _flags(mus) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -142,8 +148,10 @@ def _events(orbs, mus) -> list[dict]:
         return ev
     pd, cplx, cmax = _flags(mus)
     T = np.array([o.T for o in orbs])
-    flip_pd = pd[1:] != pd[:-1]
-    flip_ns = cplx[1:] & cplx[:-1] & ((cmax[1:] > 1) != (cmax[:-1] > 1))
+    known = np.array([bool(np.isfinite(mu).all()) for mu in mus])      # a flip needs both points' multipliers
+    both = known[1:] & known[:-1]
+    flip_pd = (pd[1:] != pd[:-1]) & both
+    flip_ns = cplx[1:] & cplx[:-1] & ((cmax[1:] > 1) != (cmax[:-1] > 1)) & both
     fold = np.r_[False, (T[2:] - T[1:-1]) * (T[1:-1] - T[:-2]) < 0]
     for i in np.flatnonzero(flip_pd | flip_ns | fold) + 1:
         if flip_pd[i - 1]:

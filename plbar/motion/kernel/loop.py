@@ -233,7 +233,9 @@ def _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, work, damping):
         f[D.P] = land(md, f[D.OMEGA], tp, f[D.P], 0.0, f[D.T] - tp, f[D.PHI], e, v, damping)
     p = f[D.P]
     _account(md, f, s, z0, tot, acc, first, b, p, work, damping)
-    time = period * f[D.T] + tp + p
+    # (tp + p) first: the next segment starts at tp + p, so a zero-length phase's second event gets the same time
+    # (summed as period T + tp + p it came out ulps before the first: event times must never decrease)
+    time = period * f[D.T] + (tp + p)
     kind, loss, dt = switch(md, st, e, v, e2, v2, cos(f[D.OMEGA] * (tp + p) - f[D.PHI]), damping)
     f[D.TP] = tp + p
     f[D.P] = 0.0
