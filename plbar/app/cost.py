@@ -102,12 +102,25 @@ CONTINUUM_PERIOD2 = 3.1e-5
 CONTINUUM_MODAL_PERIOD = 0.12
 
 
-def survey_seconds(case: Case, motions: int, periods: int) -> float:
-    """The estimated CPU time of simulating ``motions`` motions of ``case`` over ``periods`` forcing periods each."""
+#: the forcing period (in transit times ``T c / L``) at which :data:`CONTINUUM_PERIOD2` was measured, and the power of
+#: ``T c / L`` the continuum's cost grows with beyond it: more grid steps per period and more impacts (fronts) per
+#: period, 53x from T c/L = 2.5 to 10 at 50 periods, 3.8-6.6x to 3.5 (measured in issue 44, finding 3)
+CONTINUUM_TL, CONTINUUM_TL_POWER = 2.5, 3.0
+
+
+def survey_seconds(case: Case, motions: int, periods: int, T=None) -> float:
+    """The estimated CPU time of simulating ``motions`` motions of ``case`` over ``periods`` forcing periods each
+    (``T``: the forcing periods, which the continuum's cost depends on; without them it is taken at
+    :data:`CONTINUUM_TL`)."""
     if case.model == "continuum" and case.rayleigh is not None:
         return motions * CONTINUUM_MODAL_PERIOD * periods
     if case.model == "continuum":
-        return motions * CONTINUUM_PERIOD2 * periods ** 2 * case.n_eff / 32
+        growth = 1.0
+        if T is not None and np.size(T):
+            bar = case.continuum()
+            x = np.asarray(T, float) * bar.c / bar.L / CONTINUUM_TL
+            growth = float(np.mean(np.where(x > 1, x ** CONTINUUM_TL_POWER, x)))
+        return motions * CONTINUUM_PERIOD2 * periods ** 2 * case.n_eff / 32 * growth
     return motions * periods * _loglog(case.bar().n_dofs, SURVEY_PERIOD, SURVEY_EXPONENT)
 
 

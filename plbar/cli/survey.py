@@ -46,13 +46,18 @@ def _periods(a, case) -> np.ndarray:
     return np.linspace(lo, hi, num)
 
 
-def _cost(a, case, T) -> None:
+def _cost(a, case, T) -> str:
     """Refuse a survey above the limits of :func:`plbar.app.cost.check_cost` (unless ``--yes``); say what a long
-    one will cost: its motions x forcing periods, and the time from the measured cost of one period."""
+    one will cost: its motions x forcing periods, and the time from the measured cost of one period.
+
+    A survey over meshes (``-N`` with two sizes or more) has the continuum as its N = infinity row; where that row
+    alone is above the limits (a slow forcing: its cost grows steeply with ``T c / L``) it is left out, not the
+    survey refused: the reason is returned (else ``""``)."""
     import os
 
-    from ..app.cost import NOTE_SECONDS, check_cost, duration_range, survey_seconds
+    from ..app.cost import LIMIT_SECONDS, NOTE_SECONDS, check_cost, duration_range, survey_seconds
     from ..studies.survey.loads import DEFAULT_POSITIONS
+    from ..studies.survey.refine import continuum_case
 
     motions = len(T) * (1 + len(set(a.cont or ())))
     if a.positions is not None or a.per_element is not None:
@@ -60,6 +65,16 @@ def _cost(a, case, T) -> None:
     sizes = sorted(set(a.sizes)) if a.sizes and len(a.sizes) > 1 else [None]
     cpu = sum(survey_seconds(case if n is None else _with_n(case, n), motions, a.periods) for n in sizes)
     workers = 1 if a.executor == "serial" and not a.scheduler else (a.workers or os.cpu_count() or 1)
+    skip = ""
+    if sizes != [None] and a.positions is None and a.per_element is None:
+        cont, _ = continuum_case(case)
+        if cont is not None:
+            c = survey_seconds(cont, motions, a.periods, T)
+            if c / min(workers, motions) > LIMIT_SECONDS and not a.yes:
+                skip = (f"the continuum's survey would take {duration_range(c / min(workers, motions))} (its cost "
+                        f"grows like periods^2 (T c/L)^3); left out: give --yes to run it, or fewer --periods")
+            else:
+                cpu += c
     wall = cpu / workers
     what = (f"this survey simulates {motions:,} motions x {a.periods:,} forcing periods"
             + (f" on {len(sizes)} meshes" if len(sizes) > 1 else "")
@@ -68,6 +83,9 @@ def _cost(a, case, T) -> None:
     check_cost(wall, 0.0, what, "fewer periods (--num, --periods) or a coarser bar (-N)", a.yes)
     if wall > NOTE_SECONDS and not (a.quiet or a.json):
         message(f"plbar: note: {what}")
+    if skip and not a.quiet:
+        message(f"plbar: note: {skip}")
+    return skip
 
 
 def _lines(s, T, damped: bool = False) -> list[str]:
@@ -105,7 +123,8 @@ def _lines(s, T, damped: bool = False) -> list[str]:
         lines.append(f"  {int(drift.sum())} motion(s) drift over the recorded window (loss or int v^T M v changes by "
                      "more than 5 %, a significant trend): their xi_eq and xi_w are the window's, not steady values "
                      "(column steady = 0; drift_loss, drift_vMv)")
-    lines.append(f"  energy budget closes to {s.summary['energy_residual_max']:.1e} of the work")
+    if s.summary["energy_residual_max"] is not None:                 # None: every motion failed
+        lines.append(f"  energy budget closes to {s.summary['energy_residual_max']:.1e} of the work")
     lines.append("  wrote " + ", ".join(str(f) for v in s.files.values() for f in (v if isinstance(v, list) else [v])))
     return lines
 
@@ -125,13 +144,13 @@ def _cmd_survey(a) -> int:
         refuse_contact_load(case if n is None else _with_n(case, n), tuple((k, 1.0) for k in a.load_node or ()))
     T = _periods(a, case)
     warn_damping_fit(a, T)
-    _cost(a, case, T)
+    no_continuum = _cost(a, case, T)
     note_no_contact_mass(a, case)
     out = check_creatable(a.out)              # made by the study's claim (removed again if it fails)
     if a.positions is not None or a.per_element is not None:
         return _loads(a, case, T, out)
     if a.sizes and len(a.sizes) > 1:
-        return _refine(a, case, T, out)
+        return _refine(a, case, T, out, no_continuum)
     plot = not a.no_plot and importlib.util.find_spec("matplotlib") is not None
     paths = None
     # the paper's class under it (plastic: with a restitution e > 0 it does not exist; the responses with rebounds
@@ -168,7 +187,8 @@ def _loads(a, case, T, out) -> int:
                      + (f", {k['failed']} failed" if k["failed"] else "")
                      + f"; mean xi_eq over T by position {mean.min():.4g} .. {mean.max():.4g}, largest at s = "
                        f"{d['position_of_largest_mean_xi_eq']:g}")
-    lines.append(f"  energy budget closes to {r.summary['energy_residual_max']:.1e} of the work")
+    if r.summary["energy_residual_max"] is not None:                 # None: every motion failed
+        lines.append(f"  energy budget closes to {r.summary['energy_residual_max']:.1e} of the work")
     lines.append("  wrote " + ", ".join(str(f) for v in r.files.values() for f in (v if isinstance(v, list) else [v])))
     report(a, r.summary, r.files, "\n".join(lines))
     return 0
@@ -180,27 +200,31 @@ def _with_n(case, n):
     return replace(case, n=int(n))
 
 
-def _refine(a, case, T, out) -> int:
+def _refine(a, case, T, out, no_continuum: str = "") -> int:
     from ..studies import get_executor
     from ..studies.survey import run_survey_refine
 
     kind = "dask" if a.scheduler else a.executor
     with get_executor(kind, a.scheduler, a.workers) as ex:
         r = run_survey_refine(case, a.sizes, T, a.periods, a.record, out, ex, progress(a), a.overwrite,
-                              plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
-    text = "\n".join(_refine_lines(r.rates, a.sizes, 0 in r.surveys, r.files, case.bar().length))
+                              plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None,
+                              no_continuum=no_continuum)
+    from ..studies.survey.refine import transit
+
+    text = "\n".join(_refine_lines(r.rates, a.sizes, 0 in r.surveys, r.files, transit(case)))
     report(a, r.summary, r.files, text, rates=r.rates)
     return 0
 
 
-def _refine_lines(rates: dict, sizes, inf: bool, files: dict, L: float = 1.0) -> list[str]:
-    """The summary of a survey refinement: per forcing period (in the case's time unit, and T/L for a bar of length
-    ``L``) and mean, the values and their limit (the continuum's where there is one), or why no limit is stated."""
+def _refine_lines(rates: dict, sizes, inf: bool, files: dict, tau: float = 1.0) -> list[str]:
+    """The summary of a survey refinement: per forcing period (in the case's time unit, and in transit times
+    ``T c / L`` for a bar whose waves cross it in ``tau = L / c``) and mean, the values and their limit (the
+    continuum's where there is one), or why no limit is stated."""
     lines = [f"plbar survey over N = {', '.join(str(n) for n in sorted(set(sizes)))}"
              + (", infinity (the continuum, plbar.continuum)" if inf else "") + ":"]
     for d in rates.values():
         cont = d.get("continuum")
-        lines.append(f"  T = {d['T']:.6g} (T/L = {d['T'] / L:.4g}): kinds {', '.join(d['kinds'])}"
+        lines.append(f"  T = {d['T']:.6g} (T c/L = {d['T'] / tau:.4g}): kinds {', '.join(d['kinds'])}"
                      + (f"; continuum {cont['kind']}" if isinstance(cont, dict) else f"; no continuum: {cont}"))
         for q in ("loss_per_T", "xi_eq", "xi_w"):
             c = d[q]

@@ -40,6 +40,63 @@ def test_survey_of_five_periods_runs(tmp_path, capsys):
     assert all(np.isfinite(float(r.split(",")[cols.index("distance")])) for r in text[1:])
 
 
+# 1b. the continuum row of a survey over meshes crashed where its march chatters ---------------------------------
+
+def test_a_continuum_march_stopped_by_chatter_is_a_failed_row(tmp_path, capsys):
+    """The unit continuum at T c/L = 5 chatters after ~79 periods (switches accumulate in one grid step): its row is
+    T, kind 'failed' and its status, no number it does not have (before: 'distance = inf is not finite ... please
+    report the case')."""
+    import csv
+    import json
+
+    code, out, err = _run(capsys, ["survey", "--model", "continuum", "--T-list", "5", "--periods", "100",
+                                   "--no-plot", "--out", tmp_path / "c"])
+    assert code == 0, err
+    assert "1 failed" in out
+    (row,) = list(csv.DictReader(open(tmp_path / "c" / "survey.csv")))
+    assert row["kind"] == "failed" and row["status"] != "0"
+    assert all(row[k] == "" for k in ("loss_per_T", "xi_w", "distance", "energy_residual", "impacts_per_T"))
+    assert json.loads((tmp_path / "c" / "summary.json").read_text())["loss_per_T"] is None
+
+
+def test_survey_over_meshes_says_its_continuum_row_stopped(tmp_path, capsys):
+    import json
+
+    code, out, err = _run(capsys, ["survey", "--model", "fe", "-N", "4", "8", "--T-list", "5", "--periods", "100",
+                                   "--no-plot", "--out", tmp_path / "r"])
+    assert code == 0, err
+    assert "continuum failed" in out and "march stopped" in out
+    d = json.loads((tmp_path / "r" / "survey_refine.json").read_text())["T/L=5"]
+    assert d["continuum"] == {"kind": "failed"} and d["loss_per_T"]["against_continuum"]["continuum"] is None
+
+
+def test_the_continuum_row_of_a_slow_forcing_is_left_out_with_its_cost(tmp_path, capsys):
+    """The 3 m column at 0.2 s (T c/L = 236): its continuum row would take hundreds of days; it is left out with a
+    note saying so, the meshes' survey runs (before: it ran unannounced into the chatter and the crash)."""
+    code, out, err = _run(capsys, ["survey", "--model", "fe", "--length", "3", "--EA", "2.7e9", "--rhoA", "216",
+                                   "--load-at", "1.5", "-N", "4", "8", "--T-list", "0.2", "--periods", "50",
+                                   "--no-plot", "--out", tmp_path / "col"])
+    assert code == 0, err
+    assert "continuum's survey would take" in err and "left out" in err
+    assert "T c/L = 235.7" in out and "no continuum" in out
+    assert not (tmp_path / "col" / "continuum").exists()
+
+
+def test_the_continuums_estimate_grows_with_the_forcing_period():
+    """Its cost per period^2 was measured at T c/L = 2.5; beyond, it grows like (T c/L)^3 (more grid steps and more
+    impacts per period), in the case's units (the column: c = 3,536 m/s)."""
+    from plbar import Case
+    from plbar.app.cost import survey_seconds
+
+    unit = Case(model="continuum")
+    col = Case(model="continuum", length=3.0, EA=2.7e9, rhoA=216.0)
+    base = survey_seconds(unit, 1, 1000, [2.5])
+    assert survey_seconds(unit, 1, 1000) == base
+    assert survey_seconds(unit, 1, 1000, [10.0]) == pytest.approx(64 * base, rel=1e-12)
+    tau = 3.0 / np.sqrt(2.7e9 / 216.0)
+    assert survey_seconds(col, 1, 1000, [10.0 * tau]) == pytest.approx(64 * base, rel=1e-12)
+
+
 # 3. small numbers are printed with the digits they have ------------------------------------------------------
 
 def test_survey_prints_small_xi_in_significant_digits(tmp_path, capsys):

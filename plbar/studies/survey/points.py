@@ -103,9 +103,15 @@ def _continuum_rows(case: Case, T, periods: int, record: int, start, progress) -
     rows = []
     for i in range(T.size):
         row = _row(s, r, i)
+        if r.status[i] != 0:                           # the march stopped (chatter): no accounts to report
+            rows.append({k: row[k] for k in ("T", "kind", "m", "status", "signature", "steady")})
+            continue
         if case.rayleigh is not None:                  # the damped continuum: Rayleigh's ratio at omega + the impact's
             row["xi_total"] = float(rayleigh_ratio(*case.rayleigh, 2 * np.pi / T[i]) + row["xi_eq"])
-        rows.append({k: v for k, v in row.items() if k not in blank and v == v})   # blanks: never a nan
+        # blanks: never a nan nor an inf (a march stopped by chatter has no accounts: its row is T, kind 'failed'
+        # and its status)
+        rows.append({k: v for k, v in row.items() if k not in blank and not (isinstance(v, float)
+                                                                            and not np.isfinite(v))})
     return rows
 
 

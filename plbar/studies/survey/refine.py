@@ -86,6 +86,14 @@ def _case_at(case: Case, n: int) -> Case:
     return replace(case, n=n)
 
 
+def transit(case: Case) -> float:
+    """The bar's transit time ``L / c`` (``c = sqrt(EA / rhoA)``), in the case's time unit: the ``T_L`` column and
+    the ``T/L=`` keys are forcing periods in it, ``T c / L`` (a dimensionless number in any consistent units; ``T /
+    L`` where ``EA = rhoA``, as in the default cases)."""
+    bar = case.bar()
+    return float(bar.length / np.sqrt(bar.EA / bar.rhoA))
+
+
 def continuum_case(case: Case, steps: int | None = None) -> tuple[Case | None, str]:
     """The continuum of an FE ``case`` (``model = "continuum"``, ``steps`` per ``L/c``; with its Rayleigh damping,
     solved by exact modes), or None and why not."""
@@ -106,9 +114,10 @@ def continuum_case(case: Case, steps: int | None = None) -> tuple[Case | None, s
 
 def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | None = None,
                       out="plbar-survey-refine", executor=None, progress: bool = False, overwrite: bool = False,
-                      plot: bool = True) -> SurveyRefinement:
+                      plot: bool = True, no_continuum: str = "") -> SurveyRefinement:
     """Surveys of ``case`` at every size in ``sizes`` and the convergence of their means, with the continuum's
-    survey as the N = infinity row where the case has a continuum (:func:`continuum_case`).
+    survey as the N = infinity row where the case has a continuum (:func:`continuum_case`) and ``no_continuum``
+    gives no reason to leave it out (the command line's: its cost).
 
     ``T`` are forcing periods of ``case`` (its own ``N``); for the chain they scale with ``N / N0``.
     """
@@ -122,7 +131,7 @@ def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | N
     what = {"case": {k: v for k, v in case.to_dict().items() if k != "n"}, "T": T.tolist(), "periods": periods,
             "record": record}                      # not the sizes: more sizes extend the same study
     claim_folder(folder, "survey-refine", fingerprint(what), REFINE_OWNED, overwrite)
-    L0 = case.bar().length
+    tau0 = transit(case)
     rows, surveys = [], {}
     for n in sizes:
         c = _case_at(case, n)
@@ -131,23 +140,23 @@ def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | N
                        overwrite=overwrite, plot=plot)
         surveys[n] = s
         t = s.rows("rest")
-        L = c.bar().length
+        tau, L = transit(c), c.bar().length
         for i in range(t["T"].size):
             rows.append({"N": n, "h": L / n if case.model == "fe" else 1.0 / n,     # the chain: L = N
-                         "T": float(t["T"][i]), "T_L": float(t["T"][i] / L),
+                         "T": float(t["T"][i]), "T_L": float(t["T"][i] / tau),
                          **{k: (t[k][i].item() if hasattr(t[k][i], "item") else t[k][i])
                             for k in REFINE_COLUMNS[4:]}})
-    cont, why = continuum_case(case)
+    cont, why = continuum_case(case) if not no_continuum else (None, no_continuum)
     if cont is not None:
         s = run_survey(cont, T, periods, record, folder / "continuum", executor=executor, progress=progress,
                        overwrite=overwrite, plot=plot)
         surveys[0] = s
         t = s.rows("rest")
         for i in range(t["T"].size):
-            rows.append({"N": 0, "h": 0.0, "T": float(t["T"][i]), "T_L": float(t["T"][i] / L0),
+            rows.append({"N": 0, "h": 0.0, "T": float(t["T"][i]), "T_L": float(t["T"][i] / tau0),
                          **{k: (t[k][i].item() if hasattr(t[k][i], "item") else t[k][i])
                             for k in REFINE_COLUMNS[4:]}})
-    rates = _rates(rows, T / L0, record, why, L0)
+    rates = _rates(rows, T / tau0, record, why, tau0)
     files = _write(folder, rows, rates)
     if plot:
         files["figure"] = _plot(folder, rates)
@@ -157,6 +166,8 @@ def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | N
 
 def _against(sel: list[dict], c: dict, q: str, spread, record: int) -> dict:
     """Each mesh's error against the continuum's mean ``c[q]``, its z-score and the orders (``known_limit``)."""
+    if c.get("kind") == "failed":
+        return {"continuum": None, "why": "the continuum's march stopped: its switches accumulate (chatter)"}
     if not np.isfinite(c[q]):
         return {"continuum": None, "why": f"{q} is not defined for the continuum (plbar.studies.survey.continuum)"}
     se = lambda r: (r[spread] / np.sqrt(record)) if spread else 0.0  # noqa: E731
@@ -178,7 +189,8 @@ def _against(sel: list[dict], c: dict, q: str, spread, record: int) -> dict:
 
 
 def _rates(rows: list[dict], TL, record: int, no_continuum: str = "", length: float = 1.0) -> dict:
-    """Per forcing period (keyed ``T/L=...``; ``T``: the case's own, in its time unit), the convergence of the means."""
+    """Per forcing period (keyed ``T/L=...``, the period in transit times ``T c / L``; ``T``: the case's own, in its
+    time unit, ``length`` the transit time ``L / c``), the convergence of the means."""
     out = {}
     for tl in TL:
         at = [r for r in rows if abs(r["T_L"] - tl) <= 1e-12 * tl]
@@ -209,7 +221,8 @@ def _rates(rows: list[dict], TL, record: int, no_continuum: str = "", length: fl
         if cont is None:
             out[key]["continuum"] = no_continuum or "none"
         else:
-            out[key]["continuum"] = {"kind": cont["kind"], "impacts_per_T": float(cont["impacts_per_T"])}
+            ipt = float(cont["impacts_per_T"])
+            out[key]["continuum"] = {"kind": cont["kind"], **({"impacts_per_T": ipt} if np.isfinite(ipt) else {})}
     return out
 
 

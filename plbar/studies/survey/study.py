@@ -125,12 +125,20 @@ def _summary(case: Case, table: dict, study: Study, seconds: float) -> dict:
         per[s] = {"kinds": {k: int(np.sum(table["kind"][sel] == k)) for k in KINDS},
                   "periodic_by_m": {str(m): int(np.sum(sel & (table["m"] == m))) for m in
                                     sorted(set(table["m"][sel & (table["kind"] == "periodic")].tolist()))}}
-    fin = np.isfinite(table["xi_eq"])
+    res = np.abs(table["energy_residual"])
     return {"plbar_version": __version__, "case": case_fields(case), **study.params, "rows": int(table["T"].size),
             "kinds": kinds, "by_start": per, "drifting": int(np.sum(table["steady"] == 0) - kinds.get("failed", 0)),
-            "xi_eq": [float(table["xi_eq"][fin].min()), float(table["xi_eq"][fin].max())] if fin.any() else None,
-            "loss_per_T": [float(np.nanmin(table["loss_per_T"])), float(np.nanmax(table["loss_per_T"]))],
-            "energy_residual_max": float(np.nanmax(np.abs(table["energy_residual"]))), "seconds": round(seconds, 3)}
+            "xi_eq": _span(table["xi_eq"]), "loss_per_T": _span(table["loss_per_T"]),
+            "energy_residual_max": float(res[np.isfinite(res)].max()) if np.isfinite(res).any() else None,
+            "seconds": round(seconds, 3)}
+
+
+def _span(a) -> list | None:
+    """``[min, max]`` of the finite values (None where there are none: every motion failed, e.g. a continuum march
+    stopped by chatter)."""
+    a = np.asarray(a, float)
+    fin = np.isfinite(a)
+    return [float(a[fin].min()), float(a[fin].max())] if fin.any() else None
 
 
 def write_survey(folder, table: dict, summary: dict) -> dict:
