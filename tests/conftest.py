@@ -7,6 +7,51 @@ os.environ.setdefault("MPLBACKEND", "agg")
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 
+#: a run of at least this many tests compiles (or loads) the kernels before its first test (:func:`_kernels`)
+WARM_FROM = 100
+
+#: the simulator's specialisations the suite uses (accounts or replay, damped or not, split model or not: the FE
+#: bar of 16 modes), compiled in a process of their own
+_MOTION = """
+from dataclasses import replace
+import plbar
+from plbar.motion import prepare
+ratio = plbar.rayleigh_from_ratio(0.02, 8.0, 12.0)
+for case in (plbar.Case(), plbar.Case(model="fe", n=16)):
+    for rayleigh in (None, ratio):
+        for accounts in (True, False):
+            prepare(replace(case, rayleigh=rayleigh).problem(), accounts=accounts)
+"""
+
+
+def pytest_collection_finish(session):
+    session.config.plbar_warm = len(session.items) >= WARM_FROM and not session.config.option.collectonly
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _kernels(request):
+    """The kernels compiled (after an install) or loaded once, before the first test of a full run: the
+    simulator's in another process, the chain's and the continuum's in this one (two cores, two kernel packages:
+    no cache entry written by both), so that a first compile lands on no test's time (issue 44).  A run of a few
+    tests skips it: they compile what they use, if anything."""
+    if not getattr(request.config, "plbar_warm", False):
+        return
+    import subprocess
+    import sys
+
+    import plbar
+    from plbar.continuum import simulate
+    from plbar.hybrid import prepare as prepare_chain
+
+    motion = subprocess.Popen([sys.executable, "-c", _MOTION], stdin=subprocess.DEVNULL)
+    try:
+        chain = plbar.Case(signatures="paper", grid=(60, 60))
+        prepare_chain(chain.problem(), plbar.solve(chain).branches)
+        simulate(plbar.Case(model="continuum").continuum(), 2.5, periods=2, record=1)
+    finally:
+        motion.wait()
+
+
 @pytest.fixture(autouse=True)
 def _strict_floats():
     """A silent nan or overflow anywhere is a failing test (STYLE: py-pde)."""
