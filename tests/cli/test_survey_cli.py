@@ -1,7 +1,12 @@
-"""Issue 44 (what a newcomer met): each finding through ``main(argv)`` or the function behind it.
+"""``plbar survey``: a survey over forcing periods and over meshes (``survey -N``), its continuum row, what it prints
+and warns of, the input it refuses or leaves alone, Ctrl-C.
 
-Every test here failed on the code before the fix it covers.
+From the newcomer reports (issues 30 and 44). Every test here failed on the code before the fix it covers.
 """
+
+import os
+import signal
+import time
 
 import numpy as np
 import pytest
@@ -9,14 +14,10 @@ import pytest
 from plbar.cli import main
 from plbar.motion import periodicity
 
-
-def _run(capsys, argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
+from _helpers import _plbar, _run
 
 
-# 1. a survey of few periods (one recorded) ran into "solver failure" ------------------------------------------
+# a survey of few periods (one recorded) ran into "solver failure" (issue 44) ----------------------------------------
 
 def test_a_window_of_one_period_has_a_finite_repeat_distance():
     """One recorded period (two boundary states): never periodic, its distance the one repeat it holds."""
@@ -40,7 +41,7 @@ def test_survey_of_five_periods_runs(tmp_path, capsys):
     assert all(np.isfinite(float(r.split(",")[cols.index("distance")])) for r in text[1:])
 
 
-# 1b. the continuum row of a survey over meshes crashed where its march chatters ---------------------------------
+# the continuum row of a survey over meshes crashed where its march chatters (issue 44) ------------------------------
 
 def test_a_continuum_march_stopped_by_chatter_is_a_failed_row(tmp_path, capsys):
     """The unit continuum at T c/L = 5 chatters after ~79 periods (switches accumulate in one grid step): its row is
@@ -97,7 +98,7 @@ def test_the_continuums_estimate_grows_with_the_forcing_period():
     assert survey_seconds(col, 1, 1000, [10.0 * tau]) == pytest.approx(64 * base, rel=1e-12)
 
 
-# 3. small numbers are printed with the digits they have ------------------------------------------------------
+# small numbers are printed with the digits they have (issue 44) -----------------------------------------------------
 
 def test_survey_prints_small_xi_in_significant_digits(tmp_path, capsys):
     """An end mass of 1e-4 on the contact node only (redistributed): xi_eq ~ 1e-5 printed as such, not 0.0000."""
@@ -119,36 +120,7 @@ def test_survey_prints_small_xi_in_significant_digits(tmp_path, capsys):
     assert np.allclose(printed, want, rtol=1e-3, atol=0)              # four significant digits
 
 
-# 4. one verdict per quantity in the refinement output --------------------------------------------------------
-
-def _refine(xi):
-    """A refine result of one family with ``xi_max`` per N = 3 ... (the P2 lumped family T0_II/2 of the issue)."""
-    from plbar.studies.refine import RefineStudy, known_limit
-    from plbar.studies.refine.tables import decay_of
-
-    n = [3, 4, 5, 6, 8, 12, 16][:len(xi)]
-    rows = [{"series": "fe-P2-lumped", "family": "T0_II/2", "n": k, "status": "split", "admissible": 100,
-             "T_min_L": 2.0, "T_max_L": 2.1, "xi_max": x, "T_at_max_L": 2.05, "impact_mass": 0.0, "end_mass": 0.0,
-             "length": 1.0}
-            for k, x in zip(n, xi)]
-    rates = {"xi_max": known_limit("xi_max", [1 / k for k in n], xi, 0.0, n=n).as_dict(), "xi_decay": decay_of(rows)}
-    return RefineStudy(rows, {"fe-P2-lumped": {"T0_II/2": rates}}, {}, {})
-
-
-def test_refine_states_no_decay_law_after_no_rate():
-    from plbar.cli.studies import _refine_lines
-
-    wander = [0.031264, 0.024611, 0.013656, 0.011029, 0.0057532, 0.0015713, 0.0020888]   # grows at the end
-    lines = [ln.strip() for ln in _refine_lines(_refine(wander))]
-    (xi,) = [ln for ln in lines if ln.startswith("xi_max")]
-    assert xi.startswith("xi_max        no rate")
-    lines = [ln.strip() for ln in _refine_lines(_refine(wander), always=True)]
-    assert any("decays like" in ln and "not a verdict" in ln for ln in lines)
-    decay = [0.031264, 0.024611, 0.013656, 0.011029, 0.0057532, 0.0015713]                # decays throughout
-    lines = [ln.strip() for ln in _refine_lines(_refine(decay))]
-    assert [ln for ln in lines if ln.startswith("xi_max")][0].startswith("xi_max        -> 0: rate")
-    assert any(ln.startswith("xi_max decays like q ~") and "verdict" not in ln for ln in lines)
-
+# a survey over meshes (survey -N): one verdict per quantity (issue 44) ----------------------------------------------
 
 #: ``plbar survey --model fe --end-mass 0.5 -N 8 16 32 64 --T-list 3`` (1,000 periods, 100 recorded): its rows
 SURVEY_REFINE = [(8, 0.88956402534951695, 0.0019645184353325059, 0.012076878668143474, 6.7359360624607152e-05,
@@ -201,25 +173,7 @@ def test_a_richardson_limit_beyond_the_meshes_is_not_stated():
     assert c["limit"] == pytest.approx(1.0, rel=1e-6) and c["caution"].startswith("the Richardson limit 1 (rate 0.1)")
 
 
-# 5. input that was silently accepted ---------------------------------------------------------------------------
-
-def test_t_list_with_a_range_option_is_refused(tmp_path, capsys):
-    for extra in (["--num", "3"], ["--T", "6", "8"]):
-        code, _, err = _run(capsys, ["survey", "--T-list", "9", "7", "8", *extra, "--periods", "20", "--no-plot",
-                                     "--out", tmp_path / "s"])
-        assert code == 2 and f"{extra[0]} conflicts with --T-list" in err and err.count("\n") == 1
-    assert not (tmp_path / "s" / "survey.csv").exists()
-
-
-def test_load_on_the_contact_dof_is_refused(tmp_path, capsys):
-    code, _, err = _run(capsys, ["run", "--load-node", "5", "--out", tmp_path / "r", "--no-plot"])
-    assert code == 2 and "--load-node 5 is the contact DOF" in err and "1..4" in err and err.count("\n") == 1
-    code, _, err = _run(capsys, ["survey", "--model", "fe", "--element", "P2", "-N", "2", "--load-node", "4",
-                                 "--T-list", "3", "--out", tmp_path / "s"])
-    assert code == 2 and "--load-node 4 is the contact DOF" in err and "1..3" in err
-
-
-# Rayleigh damping evaluated far from its fit: a warning with the ratio there, and xi_total printed -------------
+# Rayleigh damping evaluated far from its fit: a warning with the ratio there, and xi_total printed (issue 44) -------
 
 def test_outside_fit_names_the_ratio_at_the_forcing_period():
     """The finding's column (L = 3 m, c = sqrt(2.7e9 / 216)): 2 % fitted at its periods, 0.784 at 5 Hz."""
@@ -253,7 +207,7 @@ def test_undamped_survey_prints_no_xi_total(tmp_path, capsys):
     assert "xi_total" not in out and "Rayleigh" not in err
 
 
-# an FE bar with no mass at its contact: its xi_eq is a mesh artefact, said once ------------------------------
+# an FE bar with no mass at its contact: its xi_eq is a mesh artefact, said once (issue 44) --------------------------
 
 @pytest.mark.parametrize("argv, noted", [
     (["--model", "fe", "-N", "4"], True),
@@ -285,3 +239,72 @@ def test_no_contact_mass_sees_point_masses_on_the_contact_node():
         with contextlib.redirect_stderr(err):
             note_no_contact_mass(SimpleNamespace(quiet=quiet, json=False), plbar.Case(model="fe", n=4, point_masses=pm))
         assert ("mesh artefact" in err.getvalue()) == noted, pm
+
+
+# input a survey does not use, or used to accept silently (issues 30 and 44) -----------------------------------------
+
+@pytest.mark.parametrize("extra", [[], ["--grid", "50", "50"], ["--method", "grid"], ["--signatures", "all"]])
+def test_search_options_do_not_move_the_surveys_periods(tmp_path, capsys, extra):
+    """Options a survey does not use leave it alone (before: --grid or --method made the case "not the paper's" and
+    moved the default range from [6, 14] to [6.09984, 14.233])."""
+    import json
+
+    assert main(["survey", "--num", "3", "--periods", "20", "--no-plot", "--json", "--out", str(tmp_path / "s"),
+                 *extra]) == 0
+    assert json.loads(capsys.readouterr().out)["summary"]["T"] == [6.0, 10.0, 14.0]
+
+
+def test_t_list_with_a_range_option_is_refused(tmp_path, capsys):
+    for extra in (["--num", "3"], ["--T", "6", "8"]):
+        code, _, err = _run(capsys, ["survey", "--T-list", "9", "7", "8", *extra, "--periods", "20", "--no-plot",
+                                     "--out", tmp_path / "s"])
+        assert code == 2 and f"{extra[0]} conflicts with --T-list" in err and err.count("\n") == 1
+    assert not (tmp_path / "s" / "survey.csv").exists()
+
+
+# Ctrl-C in a survey (issue 30) --------------------------------------------------------------------------------------
+
+SURVEY = ["survey", "--T", "6", "14", "--num", "12", "--periods", "20000", "--chunks", "6", "--no-plot",
+          "--executor", "local", "--workers", "2"]
+
+
+@pytest.mark.slow
+def test_ctrl_c_in_a_survey_exits_130_keeps_the_finished_tasks_and_resumes(tmp_path):
+    """Ctrl-C once a task has finished: exit 130 with the rerun hint, every finished task kept; the rerun resumes
+    (the kept task files untouched) and writes the table an uninterrupted survey writes (before: AttributeError,
+    exit 1, after the pool's shutdown forgot its workers)."""
+    out = tmp_path / "sv"
+    p = _plbar(SURVEY + ["--out", str(out)])
+    t0 = time.time()
+    while p.poll() is None and time.time() - t0 < 120 and not any((out / "tasks").glob("[!.]*.json")):
+        time.sleep(0.05)                       # (a finished task's file, not its temporary .KEY.*.part.json)
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=120)
+    if p.returncode == 0:
+        pytest.skip("the survey finished before the interrupt")
+    assert p.returncode == 130, err
+    assert "interrupted" in err and "rerun" in err and "Error" not in err
+    kept = {f.name: f.stat().st_mtime_ns for f in (out / "tasks").glob("*.json")}
+    assert kept
+    assert main(SURVEY + ["--out", str(out), "-q"]) == 0
+    assert all((out / "tasks" / n).stat().st_mtime_ns == t for n, t in kept.items())
+    ref = tmp_path / "ref"
+    assert main(SURVEY + ["--out", str(ref), "-q"]) == 0
+    assert (out / "survey.csv").read_bytes() == (ref / "survey.csv").read_bytes()
+
+
+def test_a_survey_interrupted_before_any_task_leaves_no_folder(tmp_path):
+    """Interrupted before any task finished (each takes seconds here): exit 130 and no folder left (before: the
+    folder, made before the claim, stayed with the owner marker)."""
+    out = tmp_path / "sv0"
+    slow = [a if a != "20000" else "400000" for a in SURVEY]
+    p = _plbar(slow + ["--out", str(out)], env=dict(os.environ))
+    t0 = time.time()
+    while not (out / "study.json").exists() and time.time() - t0 < 60 and p.poll() is None:
+        time.sleep(0.01)
+    p.send_signal(signal.SIGINT)
+    p.communicate(timeout=120)
+    if any((out / "tasks").glob("*.json")):
+        pytest.skip("a task finished before the interrupt")
+    assert p.returncode == 130
+    assert not out.exists()
