@@ -16,6 +16,7 @@ import time
 from pathlib import Path
 
 import pytest
+from slow_writes import RUNNER
 
 LIMIT = 2.0   #: seconds from SIGINT to exit
 
@@ -94,18 +95,6 @@ def test_a_survey_interrupted_while_simulating_before_any_task_says_nothing_was_
     assert not out.exists()
 
 
-def test_a_survey_interrupted_while_compiling_exits_at_once(tmp_path):
-    """An empty kernel cache (a first run after an install): Ctrl-C during the compile."""
-    env = dict(os.environ, PLBAR_CACHE_DIR=str(tmp_path / "cache"))
-    out = tmp_path / "sv"
-    c = Child([*SURVEY, "--out", str(out)], env=env)
-    c.wait_for(lambda: "compiling" in c.err)
-    time.sleep(0.5)                                                                # inside numba, not before it
-    dt = c.interrupt()
-    assert c.p.returncode == 130 and dt <= LIMIT, (c.p.returncode, dt, c.err[-300:])
-    assert not out.exists()
-
-
 REFINE = ["-N", "4", "14", "--no-plot"]   #: two meshes of the default chain family
 
 
@@ -133,39 +122,19 @@ def test_refine_interrupted_while_following_exits_at_once_and_resumes(tmp_path):
 RUN = ["run", "--no-plot"]   #: the default case, every signature
 
 
-def test_run_interrupted_while_compiling_exits_at_once(tmp_path):
-    """``plbar run`` after an install (an empty kernel cache): Ctrl-C while the kernels compile, beside the
-    paper's solve; nothing written, no compile left running."""
+@pytest.mark.parametrize("args", [SURVEY, RUN], ids=["survey", "run"])
+def test_interrupted_while_compiling_exits_at_once(tmp_path, args):
+    """An empty kernel cache (a first run after an install): Ctrl-C while the kernels compile (``plbar run``:
+    beside the paper's solve); nothing written, no compile left running."""
     env = dict(os.environ, PLBAR_CACHE_DIR=str(tmp_path / "cache"))
-    out = tmp_path / "run"
-    c = Child([*RUN, "--out", str(out)], env=env)
+    out = tmp_path / "out"
+    c = Child([*args, "--out", str(out)], env=env)
     c.wait_for(lambda: "compiling" in c.err)
     time.sleep(0.5)                                                                # inside numba, not before it
     dt = c.interrupt()
     assert c.p.returncode == 130 and dt <= LIMIT, (c.p.returncode, dt, c.err[-300:])
     assert "no results written" in c.err
     assert not out.exists()
-
-
-#: a command whose write of the file ``$PLBAR_TEST_SLOW`` crawls (64 characters every 20 ms), so that a Ctrl-C
-#: lands inside it
-SLOW_WRITE = r"""
-import os, signal, sys, time
-signal.signal(signal.SIGINT, signal.default_int_handler)
-import plbar.util.files as files
-_write, slow = files.write_text, os.environ["PLBAR_TEST_SLOW"]
-def write_text(path, text):
-    if os.path.basename(str(path)) != slow:
-        return _write(path, text)
-    with files.atomic_path(path) as tmp:
-        with open(tmp, "w") as fh:
-            for i in range(0, len(text), 64):
-                fh.write(text[i:i + 64]); fh.flush(); time.sleep(0.02)
-    return path
-files.write_text = write_text
-import plbar.cli
-sys.exit(plbar.cli.main(sys.argv[1:]))
-"""
 
 
 @pytest.mark.parametrize("args, name", [([*RUN, "--signatures", "paper"], "paths.csv"),
@@ -177,7 +146,7 @@ def test_interrupted_while_writing_leaves_no_partial_file(tmp_path, args, name):
     out = tmp_path / "out"
     args = [*args, "--out", str(out)]
     stem, suffix = name.split(".")
-    p = subprocess.Popen([sys.executable, "-c", SLOW_WRITE, *args], stdout=subprocess.DEVNULL,
+    p = subprocess.Popen([sys.executable, "-c", RUNNER, *args], stdout=subprocess.DEVNULL,
                          stderr=subprocess.PIPE, text=True, start_new_session=True,
                          env=dict(os.environ, PLBAR_TEST_SLOW=name),
                          preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))

@@ -18,6 +18,7 @@ import time
 from pathlib import Path
 
 import pytest
+from slow_writes import RUNNER
 
 from plbar.app import CSV_HEADER, TEXT_COLUMNS
 
@@ -25,27 +26,6 @@ pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL")
 
 PAPER = ["--signatures", "paper"]      # the paper's class only: these runs are not about the other signatures
 ARGS = ["run", *PAPER, "--no-plot", "-q", "--method", "grid", "--grid", "150", "150"]
-
-#: runs plbar's CLI; with SLOW=<name>, writing <name> crawls (and the command hangs after it is renamed)
-RUNNER = r"""
-import os, sys, time
-import plbar.util.files as io
-slow = os.environ.get("PLBAR_TEST_SLOW")
-if slow:
-    _write = io.write_text
-    def write_text(path, text):
-        if os.path.basename(str(path)) != slow:
-            return _write(path, text)
-        with io.atomic_path(path) as tmp:
-            with open(tmp, "w") as fh:
-                for i in range(0, len(text), 64):
-                    fh.write(text[i:i + 64]); fh.flush(); time.sleep(0.02)
-        return path
-    io.write_text = write_text
-import plbar.cli
-
-sys.exit(plbar.cli.main(sys.argv[1:]))
-"""
 
 
 def _start(out: Path, slow: str | None = None) -> subprocess.Popen:
