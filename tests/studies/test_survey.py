@@ -95,9 +95,20 @@ def test_same_command_twice_and_dask_give_identical_files(tmp_path):
     assert s["rows"] == 12 and s["plbar_version"] == plbar.__version__
 
 
+#: the survey of the kill test; with PLBAR_TEST_PAUSE set, a sweep pauses after its second checkpoint (so that the
+#: kill lands mid-sweep however fast the machine: the whole sweep takes less than the test's polling interval)
 SCRIPT = """
-import sys, numpy as np, plbar
+import os, sys, time, numpy as np, plbar
+import plbar.studies.survey.tasks as tasks
 from plbar.studies.survey import run_survey
+if os.environ.get("PLBAR_TEST_PAUSE"):
+    _write = tasks.write_json
+    def write_json(path, data):
+        out = _write(path, data)
+        if os.path.basename(str(path)).startswith("T") and len(list(os.scandir(os.path.dirname(str(path))))) >= 2:
+            time.sleep(60)
+        return out
+    tasks.write_json = write_json
 run_survey(plbar.Case(), np.linspace(8.0, 9.0, 8), 150, 20, sys.argv[1], ("rest", "down"), plot=False)
 """
 
@@ -107,14 +118,15 @@ def test_kill_and_resume(tmp_path):
     """kill -9 in the middle of a sweep: checkpoints are whole files; the rerun resumes and gives the same table."""
     killed = tmp_path / "killed"
     proc = subprocess.Popen([sys.executable, "-c", SCRIPT, str(killed)], stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL)
+                            stderr=subprocess.DEVNULL, env=dict(os.environ, PLBAR_TEST_PAUSE="1"),
+                            start_new_session=True)
     sweeps = killed / "sweeps"
     t0 = time.time()
     while time.time() - t0 < 120:
         if sweeps.is_dir() and len(list(sweeps.rglob("T*.json"))) >= 2:
             break
         time.sleep(0.05)
-    os.kill(proc.pid, signal.SIGKILL)
+    os.killpg(proc.pid, signal.SIGKILL)                # its workers too: none writes after the kill
     proc.wait()
     done = list(sweeps.rglob("T*.json"))
     assert 2 <= len(done) < 8, "the kill should land mid-sweep"
