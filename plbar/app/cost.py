@@ -117,8 +117,7 @@ def survey_seconds(case: Case, motions: int, periods: int, T=None) -> float:
     if case.model == "continuum":
         growth = 1.0
         if T is not None and np.size(T):
-            bar = case.continuum()
-            x = np.asarray(T, float) * bar.c / bar.L / CONTINUUM_TL
+            x = np.asarray(T, float) / case.bar().transit / CONTINUUM_TL
             growth = float(np.mean(np.where(x > 1, x ** CONTINUUM_TL_POWER, x)))
         return motions * CONTINUUM_PERIOD2 * periods ** 2 * case.n_eff / 32 * growth
     return motions * periods * _loglog(case.bar().n_dofs, SURVEY_PERIOD, SURVEY_EXPONENT)

@@ -209,9 +209,7 @@ def _refine(a, case, T, out, no_continuum: str = "") -> int:
         r = run_survey_refine(case, a.sizes, T, a.periods, a.record, out, ex, progress(a), a.overwrite,
                               plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None,
                               no_continuum=no_continuum)
-    from ..studies.survey.refine import transit
-
-    text = "\n".join(_refine_lines(r.rates, a.sizes, 0 in r.surveys, r.files, transit(case)))
+    text = "\n".join(_refine_lines(r.rates, a.sizes, 0 in r.surveys, r.files, case.bar().transit))
     report(a, r.summary, r.files, text, rates=r.rates)
     return 0
 

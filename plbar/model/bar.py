@@ -179,6 +179,12 @@ class Bar:
         return float(self.nodes[-1])
 
     @property
+    def transit(self) -> float:
+        """The waves' transit time ``sum_e h_e / c_e`` (``c_e = sqrt(EA_e / rhoA_e)``; ``L / c`` for a uniform bar,
+        ``N`` for the chain): forcing periods in units of it, ``T c / L``, are dimensionless in any units."""
+        return float(np.sum(np.diff(self.nodes) / np.sqrt(np.asarray(self.EA, float) / np.asarray(self.rhoA, float))))
+
+    @property
     def n_elements(self) -> int:
         return self.nodes.size - 1
 

@@ -86,14 +86,6 @@ def _case_at(case: Case, n: int) -> Case:
     return replace(case, n=n)
 
 
-def transit(case: Case) -> float:
-    """The bar's transit time ``L / c`` (``c = sqrt(EA / rhoA)``), in the case's time unit: the ``T_L`` column and
-    the ``T/L=`` keys are forcing periods in it, ``T c / L`` (a dimensionless number in any consistent units; ``T /
-    L`` where ``EA = rhoA``, as in the default cases)."""
-    bar = case.bar()
-    return float(bar.length / np.sqrt(bar.EA / bar.rhoA))
-
-
 def continuum_case(case: Case, steps: int | None = None) -> tuple[Case | None, str]:
     """The continuum of an FE ``case`` (``model = "continuum"``, ``steps`` per ``L/c``; with its Rayleigh damping,
     solved by exact modes), or None and why not."""
@@ -131,7 +123,7 @@ def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | N
     what = {"case": {k: v for k, v in case.to_dict().items() if k != "n"}, "T": T.tolist(), "periods": periods,
             "record": record}                      # not the sizes: more sizes extend the same study
     claim_folder(folder, "survey-refine", fingerprint(what), REFINE_OWNED, overwrite)
-    tau0 = transit(case)
+    tau0 = case.bar().transit                   # T_L, the T/L= keys: T c / L (plbar.model.Bar.transit)
     rows, surveys = [], {}
     for n in sizes:
         c = _case_at(case, n)
@@ -140,7 +132,7 @@ def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | N
                        overwrite=overwrite, plot=plot)
         surveys[n] = s
         t = s.rows("rest")
-        tau, L = transit(c), c.bar().length
+        tau, L = c.bar().transit, c.bar().length
         for i in range(t["T"].size):
             rows.append({"N": n, "h": L / n if case.model == "fe" else 1.0 / n,     # the chain: L = N
                          "T": float(t["T"][i]), "T_L": float(t["T"][i] / tau),
@@ -190,7 +182,7 @@ def _against(sel: list[dict], c: dict, q: str, spread, record: int) -> dict:
 
 def _rates(rows: list[dict], TL, record: int, no_continuum: str = "", length: float = 1.0) -> dict:
     """Per forcing period (keyed ``T/L=...``, the period in transit times ``T c / L``; ``T``: the case's own, in its
-    time unit, ``length`` the transit time ``L / c``), the convergence of the means."""
+    time unit, ``length`` the transit time :attr:`plbar.model.Bar.transit`), the convergence of the means."""
     out = {}
     for tl in TL:
         at = [r for r in rows if abs(r["T_L"] - tl) <= 1e-12 * tl]
