@@ -10,7 +10,7 @@ Quick start::
 The package is layered; each subpackage's ``__init__`` is its front door and
 imports flow one way (``python -m plbar.util.layout`` prints the graph):
 
-``errors`` -> ``util`` -> ``model`` -> ``continuum`` -> ``response`` -> ``paths`` -> ``motion`` -> ``hybrid`` ->
+``errors`` -> ``util`` -> ``model`` -> ``continuum`` -> ``response`` -> ``paths`` -> ``motion`` -> ``periodic`` ->
 ``check`` -> ``io`` -> ``visuals`` -> ``app`` -> ``studies`` -> ``cli``.
 """
 

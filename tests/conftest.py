@@ -41,7 +41,7 @@ def _kernels(request):
 
     import plbar
     from plbar.continuum import simulate
-    from plbar.hybrid import prepare as prepare_chain
+    from plbar.periodic import prepare as prepare_chain
 
     motion = subprocess.Popen([sys.executable, "-c", _MOTION], stdin=subprocess.DEVNULL)
     try:

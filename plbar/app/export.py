@@ -171,8 +171,8 @@ def case_of_run(folder) -> Case:
 
 
 def _hybrid_row(case, cols, k: int, branch: int, index: int):
-    """The orbit of row ``k`` of another signature, as an :class:`plbar.hybrid.OrbitSeries`, and its info."""
-    from ..hybrid import OrbitSeries, from_row, signature
+    """The orbit of row ``k`` of another signature, as an :class:`plbar.periodic.OrbitSeries`, and its info."""
+    from ..periodic import OrbitSeries, from_row, signature
 
     sig = signature(cols["signature"][k])
     d = [float(x) for x in str(cols["durations"][k]).split(";")]

@@ -2,11 +2,11 @@
 
 :class:`Search` is what :func:`plbar.solve` begins beside the paper's class
 (:func:`plbar.find_paths`), for ``Case.signatures`` ``"default"`` or ``"all"``
-(:func:`plbar.hybrid.find_hybrid`): besides the seeds of the structure (the zero-dwell
+(:func:`plbar.periodic.find_hybrid`): besides the seeds of the structure (the zero-dwell
 class, period doublings, admissibility ends), the periodic motions of a simulation from
 rest across the window (``"default"``: 81 forcing periods, 600 periods each, the last 60
 recorded; ``"all"``: 161, 1,000 and 100, as ``plbar survey``, and orbits up to ``m = 8``)
-are polished (:func:`plbar.hybrid.from_motion`) and followed.  Their rows
+are polished (:func:`plbar.periodic.from_motion`) and followed.  Their rows
 join the paper's in ``paths.csv`` with the columns ``m, k, signature,
 loss_per_T, durations``; ``T1`` and ``T2`` are then the total stuck and free
 time over the orbit (``m`` periods) and ``dPL`` the loss over the orbit.
@@ -18,8 +18,8 @@ from concurrent.futures import ThreadPoolExecutor, wait
 
 import numpy as np
 
-from ..hybrid import NotConverged, canonical, find_hybrid, from_motion, prepare
-from ..hybrid import compiled as chain_compiled
+from ..periodic import NotConverged, canonical, find_hybrid, from_motion, prepare
+from ..periodic import compiled as chain_compiled
 from ..motion import COMPILE_NOTE, compile_elsewhere, compiled, halt_flag, padded, run, steady
 from ..model import Problem
 from ..paths import Domain, Paths
@@ -48,7 +48,8 @@ def _seeding(prob: Problem, window, kinds: str, progress=None, pad=None, halt=No
 
 
 def _seeds(prob: Problem, r, kinds: str, progress: bool = False) -> list:
-    """Orbits polished (:func:`plbar.hybrid.from_motion`) from the periodic motions of the seeding simulation ``r``."""
+    """Orbits polished (:func:`plbar.periodic.from_motion`) from the periodic motions of the seeding simulation
+    ``r``."""
     _, periods, record = SEED_PERIODS[kinds]
     s = steady(r, tol=1e-4)
     periodic = np.flatnonzero(s.kind == 0)
@@ -81,7 +82,7 @@ class Search:
     What needs the case only starts at once, beside the paper's solve: after an install the compile of the
     simulator in another process (:func:`plbar.motion.compile_elsewhere`), else the seeding simulation in a
     thread (the compiled kernel releases the GIL).  :meth:`finish` does the rest once the paper's branches are
-    known: the chain compiled or loaded (:func:`plbar.hybrid.prepare`), the seeds polished, the curves followed.
+    known: the chain compiled or loaded (:func:`plbar.periodic.prepare`), the seeds polished, the curves followed.
     :meth:`cancel` (or leaving the ``with`` block, a Ctrl-C) stops what still runs: the simulation's kernel at its
     next round (its halt flag, :func:`plbar.motion.halt_flag`), the compile elsewhere at once.
     """
@@ -119,7 +120,7 @@ class Search:
             return self._future.result()
 
     def finish(self, paths: Paths) -> list:
-        """The branches of every signature but the paper's class (:func:`plbar.hybrid.find_hybrid`), seeded by the
+        """The branches of every signature but the paper's class (:func:`plbar.periodic.find_hybrid`), seeded by the
         paper's branches ``paths`` and the simulation."""
         try:
             with progress_bar(1, self.progress, "signatures: loading the chain's kernel", "step"):

@@ -173,7 +173,7 @@ def response_data(orbit, info: dict | None = None, periods: int = 1, steps: int 
 
     Parameters
     ----------
-    orbit : Orbits or plbar.hybrid.OrbitSeries
+    orbit : Orbits or plbar.periodic.OrbitSeries
         One orbit (its first is used); ``orbit.prob`` must come from a Bar.  An orbit of another
         signature is sampled over its whole orbit (``m`` forcing periods).
     info : dict, optional
@@ -193,7 +193,7 @@ def response_data(orbit, info: dict | None = None, periods: int = 1, steps: int 
     t_abs = k * T / steps
     t_loc = (k % steps) * T / steps
     x, v, state = orb.response(t_loc[None, :])
-    if hasattr(orb, "reaction_at"):             # an orbit of any signature (plbar.hybrid.OrbitSeries)
+    if hasattr(orb, "reaction_at"):             # an orbit of any signature (plbar.periodic.OrbitSeries)
         margin = orb.reaction_at(t_loc)[0]
     else:
         margin = orb.reaction_margin(np.minimum(t_loc, orb.T1[0])[None, :])[0]

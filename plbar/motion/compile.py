@@ -11,7 +11,7 @@ load it in a fraction of a second.
   fork, so that they inherit it);
 * :func:`compile_elsewhere` starts the compile in another process and returns at once: a caller with
   other work first (``plbar run`` solves the paper's class and compiles the chain of
-  :mod:`plbar.hybrid` meanwhile) waits for it (:meth:`Elsewhere.wait`) before its first simulation, which
+  :mod:`plbar.periodic` meanwhile) waits for it (:meth:`Elsewhere.wait`) before its first simulation, which
   then loads the kernel from the cache.  Two cores compile the two kernels side by side.
 """
 

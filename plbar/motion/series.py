@@ -176,7 +176,7 @@ class MotionSeries:
         return np.array(xs), np.array(vs), np.array(st)
 
     def reaction(self, times):
-        """``-R`` in state I at ``times`` (0 in state II), as :meth:`plbar.hybrid.OrbitSeries.reaction_at`."""
+        """``-R`` in state I at ``times`` (0 in state II), as :meth:`plbar.periodic.OrbitSeries.reaction_at`."""
         sy, prob = self.prob.system, self.prob
         W = 2 * np.pi / self.T
         rv = np.asarray(sy.r_v, float) if getattr(sy, "damped", False) else np.zeros(sy.w1.size)

@@ -1,6 +1,6 @@
 """The one numba policy of every compiled kernel: its options, where its on-disk cache lives, and its stamp.
 
-Every kernel package (:mod:`plbar.motion.kernel`, :mod:`plbar.hybrid.kernel`, :mod:`plbar.continuum.kernel`)
+Every kernel package (:mod:`plbar.motion.kernel`, :mod:`plbar.periodic.kernel`, :mod:`plbar.continuum.kernel`)
 compiles through this module and nothing else; it is imported only by them, so that importing plbar imports no
 numba (:mod:`plbar.util` does not re-export it).
 

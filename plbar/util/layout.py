@@ -27,13 +27,13 @@ __all__ = ["LAYERS", "ROOMS", "HEAVY", "HEAVY_OK", "MAX_MODULE", "MAX_FUNCTION",
            "main"]
 
 #: subpackages from the bottom up; each may import only from those before it (``errors`` is the base)
-LAYERS = ("errors", "util", "model", "continuum", "response", "paths", "motion", "hybrid", "check", "io", "visuals",
+LAYERS = ("errors", "util", "model", "continuum", "response", "paths", "motion", "periodic", "check", "io", "visuals",
           "app", "studies", "cli")
 HEAVY = ("pyvista", "vtk", "vtkmodules", "meshio", "matplotlib", "dask", "distributed", "h5py", "PIL", "numba",
          "llvmlite")
 #: layers split into rooms (subpackages), from the bottom up: a room imports only from those before it
 ROOMS = {"studies": ("execution", "loads", "refine", "damping", "survey", "paper")}
-HEAVY_OK = {"io", "visuals", "studies.execution.executor", "util.jit", "motion.kernel", "hybrid.kernel",
+HEAVY_OK = {"io", "visuals", "studies.execution.executor", "util.jit", "motion.kernel", "periodic.kernel",
             "continuum.kernel"}
 MAX_MODULE = 400
 MAX_FUNCTION = 60

@@ -50,7 +50,7 @@ def test_paper_cases_mean_what_they_say():
 def test_small_examples_solve(name):
     case, _ = load_case(next(p for p in CASES if p.stem == name))
     # the case file is what is tested: its model and load, with a coarse scan and the paper's class alone (every
-    # signature of an FE P2 bar took 95 s here; tests/hybrid covers the search of every signature)
+    # signature of an FE P2 bar took 95 s here; tests/periodic covers the search of every signature)
     case = plbar.Case(**{**case.to_dict(), "grid": tuple(min(g, 60) for g in case.grid), "label": case.label,
                          "signatures": "paper"})
     res = plbar.solve(case)

@@ -3,7 +3,7 @@
 Each run is a fresh process with one checkout on ``PYTHONPATH`` (its numba caches warm: run the script
 once to fill them): it solves once (the first solve: imports and cache loads included), then ``--repeat``
 times more, and reports the first and the best of the others, with the time of the hybrid part
-(:func:`plbar.hybrid.find_hybrid`), the seeding simulation and the paper's class.  The checkouts run in
+(:func:`plbar.periodic.find_hybrid`), the seeding simulation and the paper's class.  The checkouts run in
 turn, ``--rounds`` times, so a busy machine slows them alike; the best of all is reported, with the ratio
 to the first checkout (the reference).
 

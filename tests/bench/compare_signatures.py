@@ -11,8 +11,8 @@ branch of one side:
   (within :data:`COVER`) are candidates; ``P`` is written in a candidate's rotation of the signature;
 * from the candidate's point nearest ``P`` (scaled as the continuation scales: within :data:`NEAR`, else
   the candidate does not reach ``P``) Newton finds the candidate curve's point on the hyperplane through
-  ``P`` normal to that curve's tangent (:func:`plbar.hybrid.follow.correct`; at fixed ``T`` where the curve
-  is not vertical this is :func:`plbar.hybrid.polish` at ``P``'s ``T``, and it stays well posed where the
+  ``P`` normal to that curve's tangent (:func:`plbar.periodic.follow.correct`; at fixed ``T`` where the curve
+  is not vertical this is :func:`plbar.periodic.polish` at ``P``'s ``T``, and it stays well posed where the
   curve turns vertical in ``T``);
 * the point *matches* when it is ``P`` to :data:`DIST` (largest scaled difference of the unknowns) and its
   ``loss_per_T`` and ``xi`` are ``P``'s to :data:`TOL` relative to the largest of all branches on its
@@ -39,14 +39,14 @@ import time
 import numpy as np
 
 import plbar
-from plbar.hybrid import NotConverged, evaluate, monodromy, multipliers, orbit_at, polish, signature
-from plbar.hybrid.follow import correct, scale_of
+from plbar.periodic import NotConverged, evaluate, monodromy, multipliers, orbit_at, polish, signature
+from plbar.periodic.follow import correct, scale_of
 
 TOL = 1e-9          #: largest relative difference of loss_per_T and xi between the curves
 COVER = 0.03        #: a branch covers a point within this fraction of its T beyond its ends
 DIST = 1e-8         #: largest scaled distance of a matched point
 NEAR = 0.5          #: largest scaled distance from a point to a candidate's nearest point (3 longest steps)
-STABLE_TOL = 1e-9   #: as plbar.hybrid.branches (a multiplier within this of the unit circle is unstable)
+STABLE_TOL = 1e-9   #: as plbar.periodic.branches (a multiplier within this of the unit circle is unstable)
 
 
 def case_of(argv) -> plbar.Case:

@@ -2,7 +2,7 @@
 
 81 forcing periods of the default case (T = 6, 6.1, ..., 14), 600 forcing periods from rest.  The
 independent label comes from :func:`plbar.check.simulate` alone (sampled events refined by brentq, its own
-flows and switches; nothing of :mod:`plbar.motion` or :mod:`plbar.hybrid`):
+flows and switches; nothing of :mod:`plbar.motion` or :mod:`plbar.periodic`):
 
 * the simulation runs 600 periods from rest; where the repeat distance of its last stroboscopic states is
   below ``3e-2`` (a candidate), it is carried on, up to ``EXTRA`` more periods, until the states repeat;

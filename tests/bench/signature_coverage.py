@@ -17,8 +17,8 @@ import sys
 import numpy as np
 
 import plbar
-from plbar.hybrid import PAPER, monodromy, multipliers, orbit_at, polish
-from plbar.hybrid.solve import NotConverged
+from plbar.periodic import PAPER, monodromy, multipliers, orbit_at, polish
+from plbar.periodic.solve import NotConverged
 
 
 def _candidates(res, label):

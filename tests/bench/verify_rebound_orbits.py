@@ -12,11 +12,11 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "hybrid"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "periodic"))
 
 import plbar  # noqa: E402
-from plbar.hybrid import expected_events, monodromy, multipliers  # noqa: E402
-from plbar.hybrid.verify import start_of  # noqa: E402
+from plbar.periodic import expected_events, monodromy, multipliers  # noqa: E402
+from plbar.periodic.verify import start_of  # noqa: E402
 from plbar.motion import Start, padded, run  # noqa: E402
 from test_rebound_orbits import _fd_map, _modal, _section, _simulate  # noqa: E402
 

@@ -10,7 +10,7 @@ every point of every branch of another signature with T in the window [6, 14] (F
 * the energy balance: work of the load = impact losses (+ viscous loss) (1e-9 of the energy exchanged).
 
 Points with a segment shorter than a few samples (grazing) are beyond any sampled event search; they are
-counted and checked by the certified replay (:func:`plbar.hybrid.admissible`) instead.
+counted and checked by the certified replay (:func:`plbar.periodic.admissible`) instead.
 
     python tests/bench/verify_signatures.py [--fe]
 """
@@ -25,7 +25,7 @@ import numpy as np
 import plbar
 import plbar.check.segments as seg
 from plbar.check import simulate
-from plbar.hybrid import admissible, expected_events
+from plbar.periodic import admissible, expected_events
 
 PER_RAD = 50.0
 

@@ -107,7 +107,7 @@ CASES = sorted((__import__("pathlib").Path(__file__).resolve().parents[2] / "exa
 #: with the slow tests: cases like one the default run keeps (paper_sec41 is the default case, which
 #: test_run_default_writes_exact_header_and_summary runs; chain_N3_node1 stands for the chains, paper_sec42_node2 for
 #: the load at another node; tests/app/test_casefile.py solves fe_p2_consistent; the damped case's every signature,
-#: 88 s, stands beside tests/hybrid/test_hybrid.py's damped responses of every signature)
+#: 88 s, stands beside tests/periodic/test_hybrid.py's damped responses of every signature)
 SLOW_CASES = {"paper_sec41", "chain_N4_node1", "chain_N6_node1", "paper_sec42_node3", "paper_sec42_node4",
               "fe_p2_consistent", "paper_sec41_rayleigh_2pct"}
 

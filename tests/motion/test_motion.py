@@ -75,9 +75,9 @@ def test_energy_budget_closes():
 
 def test_zero_dwell_response_of_the_formulation():
     """FORMULATION §8: the default chain from rest at T = 8.5 settles on a zero-dwell response (loss 1.9139 / period
-    there); its loss per period is the closed-form ``1Z`` orbit's (:func:`plbar.hybrid.zero_dwell`, solved by the
+    there); its loss per period is the closed-form ``1Z`` orbit's (:func:`plbar.periodic.zero_dwell`, solved by the
     chain's linear algebra, not by the simulator) to the settling's round-off."""
-    from plbar.hybrid import zero_dwell
+    from plbar.periodic import zero_dwell
 
     prob = plbar.Case().problem()
     r = run(prob, [8.5], periods=400, record=50)

@@ -21,7 +21,7 @@ _PROBE = r"""
 import json, sys
 from pathlib import Path
 import plbar
-import plbar.motion.kernel, plbar.hybrid.kernel, plbar.continuum.kernel
+import plbar.motion.kernel, plbar.periodic.kernel, plbar.continuum.kernel
 from numba.core.registry import CPUDispatcher
 paths = set()
 for name, mod in list(sys.modules.items()):

@@ -3,7 +3,7 @@
 The result of a chunk is JSON-able (one dict per forcing period, the columns of
 ``survey.csv``), so a study task can return it and a checkpoint can hold it.
 Where the motion is periodic, its exact periodic response is polished from the
-simulation (:func:`plbar.hybrid.from_motion`: the state at the start of the last
+simulation (:func:`plbar.periodic.from_motion`: the state at the start of the last
 ``m`` periods carried to an impact, the switches of ``m`` periods as the guess,
 Newton): its signature (``1P`` is the paper's class, ``1Z`` one impact without a
 stuck phase, ``2PZ`` ...), loss and ``xi_eq`` are reported beside the simulated ones,
@@ -135,7 +135,7 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
     T = np.asarray(T, float)
     r = run(pad, T, 0.0, periods, record, start, progress)
     s = steady(r)
-    exact = True                           # the exact orbits (plbar.hybrid), with rebounds where e > 0
+    exact = True                           # the exact orbits (plbar.periodic), with rebounds where e > 0
     settled = {b: settle(prob, r, b) for b in np.flatnonzero(s.kind == KINDS.index("irregular"))} if exact else {}
     settled = {b: a for b, a in settled.items() if a is not None}
     # the exact orbit of each periodic motion (any restitution: R in the signature for a rebound)

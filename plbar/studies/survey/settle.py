@@ -10,9 +10,9 @@ the motion periodic.  The evidence is found instead in the orbit:
    over the window ends below :data:`CANDIDATE` and is smaller over its last
    third than over its first (the first few are tried, smallest first);
 2. the exact orbit polished from the last ``2 m`` recorded periods
-   (:func:`plbar.hybrid.from_motion`, Newton on the chain), reduced to its
-   own period (:meth:`plbar.hybrid.HybridOrbit.minimal`);
-3. its multipliers (:func:`plbar.hybrid.monodromy`): it is stable,
+   (:func:`plbar.periodic.from_motion`, Newton on the chain), reduced to its
+   own period (:meth:`plbar.periodic.Orbit.minimal`);
+3. its multipliers (:func:`plbar.periodic.monodromy`): it is stable,
    ``max |mu| < 1``;
 4. the trajectory approaches it: the distance of every recorded boundary
    state from the orbit's state at the same time (``e_r``, relative to the
@@ -45,7 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import PlbarError
-from ...hybrid import HybridOrbit, OrbitSeries, from_motion, monodromy, multipliers
+from ...periodic import Orbit, OrbitSeries, from_motion, monodromy, multipliers
 from ...motion import M_MAX, Run
 
 __all__ = ["CANDIDATE", "SETTLED", "RATE_MATCH", "Approach", "candidate_periods", "orbit_of", "approach", "settle"]
@@ -61,7 +61,7 @@ class Approach:
 
     Attributes
     ----------
-    orbit : HybridOrbit
+    orbit : Orbit
         The exact orbit (its own period).
     multipliers : ndarray
         Its Floquet multipliers over its ``m`` forcing periods, by decreasing modulus.
@@ -72,7 +72,7 @@ class Approach:
         Least-squares contraction of ``e_r`` per forcing period (``exp`` of the slope of ``log e_r``).
     """
 
-    orbit: HybridOrbit
+    orbit: Orbit
     multipliers: np.ndarray
     distance: np.ndarray
     rate: float
@@ -121,7 +121,7 @@ def candidate_periods(z: np.ndarray, m_max: int = M_MAX) -> list[int]:
     return out
 
 
-def orbit_of(prob, r: Run, b: int, m: int) -> HybridOrbit:
+def orbit_of(prob, r: Run, b: int, m: int) -> Orbit:
     """The exact orbit of the last ``2 m`` recorded periods of trajectory ``b`` (its own period).
 
     Raises :class:`plbar.PlbarError` (Newton does not converge) or ``ValueError`` (the switches are not
@@ -139,7 +139,7 @@ def orbit_of(prob, r: Run, b: int, m: int) -> HybridOrbit:
     return o.minimal() if o.period < o.sig.m else o
 
 
-def approach(r: Run, b: int, orb: HybridOrbit) -> Approach:
+def approach(r: Run, b: int, orb: Orbit) -> Approach:
     """How trajectory ``b``'s window approaches the exact orbit ``orb`` (see :class:`Approach`).
 
     The orbit's ``t = 0`` is an impact at an absolute time ``t_0`` with ``phi_orbit = phi - W t_0`` (mod 2 pi),

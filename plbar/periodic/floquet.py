@@ -28,7 +28,7 @@ __all__ = ["monodromy", "multipliers"]
 
 def monodromy(prob: Problem, sig: Signature, T: float, phi: float, ch: Chain) -> np.ndarray:
     """Jacobian of the ``m``-period map of an evaluated chain's orbit (compiled:
-    :mod:`plbar.hybrid.kernel.floquet`).
+    :mod:`plbar.periodic.kernel.floquet`).
 
     The section is at ``t = 0+``, in the state the motion continues in: state I
     (``2 m1`` square) when the first pair has a positive dwell, state II after the

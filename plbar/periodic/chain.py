@@ -21,7 +21,7 @@ phase (``d/dt_start = -W d/dphi`` of the forced part), and the switch maps and
 flows are linear.  For ``m = 1`` and one positive dwell this is the paper's
 periodic response (FORMULATION §4) written as a root of ``F``.
 
-:func:`evaluate` walks the chain in compiled code (:mod:`plbar.hybrid.kernel.walk`: the
+:func:`evaluate` walks the chain in compiled code (:mod:`plbar.periodic.kernel.walk`: the
 closed-form flows of :mod:`plbar.motion.kernel.closed`, one mode at a time).
 """
 
@@ -144,7 +144,7 @@ def _build_switch_maps(prob: Problem):
 
 
 def model(prob: Problem):
-    """``(md, damping)``: the compiled chain's view of the problem (:mod:`plbar.hybrid.kernel.walk`; cached).
+    """``(md, damping)``: the compiled chain's view of the problem (:mod:`plbar.periodic.kernel.walk`; cached).
 
     ``damping`` is None undamped (the undamped flows are compiled), else a marker array (the damped ones)."""
     return prob.cached("hybrid_kernel_model", _build_model)
@@ -177,7 +177,7 @@ def dwell_of(sig: Signature) -> np.ndarray:
 
 @lru_cache(maxsize=None)
 def compiled():
-    """The compiled kernel, :mod:`plbar.hybrid.kernel` (numba: imported on first use, not with plbar)."""
+    """The compiled kernel, :mod:`plbar.periodic.kernel` (numba: imported on first use, not with plbar)."""
     from . import kernel
 
     return kernel
@@ -192,7 +192,7 @@ def _plan(sig: Signature) -> tuple:
 
 def evaluate(prob: Problem, sig: Signature, T: float, X, jac: bool = True) -> Chain:
     """Residuals ``F(X)`` (and the exact Jacobian) of the orbit of signature ``sig`` at period ``T`` (compiled:
-    :func:`plbar.hybrid.kernel.walk.chain`)."""
+    :func:`plbar.periodic.kernel.walk.chain`)."""
     md, damping = model(prob)
     dwell, states, zeros, q, nseg = _plan(sig)
     m1, m2 = md[0].shape[1], md[1].shape[1]

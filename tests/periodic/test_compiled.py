@@ -1,4 +1,4 @@
-"""The compiled chain (plbar.hybrid.kernel) against independent references: the numpy flows, finite differences,
+"""The compiled chain (plbar.periodic.kernel) against independent references: the numpy flows, finite differences,
 numpy's LU, the independent simulator."""
 
 import ast
@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 import plbar
-from plbar.hybrid import evaluate, from_motion, monodromy, orbit_at, polish, signature, zero_dwell
-from plbar.hybrid.chain import layout, state_data, switch_maps
-from plbar.hybrid.follow import correct, scale_of
+from plbar.periodic import evaluate, from_motion, monodromy, orbit_at, polish, signature, zero_dwell
+from plbar.periodic.chain import layout, state_data, switch_maps
+from plbar.periodic.follow import correct, scale_of
 from plbar.model import rayleigh_from_ratio
 from plbar.motion import run, steady
 from plbar.response import psi, segment
@@ -165,7 +165,7 @@ def test_corrector_lands_on_the_curve_and_the_plane(prob):
 
 
 def test_lu_and_tangent_against_numpy():
-    from plbar.hybrid.kernel.newton import lu_factor, lu_solve, tangent
+    from plbar.periodic.kernel.newton import lu_factor, lu_solve, tangent
 
     rng = np.random.default_rng(0)
     for n in (2, 5, 13, 40):
@@ -232,7 +232,7 @@ def test_damped_monodromy_against_the_map_by_central_differences(T, text):
 def test_the_cache_key_covers_every_source_the_kernel_is_built_from():
     """The entry points close over a hash of this subpackage and of the motion kernel's sources; every module the
     kernel imports from must be one of them (numba freezes what it imports)."""
-    from plbar.hybrid.kernel import stamp
+    from plbar.periodic.kernel import stamp
     from plbar.motion.kernel import jit
 
     sources = {p.resolve() for p in stamp.SOURCES} | {p.resolve() for p in jit.SOURCES}

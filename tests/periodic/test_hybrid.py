@@ -5,9 +5,9 @@ import pytest
 
 import plbar
 from plbar.check import simulate
-from plbar.hybrid import (PAPER, ZERO_DWELL, admissible, evaluate, expected_events, find_hybrid, from_motion, monodromy,
-                          multipliers, orbit_at, polish, signature, zero_dwell)
-from plbar.hybrid.chain import layout
+from plbar.periodic import (PAPER, ZERO_DWELL, admissible, evaluate, expected_events, find_hybrid, from_motion,
+                            monodromy, multipliers, orbit_at, polish, signature, zero_dwell)
+from plbar.periodic.chain import layout
 from plbar.motion import run, steady
 from plbar.response import monodromy_modal
 

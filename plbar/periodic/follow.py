@@ -8,7 +8,7 @@ durations and ``T`` by ``T``, the phase as it is), then corrects by Newton on
 column in ``T`` a forward difference (the load's frequency enters every
 flow).  The curve passes folds in ``T``.  It stops at the ends of the period
 window, where a duration reaches zero (a stuck phase shrinking to zero is a
-change of signature: :func:`plbar.hybrid.branches` continues into the new
+change of signature: :func:`plbar.periodic.branches` continues into the new
 one), or where Newton fails at the smallest step.
 """
 
@@ -21,7 +21,7 @@ import numpy as np
 from ..model import Problem
 from .chain import compiled, dwell_of, layout, model
 from .signature import Signature
-from .solve import ACCEPT, ROUNDOFF, HybridOrbit, NotConverged, orbit_at, polish
+from .solve import ACCEPT, ROUNDOFF, Orbit, NotConverged, orbit_at, polish
 
 __all__ = ["FollowSettings", "follow", "END_WINDOW", "END_DWELL", "END_FREE", "END_FAILED", "END_POINTS",
            "END_INADMISSIBLE", "END_REPEATED", "plausible", "correct", "scale_of"]
@@ -59,7 +59,7 @@ def scale_of(prob: Problem, sig: Signature, X: np.ndarray, T: float) -> np.ndarr
 
 
 def _kernel(prob, sig):
-    """The compiled step (:func:`plbar.hybrid.kernel.newton.step`) bound to a problem and a signature."""
+    """The compiled step (:func:`plbar.periodic.kernel.newton.step`) bound to a problem and a signature."""
     step = compiled().step
     md, damping = model(prob)
     dwell = dwell_of(sig)
@@ -74,7 +74,7 @@ def _kernel(prob, sig):
 
 def correct(prob, sig, Yp, t, S, newton: int = 8, Ja: np.ndarray | None = None):
     """Newton on ``F = 0`` and ``t . (Y - Yp) = 0`` (scaled); the orbit or None (compiled:
-    :func:`plbar.hybrid.kernel.newton.correct`).
+    :func:`plbar.periodic.kernel.newton.correct`).
 
     With ``Ja`` (the augmented Jacobian at the last point) the corrector is a chord method: that
     matrix is factorised once and every iteration evaluates only the residuals.
@@ -86,7 +86,7 @@ def correct(prob, sig, Yp, t, S, newton: int = 8, Ja: np.ndarray | None = None):
     return None if out == K.FAILED else _final(prob, sig, orbit_at(prob, sig, Y[-1], Y[:-1]))
 
 
-def _final(prob, sig, orb: HybridOrbit):
+def _final(prob, sig, orb: Orbit):
     """``orb`` if its residual is at round-off (after a Newton polish at its T if need be), else None."""
     if orb.residual <= ROUNDOFF:
         return orb
@@ -98,14 +98,14 @@ def _final(prob, sig, orb: HybridOrbit):
         return None
 
 
-def plausible(orb: HybridOrbit) -> bool:
+def plausible(orb: Orbit) -> bool:
     """The necessary conditions of admissibility that cost nothing: every impact comes in (``v_c > 0``) and the
     reaction pulls after every impact followed by a zero dwell."""
     return bool((orb.v_impact > 0).all() and (orb.zero_margins < 0).all())
 
 
-def follow(prob: Problem, sig: Signature, start: HybridOrbit, window: tuple[float, float], direction: float = 1.0,
-           settings: FollowSettings | None = None) -> tuple[list[HybridOrbit], str]:
+def follow(prob: Problem, sig: Signature, start: Orbit, window: tuple[float, float], direction: float = 1.0,
+           settings: FollowSettings | None = None) -> tuple[list[Orbit], str]:
     """The curve of responses of signature ``sig`` through ``start``, in one direction of ``T``, inside ``window``.
 
     Returns the orbits in order (``start`` first) and why the curve ended.

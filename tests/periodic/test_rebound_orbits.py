@@ -13,10 +13,10 @@ import pytest
 
 import plbar
 from plbar.errors import InputError
-from plbar.hybrid import (ONE_REBOUND, OrbitSeries, Signature, admissible, expected_events, find_hybrid, from_motion,
+from plbar.periodic import (ONE_REBOUND, OrbitSeries, Signature, admissible, expected_events, find_hybrid, from_motion,
                           monodromy, multipliers, signature, zero_dwell)
-from plbar.hybrid.chain import layout
-from plbar.hybrid.verify import start_of
+from plbar.periodic.chain import layout
+from plbar.periodic.verify import start_of
 from plbar.motion import FREE, STUCK, Start, padded, run, steady
 
 E = 0.3
@@ -43,7 +43,7 @@ def branches(prob):
         try:
             seeds.append(from_motion(prob, float(T[b]), int(s.m[b]), first * T[b], r.strobe_x[b, 0],
                                      r.strobe_v[b, 0], int(r.strobe_state[b, 0]), te[after], ke[after]))
-        except (plbar.hybrid.NotConverged, ValueError):
+        except (plbar.periodic.NotConverged, ValueError):
             pass
     assert len(seeds) >= 5
     return find_hybrid(prob, WINDOW, (), seeds, kinds="default", m_max=4)

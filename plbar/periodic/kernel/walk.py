@@ -1,6 +1,6 @@
 """The segment chain walked in compiled code: residuals, their exact Jacobian, the segments' end states.
 
-The formulas of :mod:`plbar.hybrid.chain` (its module docstring) one mode at a time.  Every
+The formulas of :mod:`plbar.periodic.chain` (its module docstring) one mode at a time.  Every
 modal flow is :func:`plbar.motion.kernel.closed.mode_flow` (undamped, or damped where
 ``damping`` is given): the end state from the segment's start state; for the Jacobian also
 the free flow's 2 x 2 block of each mode (unit initial states, no load) and the forced

@@ -15,14 +15,14 @@ import numpy as np
 
 from ..motion import FREE, STUCK, Start, padded, run
 from .chain import state_data
-from .solve import HybridOrbit
+from .solve import Orbit
 
 __all__ = ["admissible", "expected_events", "start_of"]
 
 OPENS, IMPACT, REBOUND, STICK = 1, 2, 3, 4     #: the simulator's event kinds (:mod:`plbar.motion.kernel.data`)
 
 
-def expected_events(orb: HybridOrbit) -> tuple[np.ndarray, np.ndarray]:
+def expected_events(orb: Orbit) -> tuple[np.ndarray, np.ndarray]:
     """Times and kinds of the orbit's switches in ``[0, m T]``, as the simulator records them: 1 opening, 2 plastic
     impact, 3 rebound, 4 the impact that ends a chattering sequence (restitution ``e > 0``; recorded at the
     accumulation point of the rebounds it stands for, ``2 e v_c / (a (1 - e))`` later, ``a`` the contact's
@@ -50,7 +50,7 @@ def expected_events(orb: HybridOrbit) -> tuple[np.ndarray, np.ndarray]:
     return np.array(times), np.array(kinds)
 
 
-def _accumulation(orb: HybridOrbit, i: int, e: float) -> float:
+def _accumulation(orb: Orbit, i: int, e: float) -> float:
     """The time the simulator adds to the sticking impact ending pair ``i``: ``2 e v_c / (a (1 - e))``."""
     if e >= 1.0:
         return 0.0
@@ -67,7 +67,7 @@ def _accumulation(orb: HybridOrbit, i: int, e: float) -> float:
     return 2.0 * e * vc / (a * (1.0 - e)) if a > 0 else 0.0
 
 
-def start_of(orb: HybridOrbit, m: int) -> tuple[int, np.ndarray, np.ndarray]:
+def start_of(orb: Orbit, m: int) -> tuple[int, np.ndarray, np.ndarray]:
     """The orbit's start for the simulator: its state (``STUCK`` or ``FREE``) and the padded modal ``eta, vel``."""
     n = orb.z0.size // 2
     eta, vel = np.zeros(m), np.zeros(m)

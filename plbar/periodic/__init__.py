@@ -2,7 +2,7 @@
 
 * :mod:`.signature` -- ``m`` periods, ``k`` stuck/free pairs, zero dwells (``"1P"`` is the paper's class);
 * :mod:`.chain` -- the segment chain, its switching residuals and their exact Jacobian;
-* :mod:`.solve` -- Newton (:func:`polish`) and the orbit's energy (:class:`HybridOrbit`);
+* :mod:`.solve` -- Newton (:func:`polish`) and the orbit's energy (:class:`Orbit`);
 * :mod:`.floquet` -- multipliers of the ``m``-period orbit, saltation at every switch;
 * :mod:`.verify` -- admissibility, replayed by the certified simulator of :mod:`plbar.motion`;
 * :mod:`.follow` -- pseudo-arclength continuation in ``T``;
@@ -12,7 +12,7 @@
 * :mod:`.series` -- one orbit as a time series (export, render), its canonical rotation, rebuilt from a row.
 """
 
-from .branches import KINDS, HybridBranch, find_hybrid
+from .branches import KINDS, Branch, find_hybrid
 from .chain import Chain, evaluate
 from .floquet import monodromy, multipliers
 from .follow import FollowSettings, follow
@@ -20,11 +20,11 @@ from .prepare import compiled, prepare
 from .seeds import doubled, from_motion, zero_dwell
 from .series import OrbitSeries, canonical, from_row
 from .signature import ONE_REBOUND, PAPER, ZERO_DWELL, Signature, signature
-from .solve import HybridOrbit, NotConverged, orbit_at, polish
+from .solve import Orbit, NotConverged, orbit_at, polish
 from .verify import admissible, expected_events
 
-__all__ = ["KINDS", "HybridBranch", "find_hybrid", "Chain", "evaluate", "monodromy", "multipliers", "FollowSettings",
+__all__ = ["KINDS", "Branch", "find_hybrid", "Chain", "evaluate", "monodromy", "multipliers", "FollowSettings",
            "follow", "doubled", "from_motion", "zero_dwell", "PAPER", "ZERO_DWELL", "ONE_REBOUND", "Signature",
            "signature",
-           "OrbitSeries", "canonical", "from_row", "HybridOrbit", "NotConverged", "orbit_at", "polish", "admissible",
+           "OrbitSeries", "canonical", "from_row", "Orbit", "NotConverged", "orbit_at", "polish", "admissible",
            "expected_events", "compiled", "prepare"]

@@ -1,6 +1,6 @@
 """The compiled chain's first compile: whether it is due, and doing it ahead on an orbit of the paper's class.
 
-The chain's kernel (:mod:`plbar.hybrid.kernel`) compiles on its first use after an install (or an upgrade of
+The chain's kernel (:mod:`plbar.periodic.kernel`) compiles on its first use after an install (or an upgrade of
 plbar or numba), undamped and damped apart, and is cached on disk.  :func:`prepare` runs each of its entry points
 once -- the chain, the polish, the continuation step, the monodromy, the energy sums -- on one response of the
 paper's class, so that a caller can compile it while another process compiles the simulator

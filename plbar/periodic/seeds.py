@@ -22,14 +22,14 @@ import numpy as np
 from ..model import Problem
 from .chain import evaluate, layout
 from .signature import ZERO_DWELL, Signature
-from .solve import HybridOrbit, NotConverged, orbit_at, polish
+from .solve import Orbit, NotConverged, orbit_at, polish
 
 __all__ = ["zero_dwell", "doubled", "from_motion", "split"]
 
 
-def zero_dwell(prob: Problem, T: float, sig: Signature = ZERO_DWELL) -> list[HybridOrbit]:
+def zero_dwell(prob: Problem, T: float, sig: Signature = ZERO_DWELL) -> list[Orbit]:
     """The responses of class ``1Z`` at period ``T`` (both phase roots; checked, not yet for admissibility); with
-    ``sig = plbar.hybrid.ONE_REBOUND`` those of class ``1R`` (one rebound per period, restitution ``e > 0``: the same
+    ``sig = plbar.periodic.ONE_REBOUND`` those of class ``1R`` (one rebound per period, restitution ``e > 0``: the same
     structure, the start state in state II)."""
     nz, q, nX = layout(prob, sig)
     T = float(T)
@@ -58,7 +58,7 @@ def zero_dwell(prob: Problem, T: float, sig: Signature = ZERO_DWELL) -> list[Hyb
     return out
 
 
-def doubled(prob: Problem, orb: HybridOrbit, steps=(1e-3, 3e-3, 1e-2, 3e-2)) -> list[HybridOrbit]:
+def doubled(prob: Problem, orb: Orbit, steps=(1e-3, 3e-3, 1e-2, 3e-2)) -> list[Orbit]:
     """Orbits of the doubled signature that branch off near ``orb`` (a period doubling), not ``orb`` itself.
 
     The orbit seen over two periods solves the doubled equations; at the doubling their Jacobian
@@ -91,7 +91,7 @@ def doubled(prob: Problem, orb: HybridOrbit, steps=(1e-3, 3e-3, 1e-2, 3e-2)) -> 
 
 
 def from_motion(prob: Problem, T: float, m: int, t_b: float, x_b, v_b, state_b: int, times, kinds,
-                phi: float = 0.0) -> HybridOrbit:
+                phi: float = 0.0) -> Orbit:
     """Polish a periodic motion of a simulation into an exact orbit.
 
     ``x_b, v_b`` (physical, contact DOF last) and ``state_b`` (0 stuck, 1 free) are the state at ``t_b``
@@ -192,7 +192,7 @@ def _switch(prob, z, kind):
     return G @ z, 1
 
 
-def split(prob: Problem, orb: HybridOrbit) -> list[HybridOrbit]:
+def split(prob: Problem, orb: Orbit) -> list[Orbit]:
     """The orbit of the signature the bar follows from ``orb``'s state when ``orb`` is not admissible.
 
     Replays ``orb`` (its state just after its last impact, its load phase) with the certified simulator

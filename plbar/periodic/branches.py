@@ -33,10 +33,10 @@ from .floquet import monodromy, multipliers
 from .follow import END_DWELL, FollowSettings, follow
 from .seeds import doubled, split, zero_dwell
 from .signature import ONE_REBOUND, PAPER, ZERO_DWELL, Signature
-from .solve import HybridOrbit, NotConverged, orbit_at, polish
+from .solve import Orbit, NotConverged, orbit_at, polish
 from .verify import admissible
 
-__all__ = ["HybridBranch", "find_hybrid", "KINDS", "PD", "NS", "FOLD", "GRAZING", "DWELL_ZERO"]
+__all__ = ["Branch", "find_hybrid", "KINDS", "PD", "NS", "FOLD", "GRAZING", "DWELL_ZERO"]
 
 KINDS = ("paper", "default", "all")
 PD, NS, FOLD = PERIOD_DOUBLING, NEIMARK_SACKER, FOLD_T
@@ -46,14 +46,14 @@ STABLE_TOL = 1e-9
 
 
 @dataclass(frozen=True)
-class HybridBranch:
+class Branch:
     """Admissible periodic responses of one signature along a curve in ``T`` (ordered).
 
     Attributes
     ----------
     sig : Signature
         As followed (``label`` is its canonical string).
-    orbits : tuple of HybridOrbit
+    orbits : tuple of Orbit
     stable : ndarray of bool
     max_abs_multiplier : ndarray
     events : list of dict
@@ -103,12 +103,12 @@ class HybridBranch:
         return len(self.orbits)
 
     def __repr__(self) -> str:
-        return build("HybridBranch", {"id": self.id, "signature": self.label, "points": len(self), "T": rng(self.T),
+        return build("Branch", {"id": self.id, "signature": self.label, "points": len(self), "T": rng(self.T),
                                       "xi": rng(self.xi), "loss_per_T": rng(self.loss_per_T),
                                       "stable": count(self.stable), "events": len(self.events)})
 
 
-def _curve(prob, orb: HybridOrbit, window, st) -> tuple[list[HybridOrbit], list[str]]:
+def _curve(prob, orb: Orbit, window, st) -> tuple[list[Orbit], list[str]]:
     """The whole curve through ``orb`` (both directions), in increasing arclength, and its two ends."""
     up, e_up = follow(prob, orb.sig, orb, window, +1.0, st)
     dn, e_dn = follow(prob, orb.sig, orb, window, -1.0, st)
@@ -175,7 +175,7 @@ class _Curves:
         old = self.pieces.get(label)
         self.pieces[label] = new if old is None else tuple(np.concatenate([o, n]) for o, n in zip(old, new))
 
-    def known(self, orb: HybridOrbit) -> bool:
+    def known(self, orb: Orbit) -> bool:
         """Same canonical signature, and its loss on a piece's linear interpolation at its ``T`` (the piece's ``T``
         range holding it)."""
         p = self.pieces.get(str(orb.sig.canonical()))
@@ -191,7 +191,7 @@ class _Curves:
         return bool(np.any(np.abs(La + w * (Lb - La) - loss) <= 1e-2 * np.abs(Lb - La) + 1e-6 * max(abs(loss), 1e-12)))
 
 
-def _zero_dwell_seeds(prob, window, num: int) -> list[HybridOrbit]:
+def _zero_dwell_seeds(prob, window, num: int) -> list[Orbit]:
     """One admissible ``1Z`` orbit (``1R`` with restitution) per admissible stretch of the grid (and root)."""
     Ts = np.linspace(window[0], window[1], num)
     sig = ONE_REBOUND if getattr(prob, "restitution", 0.0) else ZERO_DWELL
@@ -206,7 +206,7 @@ def _zero_dwell_seeds(prob, window, num: int) -> list[HybridOrbit]:
     return seeds
 
 
-def _dwell_transition(prob, orb: HybridOrbit) -> list[HybridOrbit]:
+def _dwell_transition(prob, orb: Orbit) -> list[Orbit]:
     """At a stuck phase shrinking to zero: the same orbit in the signature with that pair of zero dwell."""
     out = []
     d = orb.durations
@@ -228,7 +228,7 @@ def _dwell_transition(prob, orb: HybridOrbit) -> list[HybridOrbit]:
     return out
 
 
-def _paper_doublings(prob, paper_branches) -> list[HybridOrbit]:
+def _paper_doublings(prob, paper_branches) -> list[Orbit]:
     """Seeds of ``m = 2`` at the period doublings of the paper's branches (the point beyond the crossing)."""
     out = []
     for b in paper_branches:
@@ -245,7 +245,7 @@ def _paper_doublings(prob, paper_branches) -> list[HybridOrbit]:
     return out
 
 
-def _paper_ends(prob, paper_branches, window, st) -> list[HybridOrbit]:
+def _paper_ends(prob, paper_branches, window, st) -> list[Orbit]:
     """Seeds beyond the ends of the paper's branches: a few continuation steps out, then :func:`.seeds.split`."""
     out = []
     short = FollowSettings(h0=st.h0, h_min=st.h_min, h_max=st.h_max, max_points=4, newton=st.newton)
@@ -265,7 +265,7 @@ def _paper_ends(prob, paper_branches, window, st) -> list[HybridOrbit]:
 
 def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), extra_seeds=(),
                 kinds: str = "default", grid: int = 400, settings: FollowSettings | None = None,
-                m_max: int = M_MAX, progress=None) -> list[HybridBranch]:
+                m_max: int = M_MAX, progress=None) -> list[Branch]:
     """Branches of every signature but the paper's class reachable from the seeds (see the module docstring).
 
     ``paper_branches`` are the branches of :func:`plbar.find_paths` (their period doublings and ends seed
@@ -318,7 +318,7 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
     return branches
 
 
-def _admissible_runs(orbs, ok, mus, ev, first_id: int, ends=("", "")) -> list[HybridBranch]:
+def _admissible_runs(orbs, ok, mus, ev, first_id: int, ends=("", "")) -> list[Branch]:
     """Maximal runs of admissible points as branches, with their events; a run that ends because the next point
     switches prematurely ends in a grazing event, one that ends where a stuck phase shrinks to zero in a
     :data:`DWELL_ZERO` event (the signature changes there: the next one is followed from it)."""
@@ -339,6 +339,6 @@ def _admissible_runs(orbs, ok, mus, ev, first_id: int, ends=("", "")) -> list[Hy
                 evs.append({"kind": GRAZING, "index": k - i, "T": orbs[k].T})
             elif end == END_DWELL:
                 evs.append({"kind": DWELL_ZERO, "index": k - i, "T": orbs[k].T})
-        out.append(HybridBranch(first_id + len(out), orbs[i].sig, tuple(orbs[i:j]), mx < 1 - STABLE_TOL, mx, evs))
+        out.append(Branch(first_id + len(out), orbs[i].sig, tuple(orbs[i:j]), mx < 1 - STABLE_TOL, mx, evs))
         i = j
     return out

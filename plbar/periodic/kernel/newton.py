@@ -1,7 +1,7 @@
 """Newton on the chain's residuals in compiled code: the continuation's step and corrector, and the polish.
 
-The loops of :func:`plbar.hybrid.follow.follow` (one step: the tangent, then the corrector from the predicted
-point, halving the step where it fails), :func:`plbar.hybrid.follow.correct` and :func:`plbar.hybrid.polish`
+The loops of :func:`plbar.periodic.follow.follow` (one step: the tangent, then the corrector from the predicted
+point, halving the step where it fails), :func:`plbar.periodic.follow.correct` and :func:`plbar.periodic.polish`
 (their docstrings say what they do), with the chain walked by :func:`.walk.chain` and the linear systems
 solved by LU with partial pivoting (:func:`lu_factor`, :func:`lu_solve`: a few dozen unknowns at most).  The
 tangent is the null vector of the augmented Jacobian, from the bordered system ``[Ja S; c] x = e`` (``c`` the
@@ -154,7 +154,7 @@ def correct(md, damping, dwell, m, Yp, t, S, newton, Ja, chord, Y):
     """Newton on ``F = 0`` and ``t . (Y - Yp) / S = 0`` from ``Yp`` into ``Y``: :data:`FAILED`, :data:`CONVERGED` (at
     ``Y``: the step from it, with residuals only, is below :data:`STEP_TOL`) or :data:`DONE` (the last step, below
     :data:`STEP_TOL`, taken; or the steps stalled below :data:`FLOOR_TOL`, at the round-off of the residuals:
-    whether ``Y`` is a response is then its residual's to say, :func:`plbar.hybrid.follow.correct`).
+    whether ``Y`` is a response is then its residual's to say, :func:`plbar.periodic.follow.correct`).
 
     With ``chord`` the augmented Jacobian ``Ja`` at the last point is factorised once and every iteration
     evaluates only the residuals (a chord method); a fresh Jacobian where the chord stalls.

@@ -15,12 +15,12 @@ import numpy as np
 from ..response import segment
 from .chain import layout, state_data
 from .signature import Signature
-from .solve import HybridOrbit, polish
+from .solve import Orbit, polish
 
 __all__ = ["OrbitSeries", "canonical", "from_row"]
 
 
-def canonical(orb: HybridOrbit) -> tuple[Signature, np.ndarray, float]:
+def canonical(orb: Orbit) -> tuple[Signature, np.ndarray, float]:
     """The orbit written from the rotation of its canonical signature: ``(sig, durations, phi)``.
 
     Starting ``r`` pairs later moves ``t = 0`` to ``t_r`` (the impact ending pair ``r - 1``), so the
@@ -37,7 +37,7 @@ def canonical(orb: HybridOrbit) -> tuple[Signature, np.ndarray, float]:
     return orb.sig, orb.durations, orb.phi
 
 
-def from_row(prob, sig: Signature, T: float, durations, phi: float) -> HybridOrbit:
+def from_row(prob, sig: Signature, T: float, durations, phi: float) -> Orbit:
     """The exact orbit of a table row (its state is recomputed: the chain is affine in it; Newton polishes)."""
     d = np.asarray(durations, float)
     var = []
@@ -50,9 +50,9 @@ def from_row(prob, sig: Signature, T: float, durations, phi: float) -> HybridOrb
 
 
 class OrbitSeries:
-    """A :class:`HybridOrbit` sampled at any times of its orbit ``[0, m T)`` (see the module docstring)."""
+    """A :class:`Orbit` sampled at any times of its orbit ``[0, m T)`` (see the module docstring)."""
 
-    def __init__(self, orb: HybridOrbit):
+    def __init__(self, orb: Orbit):
         self.orb = orb
         self.prob = orb.prob
         d = orb.durations

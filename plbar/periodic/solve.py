@@ -1,7 +1,7 @@
 """Exact periodic responses of any signature: Newton on the chain's residuals with its exact Jacobian.
 
 :func:`polish` takes a guess ``(z0, durations, phi)`` at a period ``T`` and
-returns a :class:`HybridOrbit` whose residuals, recomputed from the flow of
+returns a :class:`Orbit` whose residuals, recomputed from the flow of
 the returned state, are at round-off (or raises :class:`NotConverged`).  The
 orbit's energy follows: the impact loss of every impact, ``S v_c^2 / 2``
 (Eq. (14)), summed over the orbit (``dPL``, ``m`` periods) and per forcing
@@ -22,7 +22,7 @@ from ..util.reprs import build
 from .chain import Chain, compiled, dwell_of, evaluate, layout, model
 from .signature import Signature
 
-__all__ = ["HybridOrbit", "NotConverged", "polish", "orbit_at", "ACCEPT", "ROUNDOFF"]
+__all__ = ["Orbit", "NotConverged", "polish", "orbit_at", "ACCEPT", "ROUNDOFF"]
 
 ACCEPT = 1e-11     #: largest relative residual Newton accepts as converged
 ROUNDOFF = 1e-13   #: the residual every reported orbit reaches (polish tightens to it)
@@ -34,7 +34,7 @@ class NotConverged(PlbarError):
 
 
 @dataclass(frozen=True)
-class HybridOrbit:
+class Orbit:
     """One periodic response of signature ``sig`` at period ``T``.
 
     Attributes
@@ -152,7 +152,7 @@ class HybridOrbit:
                 return p
         return self.sig.m
 
-    def minimal(self) -> "HybridOrbit":
+    def minimal(self) -> "Orbit":
         """The orbit of its own period (:attr:`period`): its first ``period`` forcing periods, polished, with their
         signature; itself when it is minimal."""
         p = self.period
@@ -169,7 +169,7 @@ class HybridOrbit:
         return _energy(self.prob, self.sig, self.chain, self.T, self.phi, compiled().AMPLITUDE)[0]
 
     def __repr__(self) -> str:
-        return build("HybridOrbit", {"sig": str(self.sig), "T": self.T, "phi": self.phi,
+        return build("Orbit", {"sig": str(self.sig), "T": self.T, "phi": self.phi,
                                      "durations": np.array2string(self.durations, precision=5),
                                      "loss_per_T": self.loss_per_T, "xi": self.xi, "residual": self.residual})
 
@@ -190,23 +190,23 @@ def _duration_slots(sig: Signature) -> np.ndarray:
 def _energy(prob: Problem, sig: Signature, ch: Chain, T: float, phi: float, what: int) -> tuple[float, float, float]:
     """``sum_j w_j Psi_j``, ``sum_j Psi_j`` and the viscous loss ``sum_j 2 zeta_j w_j Psi_j`` over every segment of an
     evaluated chain (Eqs. (20)-(21); damped velocities with inherent damping), or ``(max |x_c|, 0, 0)`` over 200
-    samples of every free phase (compiled: :mod:`plbar.hybrid.kernel.energy`)."""
+    samples of every free phase (compiled: :mod:`plbar.periodic.kernel.energy`)."""
     md, damping = model(prob)
     return compiled().energy(md, damping, dwell_of(sig), float(T), float(phi), ch.times, ch.states, what, 200)
 
 
-def orbit_at(prob: Problem, sig: Signature, T: float, X, ch: Chain | None = None) -> HybridOrbit:
-    """The :class:`HybridOrbit` of unknowns ``X`` (residuals recomputed from the flow, or taken from ``ch``,
+def orbit_at(prob: Problem, sig: Signature, T: float, X, ch: Chain | None = None) -> Orbit:
+    """The :class:`Orbit` of unknowns ``X`` (residuals recomputed from the flow, or taken from ``ch``,
     an evaluation of the same ``X`` without Jacobian)."""
     X = np.asarray(X, float)
     ch = ch if ch is not None and ch.J is None else evaluate(prob, sig, T, X, jac=False)
-    return HybridOrbit(prob, sig, float(T), float(np.mod(X[-1], 2 * np.pi)), X,
+    return Orbit(prob, sig, float(T), float(np.mod(X[-1], 2 * np.pi)), X,
                        durations_of(sig, X, layout(prob, sig)[0]), ch.residual, ch.v_impact, ch.zero_margins, ch)
 
 
-def polish(prob: Problem, sig: Signature, T: float, X0, maxit: int = 30) -> HybridOrbit:
+def polish(prob: Problem, sig: Signature, T: float, X0, maxit: int = 30) -> Orbit:
     """Newton on the chain's residuals from the guess ``X0`` (exact Jacobian, damped by halving; compiled:
-    :func:`plbar.hybrid.kernel.newton.polish`).
+    :func:`plbar.periodic.kernel.newton.polish`).
 
     Raises
     ------

@@ -1,6 +1,6 @@
 """The monodromy of an evaluated chain in compiled code: flows and saltation matrices (FORMULATION §7).
 
-The product of :mod:`plbar.hybrid.floquet` (its docstring says what each factor is) over the segments
+The product of :mod:`plbar.periodic.floquet` (its docstring says what each factor is) over the segments
 :func:`.walk.chain` recorded (``times``, ``zs``): the free flow of every segment (its 2 x 2 block per mode
 is :func:`plbar.motion.kernel.closed.mode_flow` with unit initial states and no load), the saltation of
 every opening after a positive dwell (``E + (f_II(E z) - E f_I(z)) dh^T / hdot``) and of every impact
