@@ -18,7 +18,7 @@ PAPER = {
 }
 
 result = plbar.solve()                       # the default case is the paper's
-prob = result.paths.prob
+prob = result.prob
 T0_I, T0_II = prob.system.T0
 
 
@@ -33,13 +33,13 @@ def exact_point(T1, T2_guess):
 
 points = {name: exact_point(PAPER[name]["T1"], PAPER[name]["T2"]) for name in ("red", "green")}
 branches = [dict(id=b.id, n=len(b), T=(b.T.min(), b.T.max()), dPL=(b.dPL.min(), b.dPL.max()),
-                 xi=(b.xi.min(), b.xi.max())) for b in result.branches]
+                 xi=(b.xi.min(), b.xi.max())) for b in result.paper]
 
 
 def report() -> str:
     out = [f"fundamental periods: T0_I = {T0_I:.4f} (paper {PAPER['T0_I']}), "
            f"T0_II = {T0_II:.4f} (paper {PAPER['T0_II']})",
-           f"solver time {result.solver_time:.2f} s, {len(result.branches)} branches"]
+           f"solver time {result.solver_time:.2f} s, {len(result.paper)} branches of the paper's class"]
     for name, p in points.items():
         ref = PAPER[name]
         out.append(f"{name:5s}: T1 = {p['T1']:.4f}, T2 = {p['T2']:.6f} (paper {ref['T2']}), phi = {p['phi']:.5f} "

@@ -27,11 +27,11 @@ N_PERIODS = 300
 SETTLED = 1e-6       # relative distance of the stroboscopic sample from the periodic state
 
 res = plbar.solve()
-prob = res.paths.prob
+prob = res.prob
 orb = res.paths.points()
 st = stability(orb)
-grazing = np.concatenate([b.grazing for b in res.branches])
-v_imp = np.concatenate([b.adm.v_impact for b in res.branches])
+grazing = np.concatenate([b.grazing for b in res.paths.branches])
+v_imp = np.concatenate([b.adm.v_impact for b in res.paths.branches])
 candidates = np.flatnonzero(st.stable & ~grazing & (v_imp > 0.05 * v_imp.max()))
 candidates = candidates[np.argsort(st.max_abs[candidates])]
 

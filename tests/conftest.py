@@ -31,8 +31,9 @@ def pytest_collection_finish(session):
 @pytest.fixture(scope="session", autouse=True)
 def _kernels(request):
     """The kernels compiled (after an install) or loaded once, before the first test of a full run: the
-    simulator's in another process, the chain's and the continuum's in this one (two cores, two kernel packages:
-    no cache entry written by both), so that a first compile lands on no test's time (issue 44).  A run of a few
+    simulator's in another process beside the continuum's in this one (two cores, two kernel packages: no cache
+    entry written by both), then the chain's (its seeds are replayed by the simulator: after it), so that a first
+    compile lands on no test's time (issue 44).  A run of a few
     tests skips it: they compile what they use, if anything."""
     if not getattr(request.config, "plbar_warm", False):
         return
@@ -41,15 +42,13 @@ def _kernels(request):
 
     import plbar
     from plbar.continuum import simulate
-    from plbar.periodic import prepare as prepare_chain
 
     motion = subprocess.Popen([sys.executable, "-c", _MOTION], stdin=subprocess.DEVNULL)
     try:
-        chain = plbar.Case(signatures="paper", grid=(60, 60))
-        prepare_chain(chain.problem(), plbar.solve(chain).branches)
         simulate(plbar.Case(model="continuum").continuum(), 2.5, periods=2, record=1)
     finally:
         motion.wait()
+    plbar.solve(plbar.Case(signatures="paper", grid=(60, 60)))     # the chain (its replays: the simulator, loaded)
 
 
 @pytest.fixture(autouse=True)

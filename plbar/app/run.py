@@ -12,19 +12,22 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import CoarseGridWarning, InputError
-from ..paths import Paths, find_paths
+from ..model import Problem
+from ..paths import Domain, Paths, find_paths
+from ..periodic import canonical, find_branches, from_paths, prepare
 from ..util.check import MIN_BRANCH_POINTS, show
 from ..util.check import grid as check_grid
 from ..util.files import check_finite, write_csv, write_json
 from ..util.outputs import Claim, check_folder, clear_owned, fingerprint
 from ..util.progress import message
 from ..util.version import __version__
-from ..visuals.plots import contact_amplitude
+from ..util.reprs import listing
 from .case import Case
 from .cost import search_note
-from .signatures import Search, hybrid_rows, hybrid_summary
+from .signatures import M_MAX, Search, search_window
 
-__all__ = ["Result", "solve", "write_results", "read_paths", "check_output", "case_fingerprint", "PATHS_COLUMNS",
+__all__ = ["Result", "solve", "write_results", "branch_rows", "branch_summary", "read_paths",
+           "check_output", "case_fingerprint", "PATHS_COLUMNS",
            "CSV_HEADER", "CSV_FORMATS", "TEXT_COLUMNS", "RUN_FILES"]
 
 #: the columns of ``paths.csv`` (name, printf format): the one definition, for writers and readers
@@ -48,65 +51,63 @@ CSV_FORMATS = [f for _, f in PATHS_COLUMNS]
 
 @dataclass(frozen=True)
 class Result:
-    """A solved case: the paths of the paper's class, the branches of other signatures, the times (s).
+    """A solved case: the branches of every signature (the paper's class first), the paper's scan, the times (s).
 
-    ``solver_time`` is the whole solve; ``paper_time`` the paper's class (:func:`plbar.find_paths`);
-    ``signatures_time`` what the signature search added after it (:meth:`Search.finish`: its seeding simulation
-    began beside the paper's class and is not counted twice).
+    ``solver_time`` is the whole solve; ``paper_time`` the paper's class (:func:`plbar.find_paths`: the scan of
+    ``G`` and its continuation in ``(T^I, T^II)``); ``signatures_time`` what the other signatures added after it
+    (their seeding simulation began beside the paper's class and is not counted twice).
     """
 
     case: Case
     paths: Paths
+    branches: tuple
     solver_time: float
-    hybrid: tuple = ()
     paper_time: float = 0.0
     signatures_time: float = 0.0
 
     @property
-    def branches(self):
-        return self.paths.branches
+    def prob(self) -> Problem:
+        return self.paths.prob
+
+    @property
+    def domain(self) -> Domain:
+        return self.paths.domain
+
+    @property
+    def stats(self) -> dict:
+        """The paper's scan: grid, crossings, zeros, points traced, times."""
+        return self.paths.stats
+
+    @property
+    def paper(self) -> tuple:
+        """The branches of the paper's class (signature ``1P``)."""
+        return tuple(b for b in self.branches if b.paper)
 
     def __repr__(self) -> str:
         n = sum(len(b) for b in self.branches)
-        return (f"Result({self.paths.prob.bar.describe() if self.paths.prob.bar else 'bar'}; "
-                f"{len(self.branches)} branches, {n} path points, solved in {self.solver_time:.3g} s)\n"
-                f"  case: {self.case!r}\n  paths: {self.paths!r}")
+        bar = self.prob.bar.describe() if self.prob.bar else "bar"
+        lines = listing((b.describe() for b in self.branches), 5)
+        return (f"Result({bar}; {len(self.branches)} branches ({len(self.paper)} of the paper's class), {n} points, "
+                f"solved in {self.solver_time:.3g} s)\n  case: {self.case!r}" + "".join("\n  " + ln for ln in lines))
 
     def summary(self) -> dict:
         """The content of ``summary.json``."""
-        s = self.paths.prob.system
+        s = self.prob.system
         T0I, T0II = s.T0
-        br = []
-        for b in self.branches:
-            br.append({
-                "branch": b.id, "points": len(b),
-                "T_range": [float(b.T.min()), float(b.T.max())],
-                "T1_range": [float(b.T1.min()), float(b.T1.max())],
-                "T2_range": [float(b.T2.min()), float(b.T2.max())],
-                "xi_range": [float(b.xi.min()), float(b.xi.max())],
-                "dPL_range": [float(b.dPL.min()), float(b.dPL.max())],
-                "viscous_loss_range": [float(b.viscous.min()), float(b.viscous.max())],
-                "xi_total_range": [float(b.xi_total.min()), float(b.xi_total.max())],
-                "grazing_points": int(b.grazing.sum()),
-                "resonant_points": int((~b.damping.closed_form).sum()),
-                "stable_points": int(b.stable.sum()),
-                "ends": list(b.ends),
-                "events": list(b.events),
-            })
-        stats = {k: (round(v, 6) if isinstance(v, float) else v) for k, v in self.paths.stats.items()}
+        stats = {k: (round(v, 6) if isinstance(v, float) else v) for k, v in self.stats.items()}
         return {
             "case": self.case.to_dict(),
-            "bar": self.paths.prob.bar.describe() if self.paths.prob.bar else "",
-            "load": self.paths.prob.load.describe() if self.paths.prob.load else "",
+            "bar": self.prob.bar.describe() if self.prob.bar else "",
+            "load": self.prob.load.describe() if self.prob.load else "",
             "dofs": int(s.n),
             "rayleigh": [float(s.alpha), float(s.beta)] if s.damped else None,
             "T0_I": float(T0I), "T0_II": float(T0II),
-            "domain": {"T1": list(self.paths.domain.T1), "T2": list(self.paths.domain.T2)},
+            "domain": {"T1": list(self.domain.T1), "T2": list(self.domain.T2)},
             "n_branches": len(self.branches),
+            "n_paper_branches": len(self.paper),
             "n_points": int(sum(len(b) for b in self.branches)),
-            "branches": br,
+            "branches": branch_summary(self.branches),
             "signatures": self.case.signatures,
-            "other_signatures": hybrid_summary(self.hybrid, _first_hybrid_id(self)),
             "scan": stats,
             "run_time": round(self.solver_time, 6),
             "paper_time": round(self.paper_time, 6),
@@ -116,10 +117,15 @@ class Result:
 
 
 def solve(case: Case | None = None, progress: bool = False) -> Result:
-    """Solve ``case`` (default: the paper's chain N = 5, unit force on DOF 1).
+    """Solve ``case`` (default: the paper's chain N = 5, unit force on DOF 1): every periodic response.
 
-    Warns (:class:`plbar.errors.CoarseGridWarning`) when the scan grid has
-    fewer than 20 points along an axis, a branch has fewer than 3 points, or nothing is found.
+    The paper's class comes from the paper's scan of ``G`` over the search domain and its continuation
+    (:func:`plbar.find_paths`, made branches of the one record by :func:`plbar.periodic.from_paths`), the other
+    signatures (``case.signatures`` ``"default"`` or ``"all"``) from the structure and a simulation from rest
+    (:class:`plbar.app.signatures.Search`, begun beside the paper's class), followed in ``T`` by the periodic
+    core (:func:`plbar.periodic.find_branches`).  Warns (:class:`plbar.errors.CoarseGridWarning`) when the scan grid
+    has fewer than 20 points along an axis, a branch of the paper's class has fewer than 3 points, or nothing is
+    found.
     """
     if case is None:
         case = Case()
@@ -143,23 +149,29 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
         t_paper = time.perf_counter()
         paths = _no_paths(prob, domain, case) if case.restitution else \
             find_paths(prob, domain, case.grid, method=case.method, progress=progress)
+        paper = from_paths(prob, paths.branches)
         t_search = time.perf_counter()
-        hybrid = () if search is None else tuple(search.finish(paths))
+        if search is not None:
+            prepare(prob, paper[0].orbits[0] if paper else None)
+        seeds = [] if search is None else search.seeds()
+        branches = tuple(find_branches(prob, search_window(prob, domain), paper, seeds, case.signatures,
+                                       m_max=M_MAX[case.signatures],
+                                       progress=None if search is None else search.curve))
         t_end = time.perf_counter()
-    short = [b.id for b in paths.branches if len(b) < MIN_BRANCH_POINTS]
+    short = [b.id for b in branches[:len(paper)] if len(b) < MIN_BRANCH_POINTS]    # the scan's: they come first
     if short:
         ids = ", ".join(str(i) for i in short[:8]) + (f" and {len(short) - 8} more" if len(short) > 8 else "")
         many = len(short) != 1
-        warnings.warn(f"{len(short)} branch{'es' if many else ''} ({ids}) {'have' if many else 'has'} fewer than "
-                      f"{MIN_BRANCH_POINTS} points on grid = "
+        warnings.warn(f"{len(short)} branch{'es' if many else ''} ({ids}) of the paper's class "
+                      f"{'have' if many else 'has'} fewer than {MIN_BRANCH_POINTS} points on grid = "
                       f"{case.grid}; refine the grid (or narrow T1/T2) to resolve them", CoarseGridWarning,
                       stacklevel=2)
-    if not paths.branches and not hybrid:
+    if not branches:
         warnings.warn(f"no admissible periodic response in T1 = {_interval(domain.T1)}, T2 = {_interval(domain.T2)} "
                       f"(forcing periods T in {_interval((domain.T1[0] + domain.T2[0], domain.T1[1] + domain.T2[1]))})"
                       f" on grid = {case.grid}; widen T1/T2 (default (0, T0/2] each) or refine the grid",
                       CoarseGridWarning, stacklevel=2)
-    return Result(case, paths, time.perf_counter() - t0, hybrid, t_search - t_paper, t_end - t_search)
+    return Result(case, paths, branches, time.perf_counter() - t0, t_search - t_paper, t_end - t_search)
 
 
 def _no_paths(prob, domain, case: Case) -> Paths:
@@ -173,37 +185,49 @@ def _interval(r) -> str:
     return f"[{r[0]:.6g}, {r[1]:.6g}]"
 
 
-def _first_hybrid_id(res: Result) -> int:
-    return max((b.id for b in res.branches), default=-1) + 1
+def branch_rows(branches) -> list[np.ndarray]:
+    """The columns of ``paths.csv`` (:data:`CSV_HEADER` order), one row per orbit of every branch.
+
+    ``T1`` and ``T2`` are the total stuck and free time over the orbit (``m`` periods), ``dPL`` the loss over the
+    orbit, ``phi`` and ``durations`` those of its canonical rotation (:func:`plbar.periodic.canonical`); for the
+    paper's class they are the paper's ``T^I, T^II, phi`` and ``Delta_PL``.
+    """
+    cols: dict = {k: [] for k in CSV_HEADER}
+    for b in branches:
+        graze = b.grazing
+        for j, o in enumerate(b.orbits):
+            _, d, phi = canonical(o)                 # the durations and phase of the canonical rotation
+            row = {"branch": b.id, "T1": float(d[0::2].sum()), "T2": float(d[1::2].sum()), "phi": phi, "T": o.T,
+                   "dPL": o.dPL, "xi": o.xi, "grazing": int(graze[j]), "stable": int(b.stable[j]),
+                   "max_abs_multiplier": float(b.max_abs_multiplier[j]), "max_abs_xc": o.amplitude,
+                   "omega": 2 * np.pi / o.T, "xi_w": o.xi_w, "viscous_loss": o.viscous,
+                   "zeta_rayleigh": o.xi_total - o.xi, "xi_total": o.xi_total, "m": o.sig.m, "k": o.sig.k,
+                   "signature": b.label, "loss_per_T": o.loss_per_T, "durations": ";".join(f"{x:.17g}" for x in d)}
+            for k, v in row.items():
+                cols[k].append(v)
+    return [np.array(cols[k], dtype=object if k in TEXT_COLUMNS else None) if cols[k] else np.zeros(0)
+            for k in CSV_HEADER]
 
 
-def _rows(res: Result):
-    cols = {k: [] for k in CSV_HEADER}
-    for b in res.branches:
-        cols["branch"].append(np.full(len(b), b.id))
-        cols["T1"].append(b.T1)
-        cols["T2"].append(b.T2)
-        cols["phi"].append(np.mod(b.phi, 2 * np.pi))
-        cols["T"].append(b.T)
-        cols["dPL"].append(b.dPL)
-        cols["xi"].append(b.xi)
-        cols["grazing"].append(b.grazing.astype(int))
-        cols["stable"].append(b.stable.astype(int))
-        cols["max_abs_multiplier"].append(b.max_abs_multiplier)
-        cols["max_abs_xc"].append(contact_amplitude(b.orbits))          # the amplitude the plot shows
-        cols["omega"].append(2 * np.pi / b.T)
-        cols["xi_w"].append(b.xi_w)
-        cols["viscous_loss"].append(b.viscous)
-        cols["zeta_rayleigh"].append(b.damping.zeta_rayleigh)
-        cols["xi_total"].append(b.xi_total)
-        cols["m"].append(np.ones(len(b), int))
-        cols["k"].append(np.ones(len(b), int))
-        cols["signature"].append(np.full(len(b), "1P", dtype=object))
-        cols["loss_per_T"].append(b.dPL)
-        cols["durations"].append(np.array([f"{a:.17g};{c:.17g}" for a, c in zip(b.T1, b.T2)], dtype=object))
-    for k, v in hybrid_rows(res.hybrid, _first_hybrid_id(res)).items():
-        cols[k].append(np.array(v, dtype=object if k in TEXT_COLUMNS else None))
-    return [np.concatenate(cols[k]) if cols[k] else np.zeros(0) for k in CSV_HEADER]
+def branch_summary(branches) -> list[dict]:
+    """One entry per branch for ``summary.json``."""
+    out = []
+    for b in branches:
+        out.append({"branch": b.id, "signature": b.label, "family": b.sig.family, "m": b.sig.m, "k": b.sig.k,
+                    "points": len(b),
+                    "T_range": [float(b.T.min()), float(b.T.max())],
+                    "T1_range": [float(b.T1.min()), float(b.T1.max())],
+                    "T2_range": [float(b.T2.min()), float(b.T2.max())],
+                    "xi_range": [float(b.xi.min()), float(b.xi.max())],
+                    "dPL_range": [float(b.dPL.min()), float(b.dPL.max())],
+                    "loss_per_T_range": [float(b.loss_per_T.min()), float(b.loss_per_T.max())],
+                    "viscous_loss_range": [float(b.viscous.min()), float(b.viscous.max())],
+                    "xi_total_range": [float(b.xi_total.min()), float(b.xi_total.max())],
+                    "grazing_points": int(b.grazing.sum()),
+                    "stable_points": int(b.stable.sum()),
+                    "ends": list(b.ends),
+                    "events": [{"kind": e["kind"], "index": int(e["index"]), "T": float(e["T"])} for e in b.events]})
+    return out
 
 
 def read_paths(path) -> dict[str, np.ndarray]:
@@ -264,7 +288,7 @@ def write_results(res: Result, out, overwrite: bool = False) -> dict[str, Path]:
         raise InputError(f"res = {show(res)} is not a plbar.Result; get one from plbar.solve(case)")
     out = Path(out)
     with check_output(res.case, out, overwrite) as claim:     # undone on a failure; its lock released after
-        rows = _rows(res)
+        rows = branch_rows(res.branches)
         summary = res.summary()
         check_finite("paths.csv", dict(zip(CSV_HEADER, rows)))
         check_finite("summary.json", summary)

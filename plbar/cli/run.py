@@ -24,14 +24,15 @@ SEARCH = ("grid", "T1", "T2", "method", "signatures")
 
 def _line(b: dict, damped: bool = False) -> str:
     tot = (f", with Rayleigh in [{b['xi_total_range'][0]:.4g}, {b['xi_total_range'][1]:.4g}]" if damped else "")
-    return (f"  branch {b['branch']:3d}: {plural(b['points'], 'point', width=4)}, T in [{b['T_range'][0]:.5g}, "
+    return (f"  branch {b['branch']:3d} {b['signature']:6s}: {plural(b['points'], 'point', width=4)}, T in "
+            f"[{b['T_range'][0]:.5g}, "
             f"{b['T_range'][1]:.5g}], xi_eq in [{b['xi_range'][0]:.4g}, {b['xi_range'][1]:.4g}]{tot}, "
             f"{b['stable_points']} stable")
 
 
 def _stable_lines(summary: dict, survey: str) -> list[str]:
     """What to look at first: the stable points (what a real bar can settle on), or, without any, the survey."""
-    brs = summary["branches"] + summary.get("other_signatures", [])
+    brs = summary["branches"]
     total, stable = sum(b["points"] for b in brs), sum(b["stable_points"] for b in brs)
     if not total:
         return []                                      # nothing found: said by solve's warning
@@ -57,13 +58,17 @@ def _window(summary: dict, survey: str, units: str = "") -> list[str]:
 
 def _human(summary: dict, files: dict, verbose: bool, survey: str = "", units: str = "") -> str:
     brs = summary["branches"]
+    paper = [b for b in brs if b["signature"] == PAPER_SIGNATURE]
+    e = summary["case"].get("restitution")
     lines = [f"plbar: {summary['bar']}; load {summary['load']}",
              f"  fundamental periods T0_I = {summary['T0_I']:.6g}, T0_II = {summary['T0_II']:.6g}",
              *_window(summary, survey, units),
-             f"  {plural(summary['n_branches'], 'branch')}, {plural(summary['n_points'], 'admissible path point')} "
-             f"of the paper's class in {summary['paper_time']:.3g} s" if not summary["case"].get("restitution") else
-             f"  the paper's class: none (restitution e = {summary['case']['restitution']:g}: it needs a plastic "
-             "impact); every response below has rebounds (R) or chatters (R...RP)", *_stable_lines(summary, survey)]
+             f"  {plural(summary['n_branches'], 'branch')}, {plural(summary['n_points'], 'admissible point')}; "
+             f"the paper's class ({PAPER_SIGNATURE}): {plural(len(paper), 'branch')}, "
+             f"{plural(sum(b['points'] for b in paper), 'point')}" if not e else
+             f"  {plural(summary['n_branches'], 'branch')}, {plural(summary['n_points'], 'admissible point')}; the "
+             f"paper's class: none (restitution e = {e:g}: it needs a plastic impact); every response has rebounds "
+             "(R) or chatters (R...RP)", *_stable_lines(summary, survey)]
     if summary.get("rayleigh"):
         lines.insert(4, f"  Rayleigh damping alpha = {summary['rayleigh'][0]:.6g}, beta = {summary['rayleigh'][1]:.6g}")
     order = sorted(brs, key=lambda b: (b["stable_points"] == 0, -b["xi_range"][1]))
@@ -79,19 +84,12 @@ def _human(summary: dict, files: dict, verbose: bool, survey: str = "", units: s
         lines.append(f"  ... {plural(len(rest), 'more branch')} with {plural(sum(b['points'] for b in rest), 'point')} "
                      f"(max xi_eq {max(b['xi_range'][1] for b in rest):.4g}; {short} with fewer than "
                      f"{MIN_BRANCH_POINTS} points): all in paths.csv and summary.json")
-    found = summary.get("other_signatures", [])
-    if found:
-        by = {}
-        for b in found:                  # chattering orbits (R...RP) by family: their count of rebounds varies
+    if summary.get("signatures", "default") != "paper":
+        by: dict = {}
+        for b in brs:                  # chattering orbits (R...RP) by family: their count of rebounds varies
             by.setdefault(b.get("family", b["signature"]), []).append(b)
-        paper = by.pop(PAPER_SIGNATURE, [])
-        other = [b for bs in by.values() for b in bs]
-        if paper:
-            lines.append(f"  and {plural(len(paper), 'branch')} of the paper's class ({PAPER_SIGNATURE}) beyond its "
-                         f"scan, {plural(sum(b['points'] for b in paper), 'point')}, found by the signature search")
-        lines.append(f"  other signatures ({summary['signatures']}): {len(other)} branch(es), "
-                     f"{sum(b['points'] for b in other)} admissible points, in {summary['signatures_time']:.3g} s "
-                     "more (its simulation from rest ran beside the paper's class):")
+        lines.append(f"  by signature ({summary['signatures']}; found in {summary['paper_time']:.3g} s of scan and "
+                     f"{summary['signatures_time']:.3g} s more):")
         for lab, bs in by.items():
             lo, hi = min(b["T_range"][0] for b in bs), max(b["T_range"][1] for b in bs)
             sigs = sorted({b["signature"] for b in bs}, key=lambda x: (len(x), x))
@@ -100,7 +98,7 @@ def _human(summary: dict, files: dict, verbose: bool, survey: str = "", units: s
             lines.append(f"    {lab:8s} {len(bs):3d} branch(es), T in [{lo:.5g}, {hi:.5g}], xi_eq up to "
                          f"{max(b['xi_range'][1] for b in bs):.4g}, {sum(b['stable_points'] for b in bs)} stable "
                          f"points{what}")
-    elif summary.get("signatures", "default") == "paper":
+    else:
         lines.append("  (the paper's class only: without --signatures paper, plbar run adds zero-dwell impacts, "
                      "subharmonics and several impacts per period)")
     lines.append(f"  total {summary['run_time']:.3g} s")
@@ -158,7 +156,7 @@ def _cmd_run(a) -> int:
     s = res.summary()
     warn_damping_fit(a, [t for b in s["branches"] for t in b["T_range"]])
     note_no_contact_mass(a, case)
-    report(a, s, files, _human(s, files, a.verbose, case_flags(a, skip=SEARCH), unit_note(res.paths.prob.bar)))
+    report(a, s, files, _human(s, files, a.verbose, case_flags(a, skip=SEARCH), unit_note(res.prob.bar)))
     return 0
 
 

@@ -1,6 +1,7 @@
 """Branches of periodic responses of every signature, found without the user (FORMULATION §8).
 
-:func:`find_hybrid` seeds, follows and checks:
+:func:`find_branches` seeds, follows and checks (the paper's class ``1P`` comes from the paper's scan of ``G`` and its
+continuation in ``(T^I, T^II)``, :func:`plbar.find_paths`, made branches of this record by :func:`from_paths`):
 
 1. the zero-dwell class ``1Z`` on a grid of the period window (closed form, :func:`.seeds.zero_dwell`); with a
    coefficient of restitution ``e > 0`` the class ``1R`` (one rebound per period) instead, the same closed form;
@@ -22,7 +23,7 @@ are kept once.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -36,11 +37,12 @@ from .signature import ONE_REBOUND, PAPER, ZERO_DWELL, Signature
 from .solve import Orbit, NotConverged, orbit_at, polish
 from .verify import admissible
 
-__all__ = ["Branch", "find_hybrid", "KINDS", "PD", "NS", "FOLD", "GRAZING", "DWELL_ZERO"]
+__all__ = ["Branch", "find_branches", "from_paths", "KINDS", "PD", "NS", "FOLD", "GRAZING", "DWELL_ZERO"]
 
 KINDS = ("paper", "default", "all")
 PD, NS, FOLD = PERIOD_DOUBLING, NEIMARK_SACKER, FOLD_T
 DWELL_ZERO = "stuck phase -> 0"     #: event kind: a stuck phase shrinks to zero (the signature changes)
+PREMATURE = "premature switch"      #: branch end: the next point on its curve switches prematurely
 M_MAX = 4                 #: longest orbit (in forcing periods) seeded by period doublings
 STABLE_TOL = 1e-9
 
@@ -59,6 +61,12 @@ class Branch:
     events : list of dict
         ``kind`` (:data:`PD`, :data:`NS`, :data:`FOLD`, :data:`GRAZING` where the branch stops being admissible,
         :data:`DWELL_ZERO` where a stuck phase shrinks to zero), ``index``, ``T``.
+    ends : (str, str)
+        What ended the branch at its first and last point: :data:`PREMATURE` (the next point on the curve switches
+        prematurely), or why the curve itself ended (:mod:`.follow`: ``"window"``, ``"dwell->0"``, ...; the
+        paper's class: :attr:`plbar.paths.Branch.ends`).
+    grazing_points : ndarray of bool, optional
+        Per point, a grazing contact (the paper's class: its dense admissibility check).
     """
 
     id: int
@@ -67,6 +75,8 @@ class Branch:
     stable: np.ndarray = field(repr=False)
     max_abs_multiplier: np.ndarray = field(repr=False)
     events: list = field(default_factory=list, repr=False)
+    ends: tuple = ("", "")
+    grazing_points: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def label(self) -> str:
@@ -94,6 +104,55 @@ class Branch:
     @property
     def xi_w(self):
         return self._a("xi_w")
+
+    @property
+    def xi_total(self):
+        return self._a("xi_total")
+
+    @property
+    def viscous(self):
+        return self._a("viscous")
+
+    @property
+    def amplitude(self):
+        """``max |x_c|`` of each orbit (:attr:`Orbit.amplitude`)."""
+        return self._a("amplitude")
+
+    @property
+    def T1(self):
+        """The total stuck time over each orbit (``m`` periods): the paper's ``T^I`` for ``1P``."""
+        return np.array([o.durations[0::2].sum() for o in self.orbits])
+
+    @property
+    def T2(self):
+        """The total free time over each orbit: the paper's ``T^II`` for ``1P``."""
+        return np.array([o.durations[1::2].sum() for o in self.orbits])
+
+    @property
+    def grazing(self):
+        """Per point: a grazing contact (:attr:`grazing_points`, where the paper's dense admissibility check gives
+        them); else the branch ends there because the next point on its curve switches prematurely (a grazing
+        contact or a premature opening: :data:`GRAZING` events)."""
+        if self.grazing_points is not None:
+            return self.grazing_points
+        g = np.zeros(len(self), bool)
+        for e in self.events:
+            if e["kind"] == GRAZING:
+                g[e["index"]] = True
+        return g
+
+    @property
+    def paper(self) -> bool:
+        """Of the paper's class (signature ``1P``)."""
+        return self.sig.canonical() == PAPER
+
+    def describe(self) -> str:
+        """One line: id, signature, points, ``T`` and ``xi`` ranges, stable points, events by kind, the ends."""
+        kinds = [e["kind"] for e in self.events]
+        ev = ", ".join(f"{k}: {kinds.count(k)}" for k in dict.fromkeys(kinds))
+        return (f"branch {self.id} ({self.label}): {len(self)} points, T in {rng(self.T)}, xi in {rng(self.xi)}, "
+                f"stable {count(self.stable)}" + (f", events {{{ev}}}" if ev else "") +
+                f", ends: {' / '.join(self.ends)}")
 
     @property
     def phi(self):
@@ -232,13 +291,11 @@ def _paper_doublings(prob, paper_branches) -> list[Orbit]:
     """Seeds of ``m = 2`` at the period doublings of the paper's branches (the point beyond the crossing)."""
     out = []
     for b in paper_branches:
-        o = b.orbits
         for e in b.events:
             if e["kind"] != PD:
                 continue
             for i in {max(e["index"] - 1, 0), min(e["index"], len(b) - 1)}:
-                X = np.concatenate([o.eta0[i], o.v0[i], [o.T1[i], o.T2[i], o.phi[i]]])
-                orb = orbit_at(prob, PAPER, float(o.T[i]), X)
+                orb = b.orbits[i]
                 mu = _mults(prob, [orb])[0]
                 if np.any(np.abs(mu.imag) < 1e-9 * np.abs(mu) + 1e-12) and np.any(mu.real < -1):
                     out.extend(doubled(prob, orb))
@@ -250,10 +307,8 @@ def _paper_ends(prob, paper_branches, window, st) -> list[Orbit]:
     out = []
     short = FollowSettings(h0=st.h0, h_min=st.h_min, h_max=st.h_max, max_points=4, newton=st.newton)
     for b in paper_branches:
-        o = b.orbits
         for i in {0, len(b) - 1}:
-            X = np.concatenate([o.eta0[i], o.v0[i], [o.T1[i], o.T2[i], o.phi[i]]])
-            orb = orbit_at(prob, PAPER, float(o.T[i]), X)
+            orb = b.orbits[i]
             for direction in (1.0, -1.0):
                 orbs, _ = follow(prob, PAPER, orb, window, direction, short)
                 ok = admissible(orbs[1:])
@@ -263,17 +318,36 @@ def _paper_ends(prob, paper_branches, window, st) -> list[Orbit]:
     return out
 
 
-def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), extra_seeds=(),
-                kinds: str = "default", grid: int = 400, settings: FollowSettings | None = None,
-                m_max: int = M_MAX, progress=None) -> list[Branch]:
-    """Branches of every signature but the paper's class reachable from the seeds (see the module docstring).
+def from_paths(prob: Problem, paper_branches) -> list[Branch]:
+    """The branches of the paper's class of :func:`plbar.find_paths` (its record: closed-form orbits in
+    ``(T^I, T^II, phi)``) as branches of this record: every point the chain's exact orbit of signature ``1P``
+    (:func:`.solve.orbit_at`: residuals recomputed from the flow, the loss ``S v_c^2 / 2``, ``xi_eq`` over the
+    chain's segments), the stability, the events, the ends and the grazing points (its dense admissibility check)
+    the paper's class found."""
+    out = []
+    for b in paper_branches:
+        o = b.orbits
+        X = np.concatenate([o.eta0, o.v0, np.c_[o.T1, o.T2, o.phi]], axis=1)
+        orbs = tuple(orbit_at(prob, PAPER, float(o.T[i]), X[i]) for i in range(len(b)))
+        ev = [{"kind": e["kind"], "index": int(e["index"]), "T": float(e["T"])} for e in b.events]
+        out.append(Branch(b.id, PAPER, orbs, np.asarray(b.stable, bool), np.asarray(b.max_abs_multiplier, float),
+                          ev, tuple(b.ends), np.asarray(b.grazing, bool)))
+    return out
 
-    ``paper_branches`` are the branches of :func:`plbar.find_paths` (their period doublings and ends seed
-    other signatures), ``extra_seeds`` any other orbits.  ``kinds = "paper"`` returns nothing.  ``progress``
-    (optional) is called once per curve followed.
+
+def find_branches(prob: Problem, window: tuple[float, float], paper_branches=(), extra_seeds=(),
+                  kinds: str = "default", grid: int = 400, settings: FollowSettings | None = None,
+                  m_max: int = M_MAX, progress=None) -> list[Branch]:
+    """Every branch: the paper's class, then every other signature reachable from the seeds (see the module
+    docstring).
+
+    ``paper_branches`` are the paper's class (:func:`from_paths` of :func:`plbar.find_paths`: their period
+    doublings and ends seed other signatures), ``extra_seeds`` any other orbits.  ``kinds = "paper"`` returns the
+    paper's branches alone.  ``progress`` (optional) is called once per curve followed.  The paper's class comes
+    first (:func:`_numbered`), ids in that order.
     """
     if kinds == "paper":
-        return []
+        return _numbered(paper_branches, [])
     st = settings or FollowSettings()
     queue = list(_zero_dwell_seeds(prob, window, grid)) + _paper_doublings(prob, paper_branches) + \
         _paper_ends(prob, paper_branches, window, st) + list(extra_seeds)
@@ -315,7 +389,16 @@ def find_hybrid(prob: Problem, window: tuple[float, float], paper_branches=(), e
             k = j + 1 if ok[j] else j
             queue.extend(split(prob, orbs[k]))
         branches.extend(_admissible_runs(orbs, ok, mus, ev, len(branches), ends))
-    return branches
+    return _numbered(paper_branches, branches)
+
+
+def _numbered(paper_branches, found: list) -> list[Branch]:
+    """The paper's branches in their order (ids unchanged: :func:`plbar.find_paths` numbers them by lowest ``T``),
+    then those of the paper's class found here (off its domain) by lowest ``T``, then the others as found; ids
+    ``0, 1, ...`` in that order."""
+    off = sorted((b for b in found if b.paper), key=lambda b: float(b.T.min()))
+    rest = [b for b in found if not b.paper]
+    return [replace(b, id=i) for i, b in enumerate(list(paper_branches) + off + rest)]
 
 
 def _admissible_runs(orbs, ok, mus, ev, first_id: int, ends=("", "")) -> list[Branch]:
@@ -339,6 +422,7 @@ def _admissible_runs(orbs, ok, mus, ev, first_id: int, ends=("", "")) -> list[Br
                 evs.append({"kind": GRAZING, "index": k - i, "T": orbs[k].T})
             elif end == END_DWELL:
                 evs.append({"kind": DWELL_ZERO, "index": k - i, "T": orbs[k].T})
-        out.append(Branch(first_id + len(out), orbs[i].sig, tuple(orbs[i:j]), mx < 1 - STABLE_TOL, mx, evs))
+        why = tuple(PREMATURE if 0 <= beyond < n else end for beyond, end in ((i - 1, ends[0]), (j, ends[1])))
+        out.append(Branch(first_id + len(out), orbs[i].sig, tuple(orbs[i:j]), mx < 1 - STABLE_TOL, mx, evs, why))
         i = j
     return out

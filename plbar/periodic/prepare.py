@@ -1,4 +1,4 @@
-"""The compiled chain's first compile: whether it is due, and doing it ahead on an orbit of the paper's class.
+"""The compiled chain's first compile: whether it is due, and doing it on an orbit of the paper's class.
 
 The chain's kernel (:mod:`plbar.periodic.kernel`) compiles on its first use after an install (or an upgrade of
 plbar or numba), undamped and damped apart, and is cached on disk.  :func:`prepare` runs each of its entry points
@@ -17,7 +17,7 @@ from .chain import model
 from .floquet import monodromy, multipliers
 from .follow import FollowSettings, follow
 from .signature import PAPER
-from .solve import NotConverged, orbit_at, polish
+from .solve import NotConverged, Orbit, orbit_at, polish
 
 __all__ = ["compiled", "prepare"]
 
@@ -35,19 +35,16 @@ def compiled(prob: Problem) -> bool:
     return jit.is_compiled(kernel().step, _kind(prob), STAMP)
 
 
-def prepare(prob: Problem, paper_branches) -> None:
-    """Compile (or load) every entry point of the chain's kernel for ``prob`` on the first point of the paper's
-    branches (nothing where there is none: the search compiles them as it goes)."""
+def prepare(prob: Problem, seed: Orbit | None) -> None:
+    """Compile (or load) every entry point of the chain's kernel for ``prob`` on ``seed``, an orbit of the paper's
+    class (nothing where there is none: the search compiles them as it goes)."""
     from ..motion.kernel import jit
 
     from .kernel.stamp import STAMP
 
-    b = next((b for b in paper_branches if len(b)), None)
-    if b is None:
+    if seed is None:
         return
-    o = b.orbits
-    X = np.concatenate([o.eta0[0], o.v0[0], [o.T1[0], o.T2[0], o.phi[0]]])
-    T = float(o.T[0])
+    T, X = seed.T, seed.X
     orb = orbit_at(prob, PAPER, T, X)
     _ = orb.xi, orb.amplitude
     multipliers(monodromy(prob, PAPER, T, orb.phi, orb.chain))

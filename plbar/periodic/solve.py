@@ -26,6 +26,7 @@ __all__ = ["Orbit", "NotConverged", "polish", "orbit_at", "ACCEPT", "ROUNDOFF"]
 
 ACCEPT = 1e-11     #: largest relative residual Newton accepts as converged
 ROUNDOFF = 1e-13   #: the residual every reported orbit reaches (polish tightens to it)
+AMPLITUDE_SAMPLES = 400   #: samples of each free phase for ``max |x_c|`` (``paths.csv``'s ``max_abs_xc``)
 REPEAT_TOL = 1e-9  #: an orbit repeats a shorter one when its state comes back to this (relative) after it
 
 
@@ -165,7 +166,8 @@ class Orbit:
 
     @cached_property
     def amplitude(self) -> float:
-        """``max |x_c|`` over the orbit, sampled on every free phase (200 points each, as the paper's class)."""
+        """``max |x_c|`` over the orbit, sampled on every free phase (:data:`AMPLITUDE_SAMPLES` equally spaced points
+        each, its ends included: the paper's class as :meth:`plbar.response.Orbits.max_gap`)."""
         return _energy(self.prob, self.sig, self.chain, self.T, self.phi, compiled().AMPLITUDE)[0]
 
     def __repr__(self) -> str:
@@ -189,10 +191,11 @@ def _duration_slots(sig: Signature) -> np.ndarray:
 
 def _energy(prob: Problem, sig: Signature, ch: Chain, T: float, phi: float, what: int) -> tuple[float, float, float]:
     """``sum_j w_j Psi_j``, ``sum_j Psi_j`` and the viscous loss ``sum_j 2 zeta_j w_j Psi_j`` over every segment of an
-    evaluated chain (Eqs. (20)-(21); damped velocities with inherent damping), or ``(max |x_c|, 0, 0)`` over 200
-    samples of every free phase (compiled: :mod:`plbar.periodic.kernel.energy`)."""
+    evaluated chain (Eqs. (20)-(21); damped velocities with inherent damping), or ``(max |x_c|, 0, 0)`` over
+    :data:`AMPLITUDE_SAMPLES` samples of every free phase (compiled: :mod:`plbar.periodic.kernel.energy`)."""
     md, damping = model(prob)
-    return compiled().energy(md, damping, dwell_of(sig), float(T), float(phi), ch.times, ch.states, what, 200)
+    return compiled().energy(md, damping, dwell_of(sig), float(T), float(phi), ch.times, ch.states, what,
+                             AMPLITUDE_SAMPLES)
 
 
 def orbit_at(prob: Problem, sig: Signature, T: float, X, ch: Chain | None = None) -> Orbit:

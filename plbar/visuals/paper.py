@@ -42,7 +42,7 @@ def nearest_point(res, fams, target, family: str | None = None):
         The single orbit, its branch, its index on the branch and the distance.
     """
     best = None
-    for b, f in zip(res.branches, fams):
+    for b, f in zip(res.paths.branches, fams):
         if family is not None and f != family:
             continue
         d = np.hypot(b.T1 - target[0], b.T2 - target[1])
@@ -77,7 +77,7 @@ def draw_fig2(out, res, fams, points=None) -> list[Path]:
     ax3 = fig.add_subplot(1, 2, 1, projection="3d")
     ax2 = fig.add_subplot(1, 2, 2)
     seen = set()
-    for b, f in zip(res.branches, fams):
+    for b, f in zip(res.paths.branches, fams):
         c, lab = FAM_STYLE[f]
         lab = lab if f not in seen else None
         seen.add(f)
@@ -94,7 +94,7 @@ def draw_fig2(out, res, fams, points=None) -> list[Path]:
     fig.get_layout_engine().set(wspace=0.08)
     ax2.set(xlabel=TI, ylabel=TII, title="b) $T^I$-$T^{II}$ plane")
     ax2.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), frameon=False)     # outside: never on a branch
-    s = res.paths.prob.system
+    s = res.prob.system
     fig.suptitle(f"Periodic paths, chain N = {s.n}, unit force on DOF 1 "
                  f"($T_0^I$ = {s.T0[0]:.3f}, $T_0^{{II}}$ = {s.T0[1]:.3f})")
     return _save(fig, out, "fig2_paths")
@@ -110,7 +110,7 @@ def draw_fig3(out, res, fams, points=None) -> list[Path]:
     """Fig. 3: displacement of every DOF over two periods at the red and green points (``points`` as in
     :func:`draw_fig2`)."""
     plt = _plt()
-    n = res.paths.prob.system.n
+    n = res.prob.system.n
     fig, axes = plt.subplots(n, 2, figsize=(10, 1.5 * n + 1), sharex="col")
     for col, nm in enumerate(("red", "green")):
         o, _, _ = _sample(res, fams, points, nm)
@@ -161,7 +161,7 @@ def draw_fig5(out, res, fams) -> list[Path]:
                                            ("xi", r"$\xi_{eq}$", "b) equivalent viscous damping ratio"))):
         ax = fig.add_subplot(1, 2, k + 1, projection="3d")
         seen = set()
-        for b, f in zip(res.branches, fams):
+        for b, f in zip(res.paths.branches, fams):
             c, lab = FAM_STYLE[f]
             ax.plot(b.T, np.mod(b.phi, 2 * np.pi), getattr(b, attr), ".-", color=c, ms=2, lw=0.8,
                     label=lab if f not in seen else None)
@@ -179,7 +179,7 @@ def draw_fig6(out, res, fams, points=None) -> list[Path]:
     plt = _plt()
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
     for ax, fam, lab in zip(axes, FAMILIES, "ab"):
-        for b, f in zip(res.branches, fams):
+        for b, f in zip(res.paths.branches, fams):
             if f == fam:
                 ax.plot(b.T, b.xi, ".-", color=FAM_STYLE[fam][0], ms=3, lw=1)
         ax.set(xlabel=T_, ylabel=XI, title=f"{lab}) {FAM_STYLE[fam][1]}")
@@ -188,7 +188,7 @@ def draw_fig6(out, res, fams, points=None) -> list[Path]:
         ax = axes[0] if col == "red" else axes[1]
         ax.plot(o.T[0], xi, "o", color=col, mec="k", ms=7, label=f"{col} point: {xi:.4f}")
         ax.legend()
-    T0 = res.paths.prob.system.T0
+    T0 = res.prob.system.T0
     axes[0].axvline(T0[0], color="k", ls=":", lw=0.8)
     axes[1].axvline(T0[1] / 2, color="k", ls=":", lw=0.8)
     fig.tight_layout()
@@ -198,7 +198,7 @@ def draw_fig6(out, res, fams, points=None) -> list[Path]:
 def draw_fig7(out, cases, fams_list) -> list[Path]:
     """Fig. 7: responses of every DOF at the red/green points for loads on DOF 1..N-1."""
     plt = _plt()
-    n = cases[0].paths.prob.system.n
+    n = cases[0].prob.system.n
     fig, axes = plt.subplots(n, 2, figsize=(10, 1.5 * n + 1), sharex="col")
     for col, (tgt, nm) in enumerate(((RED, "red"), (GREEN, "green"))):
         for li, (res, fams) in enumerate(zip(cases, fams_list)):
@@ -227,11 +227,11 @@ def draw_fig8(out, cases, fams_list) -> list[Path]:
     for li, (res, fams) in enumerate(zip(cases, fams_list)):
         for ax, fam in zip(axes, FAMILIES):
             first = True
-            for b, f in zip(res.branches, fams):
+            for b, f in zip(res.paths.branches, fams):
                 if f == fam:
                     ax.plot(b.T, b.xi, ".-", color=DOF_COLORS[li], ms=2.5, lw=1,
                             label=f"DOF {li + 1} forced (max "
-                                  f"{max(x.xi.max() for x, g in zip(res.branches, fams) if g == fam):.4f})"
+                                  f"{max(x.xi.max() for x, g in zip(res.paths.branches, fams) if g == fam):.4f})"
                             if first else None)
                     first = False
     for ax, fam, lab in zip(axes, FAMILIES, "ab"):

@@ -14,7 +14,7 @@ from ..paths import FOLD_MU, FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING
 from ..util.files import atomic_path
 from .style import PAPER_SIGNATURE, signature_styles, unit_note, with_units
 
-__all__ = ["frequency_response", "paths_plane", "contact_amplitude", "xi_load_map", "FAM_STYLE", "DOF_COLORS",
+__all__ = ["frequency_response", "paths_plane", "xi_load_map", "FAM_STYLE", "DOF_COLORS",
            "FAMILIES"]
 
 FAMILIES = ("T0_I", "T0_II/2")      #: the branch families drawn in their own colours
@@ -71,20 +71,15 @@ def _picked(xs, ys, masks):
             np.concatenate([np.asarray(y)[m] for y, m in zip(ys, masks)]))
 
 
-def contact_amplitude(orb, samples: int = 400) -> np.ndarray:
-    """``max_t |x_c(t)|`` of each orbit (the contact node moves in state II only; :meth:`plbar.response.Orbits.max_gap`,
-    on 400 points computed once per orbit)."""
-    return orb.amplitude if samples == 400 else orb.max_gap(samples)
-
-
 def _event_points(branches, y=None) -> dict:
     """Event kind -> ``(T1, T2, T, y)`` rows of its events (``y``: per-branch values, default ``xi``)."""
     pts: dict = {}
     for j, b in enumerate(branches):
         yy = b.xi if y is None else y[j]
+        T1, T2 = b.T1, b.T2
         for e in b.events:
             i = e["index"]
-            pts.setdefault(e["kind"], []).append((e["T1"], e["T2"], e["T"], float(yy[i])))
+            pts.setdefault(e["kind"], []).append((T1[i], T2[i], e["T"], float(yy[i])))
     order = [k for k in EVENT_MARKS if k in pts] + sorted(set(pts) - set(EVENT_MARKS))
     return {k: np.array(pts[k], float).reshape(-1, 4) for k in order}
 
@@ -149,31 +144,31 @@ def frequency_response(res, out, name: str = "frequency_response", xi: str = "eq
     """
     plt = _plt()
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9.0, 6.2), sharex=True)
-    amps = [contact_amplitude(b.orbits) for b in res.branches]
-    st = [np.asarray(b.stable, bool) for b in res.branches]
-    for ax, ys in ((ax1, amps), (ax2, [b.xi if xi == "eq" else b.xi_w for b in res.branches])):
-        Ts = [b.T for b in res.branches]
+    paper = list(res.paper)
+    others = [b for b in res.branches if not b.paper]
+    amps = [b.amplitude for b in paper]
+    st = [np.asarray(b.stable, bool) for b in paper]
+    for ax, ys in ((ax1, amps), (ax2, [b.xi if xi == "eq" else b.xi_w for b in paper])):
+        Ts = [b.T for b in paper]
         ax.plot(*_joined(Ts, ys), "-", color="0.75", lw=0.8, zorder=1)
         ax.plot(*_picked(Ts, ys, st), "o", ms=2.6, color="tab:blue", ls="none", zorder=3)
         ax.plot(*_picked(Ts, ys, [~s for s in st]), "x", ms=2.6, color="tab:red", alpha=0.6, ls="none", zorder=2)
-    _draw_events(ax1, _event_points(res.branches, amps), (2, 3), label=False)
-    ev = _event_points(res.branches, None if xi == "eq" else [b.xi_w for b in res.branches])
+    _draw_events(ax1, _event_points(paper, amps), (2, 3), label=False)
+    ev = _event_points(paper, None if xi == "eq" else [b.xi_w for b in paper])
     _draw_events(ax2, ev, (2, 3))
-    _draw_signatures(ax1, ax2, getattr(res, "hybrid", ()), xi)
-    found = bool(res.branches or getattr(res, "hybrid", ()))
+    _draw_signatures(ax1, ax2, others, xi)
+    found = bool(res.branches)
     if found:                       # (without a response, T0's labels would lie far outside the range asked)
-        T0I, T0II = res.paths.prob.system.T0
+        T0I, T0II = res.prob.system.T0
         _anchors(ax1, T0I, T0II)
         _anchors(ax2, T0I, T0II, label=False)
-    units = unit_note(res.paths.prob.bar)
+    units = unit_note(res.prob.bar)
     ax1.set_ylabel(with_units(r"max $|x_c|$ (contact node)", units))
     ax2.set_ylabel(with_units(r"$\xi_{eq}$ (Eq. 22)" if xi == "eq" else r"$\xi_\omega$ (one frequency, the forcing's)",
                               "dimensionless"))
     ax2.set_xlabel(with_units("forcing period $T$", units))
-    paper = list(res.branches) + [b for b in getattr(res, "hybrid", ()) if b.label == PAPER_SIGNATURE]
     kinds = [(np.any(b.stable), np.any(~np.asarray(b.stable, bool))) for b in paper]
-    hollow = " (other signatures: hollow)" if any(b.label != PAPER_SIGNATURE for b in getattr(res, "hybrid", ())) \
-        else ""
+    hollow = " (other signatures: hollow)" if others else ""
     if any(k[0] for k in kinds):                                   # only the kinds present
         ax1.plot([], [], "o", color="tab:blue", label="1P (paper's class), stable")
     if any(k[1] for k in kinds):
@@ -186,10 +181,10 @@ def frequency_response(res, out, name: str = "frequency_response", xi: str = "eq
         ax1.set_yscale("log")
         _plain_log_ticks(ax1)
     else:                                   # nothing found: say so over the range asked (no log axis of nothing)
-        d = res.paths.domain
+        d = res.domain
         ax2.set_xlim(d.T1[0] + d.T2[0], d.T1[1] + d.T2[1])
         ax1.text(0.5, 0.5, "no admissible periodic response in this range", transform=ax1.transAxes, ha="center")
-    p = res.paths.prob
+    p = res.prob
     fig.suptitle(f"{p.bar.describe() if p.bar else ''}; load {p.load.describe() if p.load else ''}", fontsize=8)
     return _save(fig, out, name)[0]
 
@@ -254,21 +249,22 @@ def paths_plane(res, out, name: str = "paths_T1_T2") -> Path:
     """
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6.5, 5.2))
-    top = sorted(res.branches, key=lambda b: -float(b.xi.max()) if len(b) else 0.0)[:MAX_BRANCH_LABELS]
-    for b in res.branches:
+    paper = list(res.paper)
+    top = sorted(paper, key=lambda b: -float(b.xi.max()) if len(b) else 0.0)[:MAX_BRANCH_LABELS]
+    for b in paper:
         ax.plot(b.T1, b.T2, "-", lw=1.2)
-    ev = _event_points(res.branches)
+    ev = _event_points(paper)
     _draw_events(ax, ev, (0, 1))
-    units = unit_note(res.paths.prob.bar)
+    units = unit_note(res.prob.bar)
     ax.set_xlabel(with_units("$T^I$", units))
     ax.set_ylabel(with_units("$T^{II}$", units))
-    d = res.paths.domain
+    d = res.domain
     ax.set_xlim(*d.T1)
     ax.set_ylim(*d.T2)
     _branch_labels(ax, fig, top)                      # after the limits: positions in points are final
     if ev:
         ax.legend(fontsize=7, loc="best", framealpha=0.8)
-    more = len(res.branches) > len(top)
+    more = len(paper) > len(top)
     ax.set_title("periodic paths and events (#: branch id" +
                  (f", the {len(top)} with the largest $\\xi_{{eq}}$)" if more else ")"))
     return _save(fig, out, name)[0]

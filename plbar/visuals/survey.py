@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .plots import _edges, _plt, _save, contact_amplitude
+from .plots import _edges, _plt, _save
 from .style import signature_styles, with_units
 
 __all__ = ["survey_plot", "survey_damping_plot", "survey_loads_plot", "survey_restitution_plot"]
@@ -43,9 +43,9 @@ def _groups(table: dict):
     return out
 
 
-def _branches(axes, paths) -> None:
-    for b in paths.branches:
-        amp = contact_amplitude(b.orbits)
+def _branches(axes, branches) -> None:
+    for b in branches:
+        amp = b.amplitude
         st = np.asarray(b.stable, bool)
         for ax, y in zip(axes, (b.dPL, b.xi, amp)):
             ax.plot(b.T[st], y[st], ".", ms=1.8, color="tab:blue", zorder=1)
@@ -57,7 +57,8 @@ def _branches(axes, paths) -> None:
 def survey_plot(table: dict, out, name: str = "survey", paths=None, title: str = "", units: str = "") -> list[Path]:
     """Draw the survey (``table``: the columns of ``survey.csv``) into ``out/name.png`` and ``.pdf``.
 
-    ``units``: the bar's units (:func:`plbar.visuals.style.unit_note`), said on the axes.
+    ``units``: the bar's units (:func:`plbar.visuals.style.unit_note`), said on the axes; ``paths`` (optional):
+    branches (:class:`plbar.periodic.Branch`) drawn under the survey.
     """
     plt = _plt()
     fig, axes = plt.subplots(3, 1, figsize=(10.0, 8.6), sharex=True)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import plbar
-from plbar.app.signatures import SEED_PERIODS, Search, _seeding, _seeds, hybrid_window
+from plbar.app.signatures import SEED_PERIODS, Search, _seeding, _seeds, search_window
 
 
 def _seeding_threads():
@@ -22,9 +22,9 @@ def test_the_seeds_begun_beside_the_paper_solve_are_those_simulated_after_it():
     plbar.motion.prepare(prob, accounts=False)               # compiled: the search simulates in its thread
     with Search(prob, dom, "default") as search:
         assert search._future is not None
-        paths = plbar.find_paths(prob, dom, case.grid)
+        plbar.find_paths(prob, dom, case.grid)                  # the paper's class meanwhile
         beside = search._simulation()
-    after = _seeding(prob, hybrid_window(prob, paths.domain), "default")
+    after = _seeding(prob, search_window(prob, dom), "default")
     np.testing.assert_array_equal(beside.T, after.T)
     np.testing.assert_array_equal(beside.events["time"], after.events["time"])
     a, b = _seeds(prob, beside, "default"), _seeds(prob, after, "default")
@@ -41,7 +41,7 @@ def test_a_cancelled_search_stops_its_simulation_at_once():
     prob, dom = case.problem(), case.domain(plbar.Case().problem())
     plbar.motion.prepare(prob, accounts=False)
     t = time.perf_counter()
-    _seeding(prob, hybrid_window(prob, dom), "all")             # the whole simulation, for scale
+    _seeding(prob, search_window(prob, dom), "all")             # the whole simulation, for scale
     full = time.perf_counter() - t
     with pytest.raises(KeyError):
         with Search(prob, dom, "all"):

@@ -358,11 +358,9 @@ def test_write_csv_and_json_refuse_non_finite(tmp_path):
 def test_write_results_refuses_nan_and_writes_nothing(tmp_path):
     res = plbar.solve(plbar.Case(signatures="paper", n=3, grid=(24, 24), method="grid"))
     assert res.branches
-    b = res.branches[0]
-    bad = np.array(b.damping.xi, float)
-    bad[0] = np.nan
-    object.__setattr__(b.damping, "xi", bad)      # a nan slipped through the solver
-    with pytest.raises(NonFiniteError, match="paths.csv: xi"):
+    orb = res.branches[0].orbits[0]
+    orb.__dict__["dPL"] = np.nan                     # a nan slipped through the solver
+    with pytest.raises(NonFiniteError, match=r"paths.csv: dPL\[0\]"):
         plbar.write_results(res, tmp_path / "o")
     assert not (tmp_path / "o").exists() or list((tmp_path / "o").iterdir()) == []
 

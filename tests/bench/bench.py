@@ -150,7 +150,7 @@ def fmt_t(t):
 
 def reference_point(res):
     """Middle point of the longest branch of the default case, with its physical state."""
-    prob = res.paths.prob
+    prob = res.prob
     s = prob.system
     b = max(res.branches, key=len)
     k = len(b) // 2
@@ -290,7 +290,7 @@ def task_default_case(quick: bool) -> dict:
         ts.append(res.solver_time)
     t_pl = statistics.median(ts)
     c_pl = statistics.median(cs)
-    prob = res.paths.prob
+    prob = res.prob
     s = prob.system
     T0I, T0II = s.T0
     md = modal(s.M, s.K, prob.q)

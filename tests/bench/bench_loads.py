@@ -33,7 +33,7 @@ def bench(name: str, case: plbar.Case, old_samples: int) -> dict:
     t0 = time.perf_counter()
     res = plbar.solve(case)
     t_solve = time.perf_counter() - t0
-    L = res.paths.prob.bar.length
+    L = res.prob.bar.length
     s = np.linspace(0.0, L, POSITIONS + 1)[1:]
     t1 = time.perf_counter()
     lf = load_forms(res.paths)

@@ -3,8 +3,10 @@
     python tests/bench/compare_redesign_refs.py [--keep DIR]
 
 Runs the four commands of ``tests/data/redesign/README.md`` into a temporary folder and prints, per file, whether
-the rows are the same and the largest relative difference of each numeric column (paths: rows matched in order;
-a different row count is reported, not compared).
+the rows are the same and the largest relative difference of each numeric column (relative to the column's largest
+value).  ``paths.csv`` rows are matched by point, not by order (a redesign may renumber the branches): signature,
+``T`` and ``T1`` to 8 and 6 decimals; rows without a match are counted.  ``survey.csv`` rows are matched in order.
+Where the points differ, ``tests/bench/compare_curves.py`` says whether they lie on the same curves.
 """
 
 from __future__ import annotations
@@ -34,6 +36,28 @@ def _read(path: Path) -> tuple[list[str], list[list[str]]]:
     return rows[0], rows[1:]
 
 
+def _by_point(h0, r0, h1, r1):
+    """The matched row pairs of ``r0`` and ``r1`` (by signature, T, T1) and the count of rows without a match."""
+    cols = ("signature", "T", "T1")
+    k0, k1 = [h0.index(c) for c in cols], [h1.index(c) for c in cols]
+
+    def key(r, k):
+        return r[k[0]], round(float(r[k[1]]), 8), round(float(r[k[2]]), 6)
+
+    at: dict = {}
+    for j, r in enumerate(r1):
+        at.setdefault(key(r, k1), []).append(j)
+    a, b, missing = [], [], 0
+    for r in r0:
+        js = at.get(key(r, k0))
+        if js:
+            a.append(r)
+            b.append(r1[js.pop(0)])
+        else:
+            missing += 1
+    return a, b, missing + sum(len(v) for v in at.values())
+
+
 def compare(ref: Path, new: Path) -> list[str]:
     """Lines saying how ``new`` differs from ``ref``."""
     h0, r0 = _read(ref)
@@ -41,6 +65,13 @@ def compare(ref: Path, new: Path) -> list[str]:
     out = []
     if h0 != h1:
         out.append(f"  header differs: {sorted(set(h0) ^ set(h1))}")
+    if "signature" in h0 and "signature" in h1:
+        r0, r1, unmatched = _by_point(h0, r0, h1, r1)
+        if unmatched:
+            out.append(f"  {unmatched} rows without a match ({len(r0)} matched)")
+        j0, j1 = h0.index("branch"), h1.index("branch")
+        r0 = [r[:j0] + ["0"] + r[j0 + 1:] for r in r0]              # branch ids: renumbered, not compared
+        r1 = [r[:j1] + ["0"] + r[j1 + 1:] for r in r1]
     if len(r0) != len(r1):
         return out + [f"  rows {len(r0)} -> {len(r1)}"]
     for j, name in enumerate(h0):

@@ -182,7 +182,7 @@ def compare(base_path, new_path, argv) -> int:
         base = json.load(fh)
     if new_path is None:
         res = plbar.solve(case_of(argv))
-        new, prob = branches_of(res), res.paths.prob
+        new, prob = branches_of(res), res.prob
     else:
         with open(new_path) as fh:
             new = json.load(fh)

@@ -23,7 +23,7 @@ from plbar.periodic.solve import NotConverged
 
 def _candidates(res, label):
     """``(sig, orbits)`` of every branch of the result with canonical signature ``label``."""
-    prob = res.paths.prob
+    prob = res.prob
     out = []
     if label == "1P":
         for b in res.branches:
@@ -39,7 +39,7 @@ def _candidates(res, label):
 
 
 def covered(res, T: float, label: str, loss: float):
-    prob = res.paths.prob
+    prob = res.prob
     for sig, orbs in _candidates(res, label):
         Ts = np.array([o.T for o in orbs])
         if not (Ts.min() - 0.02 * T <= T <= Ts.max() + 0.02 * T):

@@ -23,7 +23,7 @@ from test_rebound_orbits import _fd_map, _modal, _section, _simulate  # noqa: E4
 for e in [float(x) for x in sys.argv[1:]] or [0.3, 0.6]:
     t0 = time.perf_counter()
     res = plbar.solve(plbar.Case(restitution=e))
-    prob = res.paths.prob
+    prob = res.prob
     orbs = [o for b in res.hybrid for o in b.orbits]
     stable = np.concatenate([b.stable for b in res.hybrid]) if res.hybrid else np.zeros(0, bool)
     print(f"e = {e}: {len(res.hybrid)} branches, {len(orbs)} points ({int(stable.sum())} stable), "

@@ -27,7 +27,7 @@ def _returns(prob, orb, k):
 
 
 def test_one_period_returns_to_periodic_state(default_result):
-    prob = default_result.paths.prob
+    prob = default_result.prob
     pts = good_points(default_result)
     assert len({id(o) for o, _ in pts}) >= 4 and len(pts) >= 12
     worst_z, worst_t = 0.0, 0.0
@@ -43,7 +43,7 @@ def test_one_period_returns_to_periodic_state(default_result):
 
 
 def test_period_map_fixed_point(default_result):
-    prob = default_result.paths.prob
+    prob = default_result.prob
     for orb, k in good_points(default_result, per_branch=1):
         xr, vr = periodic_state(orb)
         x1, v1 = period_map(prob, orb.T[k], orb.phi[k], xr[k], vr[k])
@@ -52,7 +52,7 @@ def test_period_map_fixed_point(default_result):
 
 
 def test_fe_p2_consistent_returns(fe_small):
-    prob = fe_small.paths.prob
+    prob = fe_small.prob
     assert not prob.system.lumped
     pts = good_points(fe_small, per_branch=3, min_len=10)
     assert len(pts) >= 3
@@ -66,7 +66,7 @@ def test_fe_p2_consistent_returns(fe_small):
 
 
 def test_history_matches_closed_form_orbit(default_result):
-    prob = default_result.paths.prob
+    prob = default_result.prob
     orb, k = good_points(default_result, per_branch=1)[0]
     o = orb.take([k])
     xr, vr = periodic_state(o)
@@ -83,7 +83,7 @@ def test_history_matches_closed_form_orbit(default_result):
 
 
 def test_impact_loss_equals_delta_pl(default_result):
-    prob = default_result.paths.prob
+    prob = default_result.prob
     for orb, k in good_points(default_result, per_branch=1):
         sim, _ = _returns(prob, orb, k)
         dpl = plbar.impact_loss(orb.take([k]))[0]
@@ -94,7 +94,7 @@ def test_impact_loss_equals_delta_pl(default_result):
 
 def test_free_vibration_energy(default_result):
     """q = 0: energy constant between events (1e-10 relative), each impact drops it by its own loss."""
-    prob = default_result.paths.prob
+    prob = default_result.prob
     n = prob.system.n
     free = dataclasses.replace(prob, q=np.zeros(n), f1=np.zeros(n - 1), f2=np.zeros(n), r_q=0.0)
     orb, k = good_points(default_result, per_branch=1)[0]
@@ -126,7 +126,7 @@ def test_free_vibration_energy(default_result):
 
 def test_forced_energy_budget(default_result):
     """100 forced periods from rest, with impacts: work in - losses - change of energy closes to 1e-9."""
-    prob = default_result.paths.prob
+    prob = default_result.prob
     orb, k = good_points(default_result, per_branch=1)[-1]
     n = prob.system.n
     sim = simulate(prob, orb.T[k], orb.phi[k], np.zeros(n), np.zeros(n), n_periods=100)
@@ -169,7 +169,7 @@ def test_duhamel_resonance_and_limits():
 
 def test_settles_from_rest_runtime(default_result):
     """A plain transient: 200 periods of the N = 5 chain in well under a few seconds."""
-    prob = default_result.paths.prob
+    prob = default_result.prob
     orb, k = good_points(default_result, per_branch=1)[-1]
     t = time.perf_counter()
     sim = simulate(prob, orb.T[k], orb.phi[k], np.zeros(5), np.zeros(5), n_periods=200)
@@ -179,7 +179,7 @@ def test_settles_from_rest_runtime(default_result):
 
 
 def test_state_2_start_and_immediate_opening(default_result):
-    prob = default_result.paths.prob
+    prob = default_result.prob
     orb, k = good_points(default_result, per_branch=1)[0]
     o = orb.take([k])
     # start in state II from the orbit's state at T1 + T2 / 2: one impact at T, then periodic again
@@ -210,7 +210,7 @@ def test_state_2_start_and_immediate_opening(default_result):
     (dict(record=[-1.0, 2.0]), "record times"),
 ])
 def test_input_errors(default_result, kw, match):
-    prob = default_result.paths.prob
+    prob = default_result.prob
     args = dict(T=10.0, phi=0.0, x0=np.zeros(5), v0=np.zeros(5))
     args.update(kw)
     with pytest.raises(InputError, match=match):
@@ -220,4 +220,4 @@ def test_input_errors(default_result, kw, match):
 
 def test_period_map_input_error(default_result):
     with pytest.raises(InputError, match="x_r and v_r must have 4 values"):
-        period_map(default_result.paths.prob, 10.0, 0.0, np.zeros(5), np.zeros(5))
+        period_map(default_result.prob, 10.0, 0.0, np.zeros(5), np.zeros(5))

@@ -36,7 +36,7 @@ def test_damped_flow_against_solve_ivp(z, W):
 
 def test_modal_ratios_are_rayleigh(damped_fe_result):
     """The simulator's own ratios diag(V^T C V) / (2 w) are the system's alpha / (2 w) + beta w / 2."""
-    s = damped_fe_result.paths.prob.system
+    s = damped_fe_result.prob.system
     assert np.allclose(modal_ratios(s.C, s.V2, s.w2), s.zeta2, rtol=1e-12, atol=0)
     assert np.allclose(modal_ratios(s.C[:-1, :-1], s.V1, s.w1), s.zeta1, rtol=1e-12, atol=0)
     off = s.V2.T @ s.C @ s.V2 - np.diag(2 * s.zeta2 * s.w2)
@@ -44,7 +44,7 @@ def test_modal_ratios_are_rayleigh(damped_fe_result):
 
 
 def test_damped_free_vibration_loses_exactly_the_viscous_and_impact_losses(damped_result):
-    prob = damped_result.paths.prob
+    prob = damped_result.prob
     n = prob.system.n
     free = dataclasses.replace(prob, q=np.zeros(n), f1=np.zeros(n - 1), f2=np.zeros(n), r_q=0.0)
     orb = damped_result.paths.points()
@@ -56,7 +56,7 @@ def test_damped_free_vibration_loses_exactly_the_viscous_and_impact_losses(dampe
 
 def test_damped_forced_budget_and_settling(damped_result):
     """From rest, 60 periods: the budget with the viscous loss closes; the motion settles on the periodic one."""
-    prob = damped_result.paths.prob
+    prob = damped_result.prob
     b = max(damped_result.branches, key=len)
     k = int(np.argmin(b.max_abs_multiplier))
     T, phi = float(b.T[k]), float(b.phi[k])

@@ -54,7 +54,7 @@ def _integrate(prob, T1, T2, phi, xr0, vr0, t_check):
 
 
 def _check_points(res, picks):
-    prob = res.paths.prob
+    prob = res.prob
     s = prob.system
     for bi, k in picks:
         b = res.branches[bi]

@@ -26,8 +26,9 @@ def test_run_default_writes_exact_header_and_summary(tmp_path, capsys):
     assert header.split(",")[:8] == "branch,T1,T2,phi,T,dPL,xi,grazing".split(",")
     assert header.split(",") == CSV_HEADER
     s = json.loads((tmp_path / "summary.json").read_text())
-    paper = [r for r in rows if int(r[0]) < s["n_branches"]]             # the paper's class first, then the others
+    paper = [r for r in rows if int(r[0]) < s["n_paper_branches"]]       # the paper's class first, then the others
     assert {r[18] for r in paper} == {"1P"} and {r[16] for r in paper} == {"1"}
+    assert all(r[18] != "1P" for r in rows if int(r[0]) >= s["n_paper_branches"])
     assert len({r[18] for r in rows} - {"1P"}) >= 8 and {r[16] for r in rows} <= {"1", "2", "3", "4"}
     vals = np.array([[float(v) for v in r[:18] + r[19:20]] for r in rows])
     assert np.all(np.isfinite(vals))
@@ -36,13 +37,14 @@ def test_run_default_writes_exact_header_and_summary(tmp_path, capsys):
     # floats with at least 10 significant digits
     digits = [len(r[1].replace(".", "").replace("-", "").split("e")[0].lstrip("0")) for r in paper]
     assert min(digits) >= 10
-    for key in ("case", "T0_I", "T0_II", "n_branches", "branches", "run_time", "other_signatures"):
+    for key in ("case", "T0_I", "T0_II", "n_branches", "n_paper_branches", "branches", "run_time"):
         assert key in s
     assert s["T0_I"] == pytest.approx(10.1664, abs=1e-4) and s["n_branches"] == len(s["branches"])
     for b in s["branches"]:
         assert b["T_range"][0] <= b["T_range"][1] and b["xi_range"][0] <= b["xi_range"][1]
         assert "events" in b and "ends" in b
-    assert sorted({int(r[0]) for r in rows}) == list(range(s["n_branches"] + len(s["other_signatures"])))
+    assert sorted({int(r[0]) for r in rows}) == list(range(s["n_branches"]))
+    assert [b["signature"] for b in s["branches"]][:s["n_paper_branches"]] == ["1P"] * s["n_paper_branches"]
 
 
 def test_run_json_and_quiet(tmp_path, capsys):

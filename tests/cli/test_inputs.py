@@ -147,7 +147,7 @@ def test_small_inputs_say_what_they_do(tmp_path, capsys):
     refused (before: accepted and recorded as 1000); the FE survey's default periods end where run's search does
     (before: up to 2.25 T0_I, half the figure without exact branches); sweep-loads says "largest xi_eq", not "worst"."""
     import plbar
-    from plbar.app.signatures import hybrid_window
+    from plbar.app.signatures import search_window
     from plbar.paths.branches import default_domain
     from plbar.studies.survey import default_periods
 
@@ -157,7 +157,7 @@ def test_small_inputs_say_what_they_do(tmp_path, capsys):
     assert "at most 5" in capsys.readouterr().err and not (tmp_path / "m").exists()
     case = plbar.Case(model="fe", n=8)
     prob = case.problem()
-    assert default_periods(case, 5)[-1] == pytest.approx(hybrid_window(prob, default_domain(prob))[1])
+    assert default_periods(case, 5)[-1] == pytest.approx(search_window(prob, default_domain(prob))[1])
     assert main(["sweep-loads", "-N", "4", "--load-at", "1.5", "--grid", "40", "40", "--positions", "1", "2",
                  "--no-plot", "--out", str(tmp_path / "w")]) == 0
     out = capsys.readouterr().out

@@ -76,7 +76,7 @@ def test_a_run_without_a_stable_point_points_to_the_survey(tmp_path, capsys):
                  "0.85", "--out", str(tmp_path / "f")]) == 0
     out = capsys.readouterr().out.splitlines()
     i = next(i for i, line in enumerate(out) if line.startswith("  none of"))        # after the units' lines
-    found = next(line for line in out if "admissible path points" in line).split()[2]   # "  1 branches, 385 ..."
+    found = next(line for line in out if "admissible points" in line).split()[2]   # "  1 branches, 385 ..."
     assert out[i].startswith(f"  none of the {found} points is stable") and out[i].endswith(
         "run plbar survey --model fe -N 6 --element P2 --mass consistent --load-at 0.37")
     assert "stable points first" not in out[i + 1]
@@ -101,7 +101,8 @@ def test_one_point_is_singular():
     """Failed on the code before the fix it covers (issue 22)."""
     from plbar.cli.run import _line
 
-    b = {"branch": 3, "points": 1, "T_range": [1.0, 1.0], "xi_range": [0.1, 0.1], "stable_points": 0}
+    b = {"branch": 3, "signature": "1P", "points": 1, "T_range": [1.0, 1.0], "xi_range": [0.1, 0.1],
+         "stable_points": 0}
     assert "1 point," in _line(b) and "1 points" not in _line(b)
 
 
@@ -180,8 +181,8 @@ def test_impact_loss_is_exact_near_grazing(fe_p2_coarse):
     """Delta_PL is S v_c^2 / 2 itself (every digit), not a difference of kinetic energies.
     Failed on the code before the fix it covers (issue 22)."""
     res = fe_p2_coarse
-    S = res.paths.prob.system.impact_mass
-    for b in res.branches:
+    S = res.prob.system.impact_mass
+    for b in res.paths.branches:
         vc = b.orbits.contact_velocity(b.orbits.T2[:, None])[:, 0]
         np.testing.assert_allclose(b.dPL, 0.5 * S * vc ** 2, rtol=1e-14, atol=0)
 
@@ -191,8 +192,8 @@ def test_truncated_impact_loss_keeps_the_projection_loss():
     from plbar.response import impact_loss, kinetic_energy_loss
 
     res = plbar.solve(plbar.Case(signatures="paper", model="fe", n=12, modes=4, grid=(40, 40)))
-    orb = res.branches[0].orbits
-    S = res.paths.prob.system.impact_mass
+    orb = res.paths.branches[0].orbits
+    S = res.prob.system.impact_mass
     vc = orb.contact_velocity(orb.T2[:, None])[:, 0]
     np.testing.assert_array_equal(impact_loss(orb), kinetic_energy_loss(orb))
     assert np.all(impact_loss(orb) >= 0.5 * S * vc ** 2 * (1 - 1e-12))
@@ -204,4 +205,4 @@ def test_result_repr_is_short():
     res = plbar.solve(plbar.Case(signatures="paper", model="fe", n=8, grid=(60, 60)))
     text = repr(res)
     assert len(text) < 3000 and text.startswith("Result(") and f"{len(res.branches)} branches" in text
-    assert len(repr(res.case)) < 500 and len(repr(res.paths.prob)) < 2000
+    assert len(repr(res.case)) < 500 and len(repr(res.prob)) < 2000

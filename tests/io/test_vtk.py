@@ -23,7 +23,7 @@ def _expected(orb, times_local):
 def test_pvd_and_xdmf_read_back_equal_response(default_result, tmp_path):
     f = export.write_response(default_result, tmp_path, format="both", periods=2, steps=16)
     orb, info = export.select(default_result)
-    assert f.info["xi"] == pytest.approx(max(b.xi.max() for b in default_result.branches))
+    assert f.info["xi"] == pytest.approx(max(b.xi.max() for b in default_result.paths.branches))
     T = info["T"]
     k = np.arange(32)
     t_loc = (k % 16) * T / 16
@@ -95,7 +95,7 @@ def test_bad_selection_and_format(small, tmp_path):
 
 
 def test_orbits_source_and_xi_along_mesh(small, tmp_path):
-    prob = small.paths.prob
+    prob = small.prob
     b = small.branches[0]
     f = export.write_response((prob, b.orbits), tmp_path / "o", steps=8)
     assert len(f.vtus) == 8 and "branch" not in f.info

@@ -86,7 +86,7 @@ def test_response_data_stress_nodal_p1_and_p2(small, p2_small, tmp_path):
     sn = d.point_data["stress_nodal"]
     np.testing.assert_allclose(sn[:, c[:, 2]], d.cell_data["stress"], rtol=0, atol=1e-12)   # midside
     h = x[c[:, 1]] - x[c[:, 0]]
-    EA = np.broadcast_to(np.asarray(p2_small.paths.prob.bar.EA, float), (c.shape[0],))
+    EA = np.broadcast_to(np.asarray(p2_small.prob.bar.EA, float), (c.shape[0],))
     start = EA * (-3 * u[:, c[:, 0]] - u[:, c[:, 1]] + 4 * u[:, c[:, 2]]) / h     # du/dx of the quadratic
     end = EA * (u[:, c[:, 0]] + 3 * u[:, c[:, 1]] - 4 * u[:, c[:, 2]]) / h
     np.testing.assert_allclose(sn[:, 0], start[:, 0], rtol=0, atol=1e-12)

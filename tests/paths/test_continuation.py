@@ -14,7 +14,7 @@ def grid_result():
 
 
 def test_continuation_contains_every_admissible_scan_point(default_result, grid_result):
-    cont = np.concatenate([np.c_[b.T1, b.T2, b.phi] for b in default_result.branches])
+    cont = np.concatenate([np.c_[b.T1, b.T2, b.phi] for b in default_result.paths.branches])
     scan = np.concatenate([np.c_[b.T1, b.T2, b.phi] for b in grid_result.branches])
     assert len(cont) > 1.5 * len(scan)          # evenly resolved: more points than the crossings
     for p in scan:
@@ -24,11 +24,11 @@ def test_continuation_contains_every_admissible_scan_point(default_result, grid_
 
 
 def test_continuation_points_are_exact_and_ordered(default_result):
-    for b in default_result.branches:
+    for b in default_result.paths.branches:
         assert np.all(b.e1 < 1e-9) and np.all(b.e2 < 1e-9)
         if len(b) > 2:
             step = np.hypot(np.diff(b.T1), np.diff(b.T2))
-            dom = default_domain(default_result.paths.prob)
+            dom = default_domain(default_result.prob)
             cell = np.hypot((dom.T1[1] - dom.T1[0]) / 200, (dom.T2[1] - dom.T2[0]) / 200)
             assert step.max() < 1.5 * cell            # no jumps: consecutive points within a grid cell
             assert step.min() > 0
@@ -37,20 +37,20 @@ def test_continuation_points_are_exact_and_ordered(default_result):
 def test_branches_end_to_end_with_classified_ends(default_result):
     allowed_prefix = ("premature switch", "impact velocity", "domain edge", "closed loop", "not periodic",
                       "stop edge", "not a zero")
-    for b in default_result.branches:
+    for b in default_result.paths.branches:
         for e in b.ends:
             assert e.startswith(allowed_prefix), e
     # the paper's two paths are single branches (no fragments)
-    T = [(b.T.min(), b.T.max()) for b in default_result.branches]
+    T = [(b.T.min(), b.T.max()) for b in default_result.paths.branches]
     assert sum(lo < 12.277 < hi for lo, hi in T) == 1
     assert sum(lo < 9.9273 < hi for lo, hi in T) == 1
-    assert len(default_result.branches) <= 10
+    assert len(default_result.paths.branches) <= 10
 
 
 def test_events_are_detected_and_consistent(default_result):
-    kinds = [e["kind"] for b in default_result.branches for e in b.events]
+    kinds = [e["kind"] for b in default_result.paths.branches for e in b.events]
     assert kinds, "no events found on the default case"
-    for b in default_result.branches:
+    for b in default_result.paths.branches:
         for e in b.events:
             i = e["index"]
             if e["kind"] in ("Neimark-Sacker", "period doubling", "fold (mu = +1)"):

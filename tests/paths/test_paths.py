@@ -24,22 +24,22 @@ def _dist_to_polyline(b, p):
 
 @pytest.mark.parametrize("point", [RED, GREEN], ids=["red", "green"])
 def test_paper_points_lie_on_branches(default_result, point):
-    d = min(_dist_to_polyline(b, point) for b in default_result.branches)
+    d = min(_dist_to_polyline(b, point) for b in default_result.paths.branches)
     assert d < 5e-3
 
 
 def test_green_point_impact_loss(default_result):
-    b = min(default_result.branches, key=lambda b: _dist_to_polyline(b, GREEN))
+    b = min(default_result.paths.branches, key=lambda b: _dist_to_polyline(b, GREEN))
     k = np.argmin(np.hypot(b.T1 - GREEN[0], b.T2 - GREEN[1]))
     assert b.dPL[k] == pytest.approx(1.05, rel=0.05)
 
 
 def test_paper_branches_found(default_result):
     """Path 1 near T0_I (through the red point) and path 2 near T0_II/2 (through the green point)."""
-    T = [(b.T.min(), b.T.max()) for b in default_result.branches]
+    T = [(b.T.min(), b.T.max()) for b in default_result.paths.branches]
     assert any(lo < 9.9273 < hi for lo, hi in T)
     assert any(lo < 12.277 < hi for lo, hi in T)
-    for b in default_result.branches:
+    for b in default_result.paths.branches:
         assert np.all(np.diff(np.hypot(b.T1, b.T2)) != 0) or len(b) == 1
 
 
@@ -114,7 +114,7 @@ def test_resonance_is_finite():
 
 
 def test_branch_points_exact_and_admissible(default_result):
-    for b in default_result.branches:
+    for b in default_result.paths.branches:
         assert np.all(b.e1 < 1e-9) and np.all(b.e2 < 1e-9)
         assert np.all(b.adm.ok)
         assert np.all(b.adm.v_impact > 0)

@@ -8,6 +8,7 @@ import pytest
 
 import plbar
 from plbar.periodic import evaluate, from_motion, monodromy, orbit_at, polish, signature, zero_dwell
+from plbar.periodic.solve import AMPLITUDE_SAMPLES
 from plbar.periodic.chain import layout, state_data, switch_maps
 from plbar.periodic.follow import correct, scale_of
 from plbar.model import rayleigh_from_ratio
@@ -140,7 +141,7 @@ def test_energy_against_the_numpy_integrals(prob):
             den, kin = den + p @ w, kin + p.sum()
             visc += 0.0 if zeta is None else p @ (2 * zeta * w)
             if seg.state == 2:
-                u = np.linspace(0.0, seg.tau, 200)[:, None]
+                u = np.linspace(0.0, seg.tau, AMPLITUDE_SAMPLES)[:, None]
                 e, _ = segment(sy.w2, prob.f2, W, seg.t0, u, seg.z0[:m2], seg.z0[m2:], np.cos(o.phi), np.sin(o.phi),
                                zeta=zeta)
                 amp = max(amp, np.abs(e @ sy.gap_row).max())

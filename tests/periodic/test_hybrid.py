@@ -5,8 +5,8 @@ import pytest
 
 import plbar
 from plbar.check import simulate
-from plbar.periodic import (PAPER, ZERO_DWELL, admissible, evaluate, expected_events, find_hybrid, from_motion,
-                            monodromy, multipliers, orbit_at, polish, signature, zero_dwell)
+from plbar.periodic import (PAPER, ZERO_DWELL, admissible, evaluate, expected_events, find_branches,
+                            from_motion, monodromy, multipliers, orbit_at, polish, signature, zero_dwell)
 from plbar.periodic.chain import layout
 from plbar.motion import run, steady
 from plbar.response import monodromy_modal
@@ -19,13 +19,15 @@ def prob():
 
 @pytest.fixture(scope="module")
 def hybrid(default_result):
-    p = default_result.paths.prob
-    T0I, _ = p.system.T0
+    """The branches of every signature but the paper's class in (6, 14), seeded as plbar run seeds them but
+    without the simulation: the paper's branches, the structure's seeds."""
+    p = default_result.prob
     _CURVES.clear()
-    return find_hybrid(p, (6.0, 14.0), default_result.branches, progress=lambda: _CURVES.append(1))
+    found = find_branches(p, (6.0, 14.0), default_result.branches, progress=lambda: _CURVES.append(1))
+    return [b for b in found if not b.paper]
 
 
-_CURVES: list = []      #: one entry per curve find_hybrid reported as followed (its progress callback)
+_CURVES: list = []      #: one entry per curve find_branches reported as followed (its progress callback)
 
 
 def check_by_simulation(o, tol=1e-9):
@@ -52,8 +54,8 @@ def check_by_simulation(o, tol=1e-9):
 
 def test_paper_class_is_signature_1P(default_result):
     """Every path point of plbar run solves the chain's equations at round-off; monodromy = the paper class's."""
-    prob = default_result.paths.prob
-    for b in default_result.branches:
+    prob = default_result.prob
+    for b in default_result.paths.branches:
         o = b.orbits
         for i in range(0, len(b), max(1, len(b) // 4)):
             X = np.concatenate([o.eta0[i], o.v0[i], [o.T1[i], o.T2[i], o.phi[i]]])
@@ -71,7 +73,7 @@ def test_paper_class_is_signature_1P(default_result):
 def test_jacobian_is_exact(prob, sig_text, hybrid, default_result):
     sig = signature(sig_text)
     if sig == PAPER:
-        b = default_result.branches[0].orbits
+        b = default_result.paths.branches[0].orbits
         orbs = [orbit_at(prob, PAPER, b.T[0], np.concatenate([b.eta0[0], b.v0[0], [b.T1[0], b.T2[0], b.phi[0]]]))]
     else:
         orbs = [o for h in hybrid for o in h.orbits if h.sig == sig] or \
@@ -237,15 +239,15 @@ def test_damped_responses_of_every_signature(monkeypatch):
     monkeypatch.setattr(seg, "SAMPLES_PER_RAD", 50.0)
     case = plbar.Case(rayleigh=rayleigh_from_ratio(0.02, 6.0, 14.0))
     res = plbar.solve(case)
-    prob = res.paths.prob
-    b = res.branches[0]
+    prob = res.prob
+    b = res.paths.branches[0]
     o = b.orbits
     i = len(b) // 2
     X = np.concatenate([o.eta0[i], o.v0[i], [o.T1[i], o.T2[i], o.phi[i]]])
     h = orbit_at(prob, PAPER, o.T[i], X)
     assert h.residual <= 1e-11 and h.dPL == pytest.approx(b.dPL[i], rel=1e-9)
     assert h.viscous == pytest.approx(b.viscous[i], rel=1e-9) and h.xi == pytest.approx(b.xi[i], rel=1e-8)
-    hy = find_hybrid(prob, (6.0, 14.0), res.branches)
+    hy = [b for b in res.branches if not b.paper and 6.0 <= b.T.min() and b.T.max() <= 14.0]
     assert hy
     checked = 0
     for br in hy:

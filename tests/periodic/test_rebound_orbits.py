@@ -13,8 +13,8 @@ import pytest
 
 import plbar
 from plbar.errors import InputError
-from plbar.periodic import (ONE_REBOUND, OrbitSeries, Signature, admissible, expected_events, find_hybrid, from_motion,
-                          monodromy, multipliers, signature, zero_dwell)
+from plbar.periodic import (ONE_REBOUND, OrbitSeries, Signature, admissible, expected_events, find_branches,
+                            from_motion, monodromy, multipliers, signature, zero_dwell)
 from plbar.periodic.chain import layout
 from plbar.periodic.verify import start_of
 from plbar.motion import FREE, STUCK, Start, padded, run, steady
@@ -46,7 +46,7 @@ def branches(prob):
         except (plbar.periodic.NotConverged, ValueError):
             pass
     assert len(seeds) >= 5
-    return find_hybrid(prob, WINDOW, (), seeds, kinds="default", m_max=4)
+    return find_branches(prob, WINDOW, (), seeds, kinds="default", m_max=4)
 
 
 def _sample(branches, per=3):
@@ -213,8 +213,8 @@ def test_cli_run_with_restitution(tmp_path, capsys):
     out = tmp_path / "run"
     assert main(["run", "--restitution", "0.3", "--out", str(out), "-q", "--json"]) == 0
     got = json.loads(capsys.readouterr().out)
-    assert got["summary"]["n_branches"] == 0                       # no paper's class with rebounds
-    labels = {b["signature"] for b in got["summary"]["other_signatures"]}
+    assert got["summary"]["n_paper_branches"] == 0                 # no paper's class with rebounds
+    labels = {b["signature"] for b in got["summary"]["branches"]}
     assert "1R" in labels and any(lb.startswith("1PR") for lb in labels)
     rows = list(csv.DictReader(open(out / "paths.csv")))
     assert rows and all("R" in r["signature"] for r in rows)

@@ -29,14 +29,14 @@ def res(request):
 
 def test_damped_cases_have_branches(damped_result, damped_fe_result):
     for r in (damped_result, damped_fe_result):
-        s = r.paths.prob.system
+        s = r.prob.system
         assert s.damped and len(r.branches) >= 2 and sum(len(b) for b in r.branches) > 150
         assert np.all(s.zeta1 > 0) and np.all(s.zeta2 > 0)
 
 
 def test_every_damped_response_is_verified_by_the_simulator(res):
     """Events at T^I and T only, back to the start after one period; the energy budget with the viscous loss."""
-    prob = res.paths.prob
+    prob = res.prob
     orb = res.paths.points()
     d = plbar.damping(orb)
     xr, vr = periodic_state(orb)
@@ -82,7 +82,7 @@ def test_residuals_periodicity_and_admissibility(res):
 
 def test_rayleigh_ratio_and_total(damped_result):
     """zeta(W) = alpha / (2 W) + beta W / 2 (2 % at T = 8 and 12 by construction); xi_total = zeta(W) + xi_eq."""
-    s = damped_result.paths.prob.system
+    s = damped_result.prob.system
     for T in (8.0, 12.0):
         assert abs(s.rayleigh_ratio(2 * np.pi / T) - 0.02) < 1e-15
     for b in damped_result.branches:
@@ -92,7 +92,7 @@ def test_rayleigh_ratio_and_total(damped_result):
 
 
 def test_damped_multipliers_match_finite_differences(res):
-    prob = res.paths.prob
+    prob = res.prob
     orb = res.paths.points()
     from test_stability import eig_distance, fd_jacobian
 
@@ -114,7 +114,7 @@ def test_damped_multipliers_match_finite_differences(res):
 
 def test_damping_pulls_the_multipliers_inwards(damped_result, default_result):
     """A stable damped response attracts a perturbed start; damping shrinks the spectral radius."""
-    prob = damped_result.paths.prob
+    prob = damped_result.prob
     b = max(damped_result.branches, key=len)
     k = int(np.argmin(b.max_abs_multiplier))
     o = b.orbits.take([k])
@@ -128,12 +128,12 @@ def test_damping_pulls_the_multipliers_inwards(damped_result, default_result):
     dist = np.linalg.norm(np.c_[sim.strobe_x[:, :-1], sim.strobe_v[:, :-1]] - z0, axis=1) / np.linalg.norm(z0)
     assert dist[-1] < 1e-12 + 1e-6 * rho ** 150
     # the same (T1, T2, phi) without damping is not periodic, but its monodromy's radius is larger
-    und = orbits(default_result.paths.prob, o.T1, o.T2, o.phi)
+    und = orbits(default_result.prob, o.T1, o.T2, o.phi)
     assert stability(und).max_abs[0] > rho
 
 
 def test_find_response_with_damping(res):
-    prob = res.paths.prob
+    prob = res.prob
     orb = res.paths.points()
     d = plbar.damping(orb)
     for k in np.linspace(0, len(orb) - 1, 12).astype(int):
@@ -148,7 +148,7 @@ def test_find_response_with_damping(res):
 
 def test_zero_damping_limit_reproduces_the_undamped_responses(default_result):
     """The damped code path with alpha = beta = 1e-300 (every zeta ~ 1e-300) against the undamped one: 1e-12."""
-    und = default_result.paths.prob
+    und = default_result.prob
     tiny = plbar.Case(rayleigh=(1e-300, 1e-300)).problem()
     assert tiny.system.damped and not und.system.damped
     orb = default_result.paths.points()
@@ -164,7 +164,7 @@ def test_zero_damping_limit_reproduces_the_undamped_responses(default_result):
     assert np.abs(co1.G - co2.G).max() < 1e-12
     mu1, mu2 = multipliers(orb), multipliers(o2)
     d = np.abs(np.abs(mu1) - np.abs(mu2)).max(axis=1)
-    graze = np.concatenate([b.grazing for b in default_result.branches])   # saltation ~ 1 / v_c amplifies round-off
+    graze = np.concatenate([b.grazing for b in default_result.paths.branches])   # saltation ~ 1 / v_c: round-off
     assert d[~graze].max() < 1e-12 and d.max() < 1e-8
     assert plbar.Case(rayleigh=(0, 0)).rayleigh is None and not plbar.Case(rayleigh=(0.0, 0.0)).problem().system.damped
 

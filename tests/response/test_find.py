@@ -26,7 +26,7 @@ def _well_conditioned(res, every=5):
 
 
 def test_finds_every_path_point_from_a_perturbed_guess(default_result):
-    prob = default_result.paths.prob
+    prob = default_result.prob
     pts = _well_conditioned(default_result, every=3)
     assert len(pts) > 80
     for b, k in pts:
@@ -41,7 +41,7 @@ def test_finds_every_path_point_from_a_perturbed_guess(default_result):
 
 def test_plain_python_orbit_matches_the_batched_code(default_result):
     """The scalar final evaluation (plbar._scalar) against plbar.orbit + plbar.energy on the same triplets."""
-    prob = default_result.paths.prob
+    prob = default_result.prob
     for b, k in _well_conditioned(default_result, every=11):
         r = find_response(prob, b.T[k], b.T1[k])
         orb = orbits(prob, [r.T1], [r.T2], [r.phi])
@@ -63,8 +63,8 @@ def test_plain_python_orbit_matches_the_batched_code(default_result):
 
 
 def test_response_is_admissible_and_its_orbit_is_consistent(default_result):
-    prob = default_result.paths.prob
-    b = max(default_result.branches, key=len)
+    prob = default_result.prob
+    b = max(default_result.paths.branches, key=len)
     k = len(b) // 2
     r = find_response(prob, b.T[k], b.T1[k] * 1.001)
     assert plbar.response.check(r.orbit).ok[0] and b.adm.ok[k]
@@ -74,7 +74,7 @@ def test_response_is_admissible_and_its_orbit_is_consistent(default_result):
 
 
 def test_fe_system_both_final_paths_agree(fe_p2_coarse):
-    prob = fe_p2_coarse.paths.prob
+    prob = fe_p2_coarse.prob
     b = max(fe_p2_coarse.branches, key=len)
     k = len(b) // 2
     r = find_response(prob, b.T[k], b.T1[k] * (1 + 1e-4))
@@ -92,8 +92,8 @@ def test_fe_system_both_final_paths_agree(fe_p2_coarse):
 
 def test_fallback_when_the_interpolant_is_poor(default_result):
     """Four nodes over a wide window: the interpolant's root fails the check, direct steps finish the job."""
-    prob = default_result.paths.prob
-    b = max(default_result.branches, key=len)
+    prob = default_result.prob
+    b = max(default_result.paths.branches, key=len)
     k = len(b) // 2
     r = find_response(prob, b.T[k], b.T1[k] * 1.01, nodes=4, width=0.4)
     assert r.evaluations > 4

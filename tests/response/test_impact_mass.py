@@ -29,7 +29,7 @@ def solved(request):
 
 
 def test_impact_loss_is_half_S_vc_squared(solved):
-    S = solved.paths.prob.system.impact_mass
+    S = solved.prob.system.impact_mass
     assert solved.branches and S > 0
     npts, sizeable = 0, 0
     for b in solved.branches:
@@ -47,7 +47,7 @@ def test_impact_loss_is_half_S_vc_squared(solved):
 
 
 def test_lumped_impact_mass_is_the_contact_mass(solved):
-    s = solved.paths.prob.system
+    s = solved.prob.system
     if s.lumped:
         assert s.impact_mass == s.M[-1, -1]
     else:

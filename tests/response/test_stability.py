@@ -39,7 +39,7 @@ def eig_distance(a, b):
 
 
 def test_multipliers_match_finite_differences(default_result):
-    prob = default_result.paths.prob
+    prob = default_result.prob
     pts = good_points(default_result, per_branch=2)
     assert len(pts) >= 8 and len({id(o) for o, _ in pts}) >= 4
     worst_J, worst_mu = 0.0, 0.0
@@ -57,7 +57,7 @@ def test_multipliers_match_finite_differences(default_result):
 
 def test_fe_p2_consistent_multipliers_match_finite_differences():
     res = plbar.solve(plbar.Case(**FE_POINT, signatures="paper"))
-    prob = res.paths.prob
+    prob = res.prob
     orb, k = good_points(res, per_branch=1, min_len=10)[0]
     o = orb.take([k])
     xr, vr = periodic_state(o)
@@ -71,7 +71,7 @@ def test_fe_p2_consistent_multipliers_match_finite_differences():
 def test_shapes_sorting_and_tolerance(default_result):
     orb = default_result.paths.points()
     st = stability(orb)
-    n1 = default_result.paths.prob.system.n - 1
+    n1 = default_result.prob.system.n - 1
     assert isinstance(st, Stability)
     assert st.multipliers.shape == (len(orb), 2 * n1) and np.iscomplexobj(st.multipliers)
     a = np.abs(st.multipliers)
@@ -89,7 +89,7 @@ def test_shapes_sorting_and_tolerance(default_result):
 
 def test_multipliers_do_not_depend_on_load_scale(default_result):
     """The map is affine in z and its linear part does not contain the load (FORMULATION §7)."""
-    prob = default_result.paths.prob
+    prob = default_result.prob
     orb = default_result.paths.points().take(np.arange(0, len(default_result.paths.points()), 25))
     p3 = dataclasses.replace(prob, q=3 * prob.q, f1=3 * prob.f1, f2=3 * prob.f2, r_q=3 * prob.r_q)
     o3 = Orbits(p3, orb.T1, orb.T2, orb.phi, 3 * orb.eta0, 3 * orb.v0, 3 * orb.eta_s, 3 * orb.v_s)
@@ -124,7 +124,7 @@ def extremes(default_result):
 
 
 def test_stable_orbit_attracts_unstable_repels(default_result, extremes):
-    prob = default_result.paths.prob
+    prob = default_result.prob
     (so, sk), rho_s, (uo, uk), rho_u = extremes
     assert rho_s < 0.97 and rho_u > 1.3
     rng = np.random.default_rng(1)

@@ -20,7 +20,7 @@ PAIRS = [((1.0, 0.5), (3.0, 0.5)), ((2.0, 0.5), (4.0, 0.5))]
 def study(tmp_path_factory):
     out = tmp_path_factory.mktemp("loads")
     first = plbar.solve(plbar.Case(signatures="paper", grid=GRID))
-    s = first.paths.prob.system
+    s = first.prob.system
     T = float(first.branches[-1].T[len(first.branches[-1]) // 2])
     q = (s.K - (2 * np.pi / T) ** 2 * s.M)[:, 0]                 # h(q) = 0 at that path point (u = e_1)
     zero_load = ((1.0, float(q[0])), (2.0, float(q[1])))

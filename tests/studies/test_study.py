@@ -38,7 +38,7 @@ def test_sweep_max_matches_core_api(sweep):
     best = tables.summary["best"]["T0_II/2"]["single"]
     s = best["s1"]
     res = plbar.solve(plbar.Case(signatures="paper", load_points=((s, 1.0),), grid=GRID))
-    T0I, T0II = res.paths.prob.system.T0
+    T0I, T0II = res.prob.system.T0
     labels = assign_families([(b.T.min(), b.T.max()) for b in res.branches], [len(b) for b in res.branches],
                              T0I, T0II)
     fam = [b for b, f in zip(res.branches, labels) if f == "T0_II/2"]

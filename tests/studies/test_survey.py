@@ -31,13 +31,13 @@ def test_periodic_one_impact_equals_the_paths_of_plbar_run(class_survey, default
     """Where the survey says periodic, m = 1, one impact: loss and xi_eq equal the exact response on a branch of
     ``plbar run`` at that T (1e-6), the simulated values being means over the recorded periods."""
     t = class_survey.rows("rest")
-    prob = default_result.paths.prob
+    prob = default_result.prob
     checked = 0
     for i in np.flatnonzero((t["kind"] == "periodic") & (t["m"] == 1) & (t["impacts_per_T"] == 1)):
         T, loss = t["T"][i], t["loss_per_T"][i]
         # the branch point of plbar run nearest in (T, loss), carried to T along the branch by find_response
         best = None
-        for b in default_result.branches:
+        for b in default_result.paths.branches:
             j = np.argmin(np.abs(b.T - T) / T + np.abs(b.dPL - loss) / max(loss, 1e-12))
             d = abs(b.T[j] - T) / T + abs(b.dPL[j] - loss) / loss
             if best is None or d < best[0]:

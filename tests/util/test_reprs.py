@@ -95,7 +95,7 @@ def test_response_data_and_files_reprs(fe8, tmp_path):
 
     b = max(fe8.branches, key=lambda b: b.xi.max())
     d = pio.response_data(b.orbits.take([0]), {"branch": b.id, "index": 0}, periods=2, steps=40)
-    _check(d, "ResponseData", f"points={fe8.paths.prob.system.n + 1}", "cells=8 line", "steps=80", "displacement",
+    _check(d, "ResponseData", f"points={fe8.prob.system.n + 1}", "cells=8 line", "steps=80", "displacement",
            "stress_nodal", f"branch: {b.id}")
     f = pio.write_data(d, tmp_path, format="pvd")
     _check(f, "ResponseFiles", "vtus=80", "response.pvd", "response_steps.csv")

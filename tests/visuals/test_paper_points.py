@@ -40,7 +40,7 @@ def test_figures_2_and_3_mark_the_exact_points_the_example_computes(res, figures
     vp.draw_fig3("unused", res, fams, pts)
     fig2, fig3 = figures
     for name, (T1, T2, _) in (("red", (1.7748, 8.1525, 0)), ("green", (2.3876, 9.8894, 0))):
-        o = exact_point(res.paths.prob, T1, T2)                # what examples/paper_sec41.py prints
+        o = exact_point(res.prob, T1, T2)                # what examples/paper_sec41.py prints
         x, y = _marker(fig2, f"{name} point").get_data()
         assert x[0] == o.T1[0] and y[0] == o.T2[0]
         near = vp.nearest_point(res, fams, (T1, T2, 0))[0]     # the old marker: another point of the 60 x 60 grid
@@ -110,7 +110,7 @@ def test_xi_at_the_papers_zero_on_path_1_is_not_zero():
     res = plbar.solve(plbar.Case(signatures="paper"))
     fams = pf.families_of(res)
     (b,) = [b for b, f in zip(res.branches, fams) if f == "T0_I"]
-    prob = res.paths.prob
+    prob = res.prob
     T0I = prob.system.T0[0]
     o = point_at_period(prob, T0I, b.T1[int(np.argmin(abs(b.T - T0I)))])
     xi, vc = _independent_xi(o)

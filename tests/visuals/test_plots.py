@@ -56,7 +56,7 @@ def test_frequency_response_is_bounded_and_legends_kinds_present(fe8, figures, t
 
 def test_anchor_labels_do_not_overlap(fe8, figures, tmp_path):
     """Anchors that (nearly) coincide share one label: not two labels stacked or on top of each other."""
-    T0I, T0II = fe8.paths.prob.system.T0
+    T0I, T0II = fe8.prob.system.T0
     assert abs(T0I - T0II / 2) < 0.03 * (T0I + T0II)          # FE bar: both near 2
     plots.frequency_response(fe8, tmp_path)
     (fig,) = figures
@@ -90,8 +90,8 @@ def test_paths_plane_labels_only_the_largest_xi(fe8, figures, tmp_path):
 def test_paths_plane_without_events_has_no_event_legend(default_result, figures, tmp_path):
     import dataclasses
 
-    bare = [dataclasses.replace(b, events=()) for b in default_result.branches]
-    res = dataclasses.replace(default_result, paths=dataclasses.replace(default_result.paths, branches=tuple(bare)))
+    bare = [dataclasses.replace(b, events=[]) for b in default_result.branches]
+    res = dataclasses.replace(default_result, branches=tuple(bare))
     plots.paths_plane(res, tmp_path)
     (fig,) = figures
     assert _legend_labels(fig.axes[0]) == []

@@ -61,21 +61,24 @@ def test_default_run_legend_is_unique_and_1p_is_the_papers(default_run, keep_fig
     sig = {k: v for k, v in pairs.items() if k.startswith("signature")}
     # the signatures with the most points named, each its own style; the rest under one grey entry
     assert len(sig) == plots.MAX_SIGNATURE_ENTRIES and len(set(sig.values())) == len(sig)
-    others = {b.label for b in default_run.hybrid} - {"1P"} - {k.split("signature ")[1] for k in sig}
+    others = {b.label for b in default_run.branches} - {"1P"} - {k.split("signature ")[1] for k in sig}
     grey = [k for k in pairs if k.startswith(f"{len(others)} other signatures (grey)")]
     assert len(others) >= 7 and len(grey) == 1 and all(lab in grey[0].replace("\n", " ") for lab in others)
     assert "signature 1P" not in pairs                         # the paper's class is not another signature
-    assert any(b.label == "1P" for b in default_run.hybrid)    # though the search found some of its branches
     assert any(k.startswith("1P (paper's class)") for k in pairs)
 
 
-def test_summary_lists_1p_apart_from_the_other_signatures(default_run):
+def test_summary_lists_every_signature_once_the_papers_first(default_run):
     from plbar.cli.run import _human
 
     text = _human(default_run.summary(), {}, False)
-    other = text[text.index("other signatures"):].splitlines()[1:]
-    assert not any(line.split()[0] == "1P" for line in other if line.startswith("    "))
-    assert "of the paper's class (1P) beyond its scan" in text
+    rows = [line.split() for line in text[text.index("by signature"):].splitlines()[1:] if line.startswith("    ")]
+    labels = [r[0] for r in rows]
+    assert labels[0] == "1P" and len(labels) == len(set(labels))
+    families = {b.sig.family for b in default_run.branches}
+    assert set(labels) == families
+    n1p = len(default_run.paper)
+    assert f"the paper's class (1P): {n1p} branches" in text and int(rows[0][1]) == n1p
 
 
 def test_times_of_the_papers_class_and_the_search_apart(monkeypatch):
@@ -92,9 +95,15 @@ def test_times_of_the_papers_class_and_the_search_apart(monkeypatch):
         def __exit__(self, *exc):
             return False
 
-        def finish(self, paths):
+        def ready(self):
+            pass
+
+        def seeds(self):
             time.sleep(0.4)
             return []
+
+        def curve(self):
+            pass
 
     monkeypatch.setattr(app_run, "Search", Slow)
     with warnings.catch_warnings():
@@ -105,7 +114,7 @@ def test_times_of_the_papers_class_and_the_search_apart(monkeypatch):
     assert s["paper_time"] + s["signatures_time"] <= s["run_time"]
     from plbar.cli.run import _human
 
-    assert f"of the paper's class in {s['paper_time']:.3g} s" in _human(s, {}, False)
+    assert f"found in {s['paper_time']:.3g} s of scan and {s['signatures_time']:.3g} s more" in _human(s, {}, False)
 
 
 def _labels(fig):

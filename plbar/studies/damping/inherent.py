@@ -31,7 +31,8 @@ class DampedRun:
 
     @property
     def branches(self):
-        return self.result.branches
+        """The paper's class (its closed-form record, :attr:`plbar.Result.paths`)."""
+        return self.result.paths.branches
 
     def points(self) -> dict[str, np.ndarray]:
         """Every path point: ``T, xi, xi_total, zeta_rayleigh, dPL, viscous, stable`` (concatenated branches)."""

@@ -27,7 +27,7 @@ __all__ = ["families_of", "sample_points", "load_optima",
 def families_of(res) -> list[str]:
     """Family label of each branch of a :class:`plbar.Result`."""
     T0I, T0II = res.paths.prob.system.T0
-    return assign_families([(b.T.min(), b.T.max()) for b in res.branches], [len(b) for b in res.branches],
+    return assign_families([(b.T.min(), b.T.max()) for b in res.paths.branches], [len(b) for b in res.paths.branches],
                            T0I, T0II)
 
 

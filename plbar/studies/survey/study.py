@@ -181,11 +181,11 @@ def survey(case: Case | None = None, T=None, periods: int = 1000, record: int | 
 def default_periods(case: Case, num: int = 161) -> np.ndarray:
     """Default forcing periods: ``[6, 14]`` for the paper's case, ``[0.6, 1.4] T0^I`` for another chain and
     ``[0.75, 2.25] T0^I`` for an FE bar (``T/L`` in ``[1.5, 4.5]`` for a uniform bar, ``T0^I = 2 L / c``), never
-    beyond the forcing periods ``plbar run`` searches by default (:func:`plbar.app.signatures.hybrid_window`:
+    beyond the forcing periods ``plbar run`` searches by default (:func:`plbar.app.signatures.search_window`:
     ``(T0^I + T0^II) / 2``, ``T/L = 3`` for a uniform FE bar), so that the figure's exact branches cover it.
     The bar and load decide, not the search options nor the contact's restitution (the natural periods are
     those of the plastic contact whatever ``e``)."""
-    from ...app.signatures import hybrid_window
+    from ...app.signatures import search_window
     from ...paths.branches import default_domain
 
     if case_fields(replace(case, restitution=0.0)) == case_fields(Case()):
@@ -198,7 +198,7 @@ def default_periods(case: Case, num: int = 161) -> np.ndarray:
     prob = case.problem()
     T0 = prob.system.T0[0]
     lo, hi = (0.6, 1.4) if case.model == "chain" else (0.75, 2.25)
-    return np.linspace(lo * T0, min(hi * T0, hybrid_window(prob, default_domain(prob))[1]), num)
+    return np.linspace(lo * T0, min(hi * T0, search_window(prob, default_domain(prob))[1]), num)
 
 
 def _claim(folder: Path, study: Study, overwrite: bool):
@@ -212,8 +212,8 @@ def run_survey(case: Case, T, periods: int = 1000, record: int | None = None, ou
                paths=None) -> Survey:
     """Run (or resume) a survey into ``out``: ``survey.csv``, ``summary.json`` and the figure (PNG + PDF).
 
-    ``paths`` (a :class:`plbar.Paths`, optional) are drawn under the survey: the
-    exact periodic responses of the paper's class, stable and unstable.
+    ``paths`` (the branches of the paper's class, :attr:`plbar.Result.paper`, optional) are drawn under the
+    survey: the exact periodic responses of the paper's class, stable and unstable.
     """
     t0 = time.perf_counter()
     folder = Path(out)
