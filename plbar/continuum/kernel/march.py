@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from .end import SAMPLES, free, fval, impact, lowest, opening, pu, pv, stored_line
-from .jit import jit
+from .jit import cached, jit
 from .merge import merge_step
 
 __all__ = ["OPENING", "IMPACT", "MAX_EVENTS_PER_STEP", "march"]
@@ -195,40 +195,48 @@ def step(rec, ev, ix, st, amp, strobes, first, k, prm, hold, from_rest, at_end, 
     return rec, ev, False
 
 
-@jit
-def march(L, c, Z, m, s, q, omega, phi, n, hold, from_rest, su, sv, sstuck, sC, sD, T, periods, merge):
-    """The whole march from ``t = 0`` for ``periods`` of ``T`` on the grid ``dt = L / (c n)``; ``hold`` 0 none, 1
-    closed, 2 open.  Returns ``(rec, ev, strobes, amp, status, t_err)``: the record; ``ev`` (4, events) rows
-    ``time, kind, v, loss``; ``strobes`` (3, periods) ``u, v, stuck`` at the period boundaries; ``amp`` (periods +
-    1) the largest ``-u`` per period; ``status`` 0, or 1 for chatter in the step at ``t_err``."""
-    dt, off = L / (c * n), 2 * n
-    nsteps = int(math.ceil(periods * T / dt - 1e-12))
-    prm = (L, c, Z, m, s, q, omega, phi, dt, math.cos(omega * 2 * L / c), math.sin(omega * 2 * L / c),
-           (L - s) / c, (L + s) / c)
-    rec, first = np.empty((8, 4 * (off + nsteps))), np.empty(off + nsteps + 1, np.int64)
-    for i in range(off):
-        rec[0, i], rec[1, i], rec[2, i], rec[3, i], rec[4, i] = i - off, 0.0, dt, 0.0, 0.0
-        rec[5, i], rec[6, i], rec[7, i] = sC, sD, 0.0
-        first[i] = i
-    ev, strobes, amp = np.empty((4, 64)), np.zeros((3, periods)), np.zeros(periods + 1)
-    ix = np.array([off, 0, 0, 1, 0], np.int64)
-    st = np.array([su, sv, 1.0 if sstuck else 0.0, 0.0])
-    amp[0] = -su
-    taus, vals = np.empty(SAMPLES + 1), np.empty(SAMPLES + 1)  # the event searches' scratch
-    ncut = int(dt / T) + 3
-    cutv, pts, pjump, pcut = np.empty(ncut), np.empty(ncut + 2), np.empty(ncut + 2), np.empty(ncut + 2)
-    pnext = 1
-    for k in range(nsteps):
-        nc = 0
-        while pnext <= periods and pnext * T <= (k + 1) * dt * (1 + 1e-15):
-            cutv[nc] = min(pnext * T - k * dt, dt)
-            nc, pnext = nc + 1, pnext + 1
-        first[k + off] = ix[0]
-        rec, ev, bad = step(rec, ev, ix, st, amp, strobes, first, k, prm, hold, from_rest, s == L, cutv, nc, pts,
-                            pjump, pcut, taus, vals)
-        if bad:
-            return rec[:, :ix[0]], ev[:, :ix[1]], strobes, amp, 1, k * dt
-        if merge:
-            ix[0] = merge_step(rec[0], rec[1], rec[2], rec[3], rec[4], rec[5], rec[6], rec[7], first[k + off],
-                               ix[0], k * dt, omega)
-    return rec[:, :ix[0]], ev[:, :ix[1]], strobes, amp, 0, 0.0
+def _march(stamp):
+    def march(L, c, Z, m, s, q, omega, phi, n, hold, from_rest, su, sv, sstuck, sC, sD, T, periods, merge):
+        """The whole march from ``t = 0`` for ``periods`` of ``T`` on the grid ``dt = L / (c n)``; ``hold`` 0 none, 1
+        closed, 2 open.  Returns ``(rec, ev, strobes, amp, status, t_err)``: the record; ``ev`` (4, events) rows
+        ``time, kind, v, loss``; ``strobes`` (3, periods) ``u, v, stuck`` at the period boundaries; ``amp`` (periods +
+        1) the largest ``-u`` per period; ``status`` 0, or 1 for chatter in the step at ``t_err``."""
+        if stamp < 0:
+            raise ValueError("never")  # never: the stamp keys the on-disk cache (:mod:`.jit`)
+        dt, off = L / (c * n), 2 * n
+        nsteps = int(math.ceil(periods * T / dt - 1e-12))
+        prm = (L, c, Z, m, s, q, omega, phi, dt, math.cos(omega * 2 * L / c), math.sin(omega * 2 * L / c),
+               (L - s) / c, (L + s) / c)
+        rec, first = np.empty((8, 4 * (off + nsteps))), np.empty(off + nsteps + 1, np.int64)
+        for i in range(off):
+            rec[0, i], rec[1, i], rec[2, i], rec[3, i], rec[4, i] = i - off, 0.0, dt, 0.0, 0.0
+            rec[5, i], rec[6, i], rec[7, i] = sC, sD, 0.0
+            first[i] = i
+        ev, strobes, amp = np.empty((4, 64)), np.zeros((3, periods)), np.zeros(periods + 1)
+        ix = np.array([off, 0, 0, 1, 0], np.int64)
+        st = np.array([su, sv, 1.0 if sstuck else 0.0, 0.0])
+        amp[0] = -su
+        taus, vals = np.empty(SAMPLES + 1), np.empty(SAMPLES + 1)  # the event searches' scratch
+        ncut = int(dt / T) + 3
+        cutv, pts, pjump, pcut = np.empty(ncut), np.empty(ncut + 2), np.empty(ncut + 2), np.empty(ncut + 2)
+        pnext = 1
+        for k in range(nsteps):
+            nc = 0
+            while pnext <= periods and pnext * T <= (k + 1) * dt * (1 + 1e-15):
+                cutv[nc] = min(pnext * T - k * dt, dt)
+                nc, pnext = nc + 1, pnext + 1
+            first[k + off] = ix[0]
+            rec, ev, bad = step(rec, ev, ix, st, amp, strobes, first, k, prm, hold, from_rest, s == L, cutv, nc, pts,
+                                pjump, pcut, taus, vals)
+            if bad:
+                return rec[:, :ix[0]], ev[:, :ix[1]], strobes, amp, 1, k * dt
+            if merge:
+                ix[0] = merge_step(rec[0], rec[1], rec[2], rec[3], rec[4], rec[5], rec[6], rec[7], first[k + off],
+                                   ix[0], k * dt, omega)
+        return rec[:, :ix[0]], ev[:, :ix[1]], strobes, amp, 0, 0.0
+
+
+    return march
+
+
+march = cached(_march)

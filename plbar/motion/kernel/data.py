@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..model import IMPACT, OPENS, REBOUND, STICK   # noqa: F401 (the event kinds, here by their kernel names)
+
 __all__ = ["accounts", "damping", "grow_events", "model", "records", "trajectories"]
 
 W, F, C = 0, 1, 2
@@ -33,8 +35,6 @@ T, OMEGA, PHI, TP, P = 0, 1, 2, 3, 4
 PERIOD, STATE, ZEROS, STALL, STATUS, ROUNDS, NEED, EVENTS, SHORT = 0, 1, 2, 3, 4, 5, 6, 7, 8
 IMPACTS, OPENINGS, LOSS = 0, 1, 2
 TIME, KIND = 0, 1
-OPENS, IMPACT, REBOUND, STICK = 1, 2, 3, 4   #: event kinds: the gap opens; a plastic impact; a rebound; rebounds
-#: that accumulate (chattering) and end stuck (recorded at their accumulation time)
 WORK, LOSSES, VISC = 0, 1, 2
 D_EQ, D_W, WORK_REC, STUCK_T, AMP, VISC_REC = 0, 1, 2, 3, 4, 5
 

@@ -13,12 +13,11 @@ from math import cos, pi, sin
 
 from ...motion.kernel.closed import half, mode_flow
 from ...motion.kernel.integrals import psi
+from ..codes import AMPLITUDE, PSI
 from .stamp import cached
 from .walk import C, LOAD, W, ZETA
 
 __all__ = ["energy", "PSI", "AMPLITUDE"]
-
-PSI, AMPLITUDE = 0, 1   #: what :func:`energy` computes
 
 
 def _energy(stamp):

@@ -14,16 +14,13 @@ from math import inf, isfinite, sqrt
 
 import numpy as np
 
+from ..codes import CHORD, CONVERGED, DONE, ENDED, FAILED, FOLLOW, NEWTON, SINGULAR
 from .stamp import cached, jit
 from .walk import chain, copy, relative, segments, start_size
 
 __all__ = ["lu_factor", "lu_solve", "scratch", "augmented", "tangent", "correct", "step", "polish", "FAILED",
            "CONVERGED", "DONE", "SINGULAR", "ENDED", "FOLLOW", "CHORD", "NEWTON"]
 
-FAILED, CONVERGED, DONE = 0, 1, 2     #: corrector outcomes (converged at its last point, or its last step taken)
-SINGULAR = 3                          #: polish: a singular Jacobian
-ENDED = 4                             #: step: a duration of the predicted point is not positive
-FOLLOW, CHORD, NEWTON = 0, 1, 2       #: step modes: a continuation step; one correction (chord, Newton)
 STEP_TOL = 1e-13                      #: the corrector's last step (scaled)
 FLOOR_TOL = 1e-10                     #: a step that stalls below this is round-off: the residual decides
 
