@@ -4,7 +4,7 @@
   point.  They are compiled without numba's reference counting (``nrt=False``): every array view and every array
   taken from a tuple would otherwise cost an atomic increment and decrement, measured (perf) at 42 % of the
   kernel's time.  So they allocate nothing: every array they use comes from the entry point (compiled with it),
-  which keeps it alive for the whole call.
+  which keeps it alive for the whole call (:data:`alloc`: the one function that allocates it).
 * :data:`KERNEL` (:class:`plbar.util.jit.Kernel`) compiles the entry point with the on-disk cache, keyed by
   :data:`STAMP`, the stamp of every source the kernel is built from (its own modules, the constants it imports).
 """
@@ -15,10 +15,11 @@ from pathlib import Path
 
 from ...util import jit as policy
 
-__all__ = ["KERNEL", "SOURCES", "STAMP", "cached", "inline", "is_compiled", "jit", "mark_compiled"]
+__all__ = ["KERNEL", "SOURCES", "STAMP", "alloc", "cached", "inline", "is_compiled", "jit", "mark_compiled"]
 
 jit = policy.jit(nrt=False)
 inline = policy.jit(inline=True, nrt=False)   #: inlined where called (constants propagate)
+alloc = policy.jit()   #: a function that allocates (reference counted): the entry point's work space
 
 _HERE = Path(__file__).resolve().parent
 #: the kernel's sources: its own modules and the constants it imports (the policy's file is added)

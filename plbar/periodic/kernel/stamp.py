@@ -2,8 +2,9 @@
 
 Each entry point (:func:`.walk.chain`, :func:`.newton.step`, :func:`.newton.polish`, :func:`.floquet.monodromy`,
 :func:`.energy.energy`) is cached on disk by :data:`KERNEL`, keyed by :data:`STAMP`, a hash of this subpackage's
-sources, of the codes and the model record it takes, and of the motion kernel's stamp (its closed-form flows are
-compiled in).  The helpers (:data:`jit`) are compiled into the entry points, not cached on their own.
+sources, of the records and codes it takes (:mod:`plbar.periodic.packed`) and of the motion kernel's stamp (its
+closed-form flows are compiled in).  The helpers (:data:`jit`) are compiled into the entry points, not cached on
+their own.
 """
 
 from __future__ import annotations
@@ -17,6 +18,6 @@ __all__ = ["KERNEL", "SOURCES", "STAMP", "cached", "jit"]
 
 jit = policy.jit()   #: the helpers (compiled into the entry points)
 _HERE = Path(__file__).resolve().parent
-KERNEL = policy.kernel([*_HERE.glob("*.py"), _HERE.parent / "codes.py"], salt=str(MOTION_STAMP))
+KERNEL = policy.kernel([*_HERE.glob("*.py"), _HERE.parent / "packed.py"], salt=str(MOTION_STAMP))
 SOURCES, STAMP = KERNEL.sources, KERNEL.key
 cached = KERNEL.cached
