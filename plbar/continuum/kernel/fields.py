@@ -43,10 +43,11 @@ def wo(t0, t1, a0, a1, C, D, omega, x, i):
 
 
 def _w_out_into(stamp):
-    def w_out_into(t0, t1, a0, a1, C, D, omega, t, out):
-        """``out = w_out(t)`` for the flat ``t``."""
+    def w_out_into(pc, t, out):
+        """``out = w_out(t)`` for the flat ``t`` (:class:`.records.Pieces` ``pc``)."""
         if stamp < 0:
             return  # never: the stamp keys the on-disk cache (:mod:`.jit`)
+        t0, t1, a0, a1, C, D, omega = pc
         i = 0
         for j in range(t.size):
             i = find(t0, t[j], i)
@@ -64,12 +65,14 @@ def load_at(t, omega, phi, q, from_rest):
 
 
 def _invariants_into(stamp):
-    def invariants_into(t0, t1, a0, a1, C, D, omega, phi, q, L, c, Z, s, from_rest, x, t, wp, wm):
-        """``wp, wm = w+, w-`` at the flat points ``x``, times ``t`` (see :func:`invariants`)."""
+    def invariants_into(pc, kc, x, t, wp, wm):
+        """``wp, wm = w+, w-`` at the flat points ``x``, times ``t`` (see :func:`invariants`; the line ``pc``, its
+        :class:`.records.Constants` ``kc``)."""
         if stamp < 0:
             return  # never: the stamp keys the on-disk cache (:mod:`.jit`)
+        t0, t1, a0, a1, C, D, omega = pc
+        L, c, Z, s, P, phi, q, from_rest = kc.L, kc.c, kc.Z, kc.s, kc.P, kc.phi, kc.q, kc.from_rest
         i = k = 0
-        P = 2 * L / c
         for j in range(x.size):
             d = (L - x[j]) / c
             i = find(t0, t[j] - d, i)
@@ -105,12 +108,13 @@ def force_at(tau, cw, sw, cphi, sphi, q, from_rest):
 
 
 @inline
-def point(t0, t1, a0, a1, C, D, x, t, ct, st, cd, sd, i, k, L, c, Z, s, P, cP, sP, c1, s1, c2, s2, cphi, sphi, q,
-          from_rest):
-    """``(w+, w-)`` at ``(x, t)`` given ``ct, st = cos, sin(omega t)`` and ``cd, sd`` of ``omega d``, ``d = (L-x)/c``:
-    every other harmonic by rotation (``cP, sP`` of ``omega P``; ``c1, s1``, ``c2, s2`` of ``omega (L -+ s)/c``), two
-    sines per point at most.  ``i, k``: the pieces last found for ``w-`` and ``w+`` (walks), returned updated after
-    ``(w+, w-)``."""
+def point(pc, kc, x, t, ct, st, cd, sd, i, k):
+    """``(w+, w-)`` of the line ``pc`` at ``(x, t)`` given ``ct, st = cos, sin(omega t)`` and ``cd, sd`` of
+    ``omega d``, ``d = (L-x)/c``: every other harmonic by rotation (:class:`.records.Constants` ``kc``: ``cP, sP``
+    of ``omega P``; ``c1, s1``, ``c2, s2`` of ``omega (L -+ s)/c``), two sines per point at most.  ``i, k``: the
+    pieces last found for ``w-`` and ``w+`` (walks), returned updated after ``(w+, w-)``."""
+    t0, t1, a0, a1, C, D = pc.t0, pc.t1, pc.a0, pc.a1, pc.C, pc.D
+    L, c, Z, s, P, cP, sP, c1, s1, c2, s2, phi, cphi, sphi, q, from_rest = kc
     d = (L - x) / c
     tm, tp = t - d, t + d - P
     cm, sm = ct * cd + st * sd, st * cd - ct * sd            # omega (t - d)
