@@ -3,7 +3,8 @@
 :class:`Pieces` is the stored ``w_out`` (a piece ``i``: linear from ``a0[i]`` at ``t0[i]`` to ``a1[i]`` at
 ``t1[i]``, plus ``C[i] cos(omega t) + D[i] sin(omega t)``); :class:`Constants` the bar, the load and the rotations
 that the point evaluation (:func:`.fields.point`) takes, computed once per line
-(:func:`plbar.continuum.fields.constants`).
+(:func:`plbar.continuum.fields.constants`).  :class:`MarchConstants` and :class:`MarchScratch` are what every grid
+step of the march (:func:`.march.step`) takes, made by :func:`.march.march`.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["Constants", "Pieces"]
+__all__ = ["Constants", "MarchConstants", "MarchScratch", "Pieces"]
 
 
 class Pieces(NamedTuple):
@@ -49,3 +50,39 @@ class Constants(NamedTuple):
     sphi: float
     q: float
     from_rest: bool
+
+
+class MarchConstants(NamedTuple):
+    """The march's constants: the bar (``L, c, Z``, the end mass ``m``), the load (at ``s``, ``q``, ``omega``,
+    ``phi``), the grid step ``dt``, ``cr, sr`` of ``omega 2 L / c`` (the delay's rotation), the load's delays
+    ``d1, d2 = (L -+ s) / c``, the held state ``hold`` (0 none, 1 closed, 2 open), ``from_rest`` and ``at_end``
+    (the load acts on the end: ``s = L``)."""
+
+    L: float
+    c: float
+    Z: float
+    m: float
+    s: float
+    q: float
+    omega: float
+    phi: float
+    dt: float
+    cr: float
+    sr: float
+    d1: float
+    d2: float
+    hold: int
+    from_rest: bool
+    at_end: bool
+
+
+class MarchScratch(NamedTuple):
+    """A step's work space: the period cuts in it ``cutv``, its sorted breakpoints ``pts`` (``pjump``, ``pcut``:
+    whether each is a jump, a cut) and the event searches' samples ``taus, vals``."""
+
+    cutv: np.ndarray
+    pts: np.ndarray
+    pjump: np.ndarray
+    pcut: np.ndarray
+    taus: np.ndarray
+    vals: np.ndarray
