@@ -7,24 +7,15 @@ The work and the space integrals (bar energy, ``int rhoA v^2 dx``) are compiled 
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
-from .fields import Line, invariants
+from .fields import Line, constants, invariants, pieces
 from .kernel.accounts import space_into, work_into
 
 __all__ = ["gauss", "work", "bar_energy", "velocity_square", "strobe"]
 
 _X, _W = np.polynomial.legendre.leggauss(6)
-def _consts(ln: Line):
-    """The constants :func:`~plbar.continuum.kernel.fields.point` takes after ``i, k``."""
-    w, P = ln.omega, 2 * ln.L / ln.c
-    d1, d2 = (ln.L - ln.s) / ln.c, (ln.L + ln.s) / ln.c
-    return (ln.L, ln.c, ln.Z, ln.s, P, math.cos(w * P), math.sin(w * P), math.cos(w * d1), math.sin(w * d1),
-            math.cos(w * d2), math.sin(w * d2), math.cos(ln.phi), math.sin(ln.phi), ln.q, bool(ln.from_rest))
-
-
 
 def gauss(f, edges: np.ndarray, chunk: int = 1 << 16) -> np.ndarray:
     """Integrals of ``f`` over each interval of the sorted ``edges`` (6-point Gauss-Legendre), shape (len - 1,);
@@ -51,14 +42,14 @@ def work(ln: Line, T: float, periods: int) -> np.ndarray:
     bounds = T * np.arange(periods + 1)
     edges = _cuts(np.concatenate([ln.t0 + d, ln.t0 + P - d]), 0.0, bounds[-1], bounds, 2 * ln.s / ln.c)
     out = np.zeros(periods)
-    work_into(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, edges, float(T), out, *_consts(ln))
+    work_into(pieces(ln), constants(ln), edges, float(T), out)
     return out
 
 
 def _integrals(ln: Line, ts, kind: int) -> np.ndarray:
     ts = np.ascontiguousarray(ts, float)
     out = np.empty(ts.size)
-    space_into(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, ts, kind, *_consts(ln), out)
+    space_into(pieces(ln), constants(ln), ts, kind, out)
     return out
 
 

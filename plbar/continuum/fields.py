@@ -7,13 +7,15 @@ With ``d = (L - x) / c`` and ``P = 2L/c``: ``w-(x, t) = w_out(t - d) + [x < s] F
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from .kernel.fields import invariants_into, w_out_into
+from .kernel.records import Constants, Pieces
 
-__all__ = ["Line", "w_out", "load", "w_in", "invariants"]
+__all__ = ["Line", "w_out", "load", "w_in", "invariants", "pieces", "constants"]
 
 
 @dataclass(frozen=True)
@@ -36,12 +38,26 @@ class Line:
     from_rest: bool
 
 
+def pieces(ln: Line) -> Pieces:
+    """The line's pieces as the kernels take them."""
+    return Pieces(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega)
+
+
+def constants(ln: Line) -> Constants:
+    """The constants of the line's point evaluation (:func:`plbar.continuum.kernel.fields.point`)."""
+    w, P = ln.omega, 2 * ln.L / ln.c
+    d1, d2 = (ln.L - ln.s) / ln.c, (ln.L + ln.s) / ln.c
+    return Constants(ln.L, ln.c, ln.Z, ln.s, P, math.cos(w * P), math.sin(w * P), math.cos(w * d1),
+                     math.sin(w * d1), math.cos(w * d2), math.sin(w * d2), ln.phi, math.cos(ln.phi),
+                     math.sin(ln.phi), ln.q, bool(ln.from_rest))
+
+
 def w_out(ln: Line, t):
     """``w_out(t)``, right-continuous at the jumps; shape of ``t``."""
     t = np.asarray(t, float)
     flat = np.ascontiguousarray(t).ravel()
     out = np.empty_like(flat)
-    w_out_into(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, flat, out)
+    w_out_into(pieces(ln), flat, out)
     return out.reshape(t.shape)
 
 
@@ -66,6 +82,5 @@ def invariants(ln: Line, x, t):
     x, t = np.broadcast_arrays(np.asarray(x, float), np.asarray(t, float))
     xf, tf = np.ascontiguousarray(x).ravel(), np.ascontiguousarray(t).ravel()
     wp, wm = np.empty_like(xf), np.empty_like(xf)
-    invariants_into(ln.t0, ln.t1, ln.a0, ln.a1, ln.C, ln.D, ln.omega, ln.phi, ln.q, ln.L, ln.c, ln.Z, ln.s,
-                    ln.from_rest, xf, tf, wp, wm)
+    invariants_into(pieces(ln), constants(ln), xf, tf, wp, wm)
     return wp.reshape(x.shape), wm.reshape(x.shape)

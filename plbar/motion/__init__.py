@@ -9,7 +9,7 @@
 * :mod:`.steady` -- :func:`steady`: periodic (stroboscopic period ``m``) or not, loss, ``xi_eq``, ``xi_w``.
 """
 
-from .model import CHATTER, FREE, OK, STALLED, STUCK, Padded, padded
+from .model import CHATTER, FREE, IMPACT, OK, OPENS, REBOUND, STALLED, STICK, STUCK, Padded, padded
 from .compile import COMPILE_NOTE, Elsewhere, compile_elsewhere, compiled
 from .run import Run, Start, Stopped, energy, halt_flag, prepare, rest, run
 from .series import MotionSeries
@@ -17,6 +17,10 @@ from .steady import BATCHES, DRIFT_TOL, KINDS, M_MAX, PERIODIC_TOL, T_CRIT, Stea
 
 __all__ = [
            "CHATTER",
+           "IMPACT",
+           "OPENS",
+           "REBOUND",
+           "STICK",
            "Elsewhere",
            "COMPILE_NOTE",
            "FREE",

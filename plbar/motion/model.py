@@ -15,11 +15,16 @@ import numpy as np
 
 from ..model import Problem
 
-__all__ = ["CHATTER", "FREE", "OK", "STALLED", "STUCK", "Padded", "padded", "energy_consistent"]
+__all__ = ["CHATTER", "FREE", "IMPACT", "OK", "OPENS", "REBOUND", "STALLED", "STICK", "STUCK", "Padded", "padded",
+           "energy_consistent"]
 
 STUCK = 0   #: row of state I (contact held) in the padded arrays
 FREE = 1    #: row of state II (gap open)
 OK, CHATTER, STALLED = 0, 1, 2   #: trajectory status: running or done, stopped by a chattering contact, stalled
+#: the simulator's event kinds (``Run.events["kind"]``): the gap opens; a plastic impact; a rebound; rebounds that
+#: accumulate (chattering) and end stuck, recorded at their accumulation time.  Here, not in the kernel, so that
+#: a reader of the events needs no numba.
+OPENS, IMPACT, REBOUND, STICK = 1, 2, 3, 4
 
 
 @dataclass(frozen=True)

@@ -34,6 +34,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model import Problem
+from .packed import ChainModel, Walk
 from .signature import Signature
 
 __all__ = ["Chain", "Segment", "evaluate", "layout", "switch_maps", "state_data", "model", "dwell_of", "compiled"]
@@ -143,8 +144,9 @@ def _build_switch_maps(prob: Problem):
     return E, G
 
 
-def model(prob: Problem):
-    """``(md, damping)``: the compiled chain's view of the problem (:mod:`plbar.periodic.kernel.walk`; cached).
+def model(prob: Problem) -> tuple[ChainModel, np.ndarray | None]:
+    """``(md, damping)``: the compiled chain's view of the problem (:class:`plbar.periodic.packed.ChainModel`;
+    cached).
 
     ``damping`` is None undamped (the undamped flows are compiled), else a marker array (the damped ones)."""
     return prob.cached("hybrid_kernel_model", _build_model)
@@ -159,8 +161,8 @@ def _build_model(prob: Problem):
                                                    none if cv is None else cv]), dtype=float))
     E, G = switch_maps(prob)
     damping = np.ones(1) if getattr(prob.system, "damped", False) else None
-    return (tabs[0], tabs[1], np.ascontiguousarray(E, float), np.ascontiguousarray(G, float),
-            float(state_data(prob, 1)[3]), np.ascontiguousarray(rebound_map(prob), float)), damping
+    return ChainModel(tabs[0], tabs[1], np.ascontiguousarray(E, float), np.ascontiguousarray(G, float),
+                      float(state_data(prob, 1)[3]), np.ascontiguousarray(rebound_map(prob), float)), damping
 
 
 ZERO, POSITIVE, REBOUND = 0, 1, 2     #: pair kinds of the compiled chain (:func:`dwell_of`)
@@ -195,13 +197,12 @@ def evaluate(prob: Problem, sig: Signature, T: float, X, jac: bool = True) -> Ch
     :func:`plbar.periodic.kernel.walk.chain`)."""
     md, damping = model(prob)
     dwell, states, zeros, q, nseg = _plan(sig)
-    m1, m2 = md[0].shape[1], md[1].shape[1]
+    m1, m2 = md.tab1.shape[1], md.tab2.shape[1]
     nX = layout(prob, sig)[2]
     X = np.ascontiguousarray(X, dtype=float)
     if X.shape != (nX,):
         raise ValueError(f"X has shape {X.shape}, the chain of {sig} takes {nX} unknowns")
-    F, J = np.empty(nX), np.empty((nX, nX) if jac else (0, 0))
-    times, zs = np.empty((nseg, 2)), np.zeros((nseg, 2, 2 * max(m1, m2)))
-    zero, scale, vimp = np.empty(zeros), np.empty(q), np.empty(dwell.size)
-    res = compiled().chain(md, damping, dwell, sig.m, float(T), X, F, J, times, zs, zero, scale, vimp)
-    return Chain(F, J if jac else None, zero, scale, res, vimp, times, zs, states, (2 * m1, 2 * m2))
+    w = Walk(np.empty(nX), np.empty((nX, nX) if jac else (0, 0)), np.empty((nseg, 2)),
+             np.zeros((nseg, 2, 2 * max(m1, m2))), np.empty(zeros), np.empty(q), np.empty(dwell.size))
+    res = compiled().chain(md, damping, dwell, sig.m, float(T), X, w)
+    return Chain(w.F, w.J if jac else None, w.zero, w.scale, res, w.vimp, w.times, w.zs, states, (2 * m1, 2 * m2))

@@ -39,7 +39,7 @@ def monodromy(prob: Problem, sig: Signature, T: float, phi: float, ch: Chain) ->
     fields take the damper and the opening's event function its share of the reaction.
     """
     md, damping = model(prob)
-    n = 2 * (md[0] if sig.dwell[0] else md[1]).shape[1]        # a first rebound: state II too
+    n = 2 * (md.tab1 if sig.dwell[0] else md.tab2).shape[1]        # a first rebound: state II too
     M = np.empty((n, n))
     compiled().monodromy(md, damping, dwell_of(sig), float(T), float(phi), ch.times, ch.states, M)
     return M

@@ -13,13 +13,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..motion import FREE, STUCK, Start, padded, run
+from ..motion import FREE, IMPACT, OPENS, REBOUND, STICK, STUCK, Start, padded, run
 from .chain import state_data
 from .solve import Orbit
 
 __all__ = ["admissible", "expected_events", "start_of"]
-
-OPENS, IMPACT, REBOUND, STICK = 1, 2, 3, 4     #: the simulator's event kinds (:mod:`plbar.motion.kernel.data`)
 
 
 def expected_events(orb: Orbit) -> tuple[np.ndarray, np.ndarray]:

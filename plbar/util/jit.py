@@ -1,8 +1,9 @@
 """The one numba policy of every compiled kernel: its options, where its on-disk cache lives, and its stamp.
 
 Every kernel package (:mod:`plbar.motion.kernel`, :mod:`plbar.periodic.kernel`, :mod:`plbar.continuum.kernel`)
-compiles through this module and nothing else; it is imported only by them, so that importing plbar imports no
-numba (:mod:`plbar.util` does not re-export it).
+compiles through this module and nothing else, in one way: a :class:`Kernel` made by :func:`kernel` from the
+package's sources.  It is imported only by them, so that importing plbar imports no numba (:mod:`plbar.util` does
+not re-export it).
 
 * **Options** (:data:`OPTIONS`): no GIL (``nogil=True``: :func:`plbar.util.threads.map_chunks` runs trajectories
   on every core) and numpy's error model (a division by zero is ``inf``/``nan`` as in numpy: the closed forms test
@@ -15,13 +16,15 @@ numba (:mod:`plbar.util` does not re-export it).
   ``$PLBAR_CACHE_DIR`` if set, else numba's own ``$NUMBA_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/plbar/numba``
   (``~/.cache/plbar/numba``); numba names each module's subfolder after the module's folder path, so two installs
   never share an entry.
-* **The stamp** (:func:`stamp`): numba keys a cached function by its own file only, so a change in a function it
-  calls from another file would not be seen (a stale kernel after an edit or an upgrade).  An entry point compiled
-  by :func:`cached` closes over a hash of every source it is built from, and numba's cache key includes the
-  closure's contents: any change of any of them compiles afresh.
-* **Which specialisations are compiled** (:func:`is_compiled`, :func:`mark_compiled`): a marker file per entry
-  point, stamp, numba version and kind, in the entry point's cache folder, so that a caller can say beforehand
-  that a first call compiles.
+* **What is cached, and the stamp** (:class:`Kernel`): only the entry points (the functions Python calls) are
+  cached on disk; the helpers (:func:`jit`) are compiled into them.  numba keys a cached function by its own file
+  only, so a change in a function it calls from another file would not be seen (a stale kernel after an edit or
+  an upgrade).  So an entry point is written as a factory of one argument, the :func:`stamp` of every source it is
+  built from (:meth:`Kernel.cached`): the function it returns closes over the stamp, and numba's cache key
+  includes the closure's contents: any change of any source compiles afresh, and no cache file is ever deleted.
+* **Which specialisations are compiled** (:meth:`Kernel.is_compiled`, :meth:`Kernel.mark_compiled`): a marker
+  file per entry point, stamp, numba version and kind, in the entry point's cache folder, so that a caller can
+  say beforehand that a first call compiles.
 """
 
 from __future__ import annotations
@@ -31,12 +34,14 @@ import hashlib
 import os
 import tempfile
 from collections.abc import Callable, Iterable
+from dataclasses import dataclass
 from pathlib import Path
 
 import numba
 from numba.core.caching import _CacheLocator
 
-__all__ = ["OPTIONS", "cache_root", "cache_folder", "stamp", "jit", "cached", "is_compiled", "mark_compiled"]
+__all__ = ["OPTIONS", "Kernel", "cache_root", "cache_folder", "stamp", "jit", "kernel", "cached", "is_compiled",
+           "mark_compiled"]
 
 OPTIONS = {"nogil": True, "error_model": "numpy"}   #: every kernel function's numba options
 
@@ -90,13 +95,12 @@ def stamp(sources: Iterable[Path], salt: str = "") -> int:
     return int(h.hexdigest()[:15], 16)
 
 
-def jit(*, cache: bool = False, inline: bool = False, nrt: bool = True):
-    """The decorator of a kernel function.
+def jit(*, inline: bool = False, nrt: bool = True):
+    """The decorator of a kernel function (not cached on its own: compiled into the entry points that call it,
+    :meth:`Kernel.cached`).
 
     Parameters
     ----------
-    cache : bool
-        Cache it on disk on its own (else it is compiled into the entry points that call it).
     inline : bool
         Inline it where it is called (constants propagate; no call overhead on arrays).
     nrt : bool
@@ -104,7 +108,7 @@ def jit(*, cache: bool = False, inline: bool = False, nrt: bool = True):
         atomic increment and decrement (measured at 42 % of the motion kernel's time), and the function must
         allocate nothing.
     """
-    return numba.njit(cache=cache, inline="always" if inline else "never", _nrt=nrt, **OPTIONS)
+    return numba.njit(inline="always" if inline else "never", _nrt=nrt, **OPTIONS)
 
 
 def cached(factory: Callable[[int], Callable], key: int) -> Callable:
@@ -134,3 +138,38 @@ def mark_compiled(entry, kind: str, key: int) -> None:
         with contextlib.suppress(OSError):
             m.parent.mkdir(parents=True, exist_ok=True)
             m.touch()
+
+
+@dataclass(frozen=True)
+class Kernel:
+    """How one kernel package compiles: the sources its entry points are built from and their :func:`stamp`.
+
+    Attributes
+    ----------
+    sources : tuple of Path
+        Every file the package's compiled code is built from (its modules, the constants it imports, this policy).
+    key : int
+        The :func:`stamp` of ``sources`` (and of the salt :func:`kernel` was given).
+    """
+
+    sources: tuple
+    key: int
+
+    def cached(self, factory: Callable[[int], Callable]) -> Callable:
+        """The entry point ``factory(key)``, cached on disk keyed by :attr:`key` (:func:`cached`)."""
+        return cached(factory, self.key)
+
+    def is_compiled(self, entry, kind: str, stamp: int | None = None) -> bool:
+        """:func:`is_compiled` of ``entry`` for ``kind``, from these sources (or those stamped ``stamp``)."""
+        return is_compiled(entry, kind, self.key if stamp is None else stamp)
+
+    def mark_compiled(self, entry, kind: str, stamp: int | None = None) -> None:
+        """:func:`mark_compiled` of ``entry`` for ``kind``, from these sources (or those stamped ``stamp``)."""
+        mark_compiled(entry, kind, self.key if stamp is None else stamp)
+
+
+def kernel(sources: Iterable[Path], salt: str = "") -> Kernel:
+    """The :class:`Kernel` of a package built from ``sources`` (this policy's own file is added), its stamp salted
+    with ``salt`` (the stamp of another kernel whose functions it compiles in)."""
+    files = tuple(sorted({Path(p).resolve() for p in sources} | {Path(__file__).resolve()}))
+    return Kernel(files, stamp(files, salt))

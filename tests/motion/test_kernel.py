@@ -17,6 +17,7 @@ from plbar.motion import FREE, Start, padded, run
 from plbar.motion.kernel import closed, data, integrals, jit
 from plbar.motion.kernel.certify import ZERO, bracket, decide_step, polynomial_step, taylor
 from plbar.motion.kernel.locate import locate
+from plbar.motion.kernel.loop import work_space
 from plbar.motion.kernel.split import particular, split_step
 from plbar.response import psi, segment, segment_work
 
@@ -133,10 +134,10 @@ def test_split_step_never_steps_over_a_crossing(seed):
     t, phi, cap = float(rng.uniform(0, 3)), float(rng.uniform(0, 6)), float(rng.uniform(0.5, 3.0) / pad.w[s, 0])
     if _margin(pad, s, eta, vel, W, t, phi, np.array([0.0]))[0] < 0:
         eta, vel = -eta, -vel
-    P, fast = np.zeros((2, 2, pad.m)), np.zeros(2, np.int64)
-    particular(md, None, W, P, fast)
-    step = split_step(md, s, eta, vel, W, cos(W * t - phi), sin(W * t - phi), cap, 16, np.zeros(44), np.zeros(44),
-                      np.zeros(90), np.zeros(pad.m), P, fast, None)
+    wk = work_space(pad.m)
+    wk.e[:], wk.v[:] = eta, vel
+    particular(md, None, W, wk.P, wk.fast)
+    step = split_step(md, s, W, cos(W * t - phi), sin(W * t - phi), cap, wk, None)
     if step <= 0:
         return
     u = np.linspace(0.0, step, 20001)

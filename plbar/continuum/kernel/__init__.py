@@ -1,8 +1,9 @@
 """The compiled continuum kernels (numba): the end's closed-form motion fed by the delay line, and its record.
 
-One kernel, :func:`~.march.march`, does the whole march; its pieces are ``@njit(cache=True)`` functions (:mod:`.jit`):
-:mod:`.end` the closed forms and events, :mod:`.merge` the merge, :mod:`.march` the steps; :mod:`.fields` and
-:mod:`.accounts` evaluate the record for the accounts.
+One kernel, :func:`~.march.march`, does the whole march; its pieces are compiled into it (:mod:`.jit`: the entry
+points are cached on disk, keyed by every source of the package): :mod:`.end` the closed forms and events,
+:mod:`.merge` the merge, :mod:`.march` the steps; :mod:`.fields` and :mod:`.accounts` evaluate the record for the
+accounts.
 
 * **The end over a piece** ``t in [ta, ta + h]``: the incoming invariant is ``w_in = l0 + l1 tau + C cos(omega t) +
   D sin(omega t)`` (``tau = t - ta``) and the end obeys ``m v' = -Z v + g(t)``, ``g = Z w_in + F_L`` (``F_L`` the load

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from .jit import inline, jit
+from .jit import cached, inline
 
 __all__ = ["find", "wo", "w_out_into", "load_at", "invariants_into", "lin", "force_at", "point"]
 
@@ -42,13 +42,21 @@ def wo(t0, t1, a0, a1, C, D, omega, x, i):
     return a0[i] + (a1[i] - a0[i]) * f + C[i] * math.cos(omega * x) + D[i] * math.sin(omega * x)
 
 
-@jit
-def w_out_into(t0, t1, a0, a1, C, D, omega, t, out):
-    """``out = w_out(t)`` for the flat ``t``."""
-    i = 0
-    for j in range(t.size):
-        i = find(t0, t[j], i)
-        out[j] = wo(t0, t1, a0, a1, C, D, omega, t[j], i)
+def _w_out_into(stamp):
+    def w_out_into(pc, t, out):
+        """``out = w_out(t)`` for the flat ``t`` (:class:`.records.Pieces` ``pc``)."""
+        if stamp < 0:
+            return  # never: the stamp keys the on-disk cache (:mod:`.jit`)
+        t0, t1, a0, a1, C, D, omega = pc
+        i = 0
+        for j in range(t.size):
+            i = find(t0, t[j], i)
+            out[j] = wo(t0, t1, a0, a1, C, D, omega, t[j], i)
+
+    return w_out_into
+
+
+w_out_into = cached(_w_out_into)
 
 
 @inline
@@ -56,26 +64,35 @@ def load_at(t, omega, phi, q, from_rest):
     return 0.0 if from_rest and t < 0 else q * math.cos(omega * t - phi)
 
 
-@jit
-def invariants_into(t0, t1, a0, a1, C, D, omega, phi, q, L, c, Z, s, from_rest, x, t, wp, wm):
-    """``wp, wm = w+, w-`` at the flat points ``x``, times ``t`` (see :func:`invariants`)."""
-    i = k = 0
-    P = 2 * L / c
-    for j in range(x.size):
-        d = (L - x[j]) / c
-        i = find(t0, t[j] - d, i)
-        wm[j] = wo(t0, t1, a0, a1, C, D, omega, t[j] - d, i)
-        ti = t[j] + d
-        k = find(t0, ti - P, k)
-        w = wo(t0, t1, a0, a1, C, D, omega, ti - P, k)
-        if s < L:
-            w -= (load_at(ti - (L - s) / c, omega, phi, q, from_rest) - load_at(ti - (L + s) / c, omega, phi, q,
-                                                                             from_rest)) / Z
-        wp[j] = -w
-        if s < L and x[j] < s:
-            e = (s - x[j]) / c
-            wm[j] += load_at(t[j] - e, omega, phi, q, from_rest) / Z
-            wp[j] -= load_at(t[j] + e, omega, phi, q, from_rest) / Z
+def _invariants_into(stamp):
+    def invariants_into(pc, kc, x, t, wp, wm):
+        """``wp, wm = w+, w-`` at the flat points ``x``, times ``t`` (see :func:`invariants`; the line ``pc``, its
+        :class:`.records.Constants` ``kc``)."""
+        if stamp < 0:
+            return  # never: the stamp keys the on-disk cache (:mod:`.jit`)
+        t0, t1, a0, a1, C, D, omega = pc
+        L, c, Z, s, P, phi, q, from_rest = kc.L, kc.c, kc.Z, kc.s, kc.P, kc.phi, kc.q, kc.from_rest
+        i = k = 0
+        for j in range(x.size):
+            d = (L - x[j]) / c
+            i = find(t0, t[j] - d, i)
+            wm[j] = wo(t0, t1, a0, a1, C, D, omega, t[j] - d, i)
+            ti = t[j] + d
+            k = find(t0, ti - P, k)
+            w = wo(t0, t1, a0, a1, C, D, omega, ti - P, k)
+            if s < L:
+                w -= (load_at(ti - (L - s) / c, omega, phi, q, from_rest) - load_at(ti - (L + s) / c, omega, phi, q,
+                                                                                 from_rest)) / Z
+            wp[j] = -w
+            if s < L and x[j] < s:
+                e = (s - x[j]) / c
+                wm[j] += load_at(t[j] - e, omega, phi, q, from_rest) / Z
+                wp[j] -= load_at(t[j] + e, omega, phi, q, from_rest) / Z
+
+    return invariants_into
+
+
+invariants_into = cached(_invariants_into)
 
 
 @inline
@@ -91,12 +108,13 @@ def force_at(tau, cw, sw, cphi, sphi, q, from_rest):
 
 
 @inline
-def point(t0, t1, a0, a1, C, D, x, t, ct, st, cd, sd, i, k, L, c, Z, s, P, cP, sP, c1, s1, c2, s2, cphi, sphi, q,
-          from_rest):
-    """``(w+, w-)`` at ``(x, t)`` given ``ct, st = cos, sin(omega t)`` and ``cd, sd`` of ``omega d``, ``d = (L-x)/c``:
-    every other harmonic by rotation (``cP, sP`` of ``omega P``; ``c1, s1``, ``c2, s2`` of ``omega (L -+ s)/c``), two
-    sines per point at most.  ``i, k``: the pieces last found for ``w-`` and ``w+`` (walks), returned updated after
-    ``(w+, w-)``."""
+def point(pc, kc, x, t, ct, st, cd, sd, i, k):
+    """``(w+, w-)`` of the line ``pc`` at ``(x, t)`` given ``ct, st = cos, sin(omega t)`` and ``cd, sd`` of
+    ``omega d``, ``d = (L-x)/c``: every other harmonic by rotation (:class:`.records.Constants` ``kc``: ``cP, sP``
+    of ``omega P``; ``c1, s1``, ``c2, s2`` of ``omega (L -+ s)/c``), two sines per point at most.  ``i, k``: the
+    pieces last found for ``w-`` and ``w+`` (walks), returned updated after ``(w+, w-)``."""
+    t0, t1, a0, a1, C, D = pc.t0, pc.t1, pc.a0, pc.a1, pc.C, pc.D
+    L, c, Z, s, P, cP, sP, c1, s1, c2, s2, phi, cphi, sphi, q, from_rest = kc
     d = (L - x) / c
     tm, tp = t - d, t + d - P
     cm, sm = ct * cd + st * sd, st * cd - ct * sd            # omega (t - d)

@@ -17,8 +17,9 @@ import math
 import numpy as np
 
 from .end import SAMPLES, free, fval, impact, lowest, opening, pu, pv, stored_line
-from .jit import jit
+from .jit import cached, jit
 from .merge import merge_step
+from .records import MarchConstants, MarchScratch
 
 __all__ = ["OPENING", "IMPACT", "MAX_EVENTS_PER_STEP", "march"]
 
@@ -77,9 +78,10 @@ def add_event(ev, ix, t, kind, v, loss):
 
 
 @jit
-def end_over(rec, ev, ix, st, amp, k, tk, x, sb, l0, l1, Ci, Di, LC, LD, hold, Z, m, omega, taus, vals):
+def end_over(rec, ev, ix, st, amp, k, tk, x, sb, l0, l1, Ci, Di, LC, LD, prm, ws):
     """March the end over ``[x, sb]`` of step ``k`` (local times) under ``w_in = l0 + l1 tau + Ci cos + Di sin``
     (and ``LC, LD`` of the load on the end), switching where the closed form says; ``(rec, ev, chatter)``."""
+    hold, Z, m, omega, taus, vals = prm.hold, prm.Z, prm.m, prm.omega, ws.taus, ws.vals
     while sb > x:
         h = sb - x
         gp = (tk + x, omega, l0, l1, Ci + LC, Di + LD, Z, 0.0, 0.0)
@@ -156,11 +158,11 @@ def strobe(st, ix, strobes, amp):
 
 
 @jit
-def step(rec, ev, ix, st, amp, strobes, first, k, prm, hold, from_rest, at_end, cutv, nc, pts, pjump, pcut,
-         taus, vals):
+def step(rec, ev, ix, st, amp, strobes, first, k, nc, prm, ws):
     """Grid step ``k``: the pieces of step ``k - 2n`` (record rows ``first[k] .. first[k + 1]``), rotated by the
-    delay and split at the breakpoints; ``(rec, ev, chatter)``."""
-    L, c, Z, m, s, q, omega, phi, dt, cr, sr, d1, d2 = prm
+    delay and split at the breakpoints (``ws.cutv[:nc]`` the period cuts in it); ``(rec, ev, chatter)``."""
+    Z, q, omega, phi, dt, cr, sr, d1, d2 = prm.Z, prm.q, prm.omega, prm.phi, prm.dt, prm.cr, prm.sr, prm.d1, prm.d2
+    from_rest, at_end, cutv, pts, pjump, pcut = prm.from_rest, prm.at_end, ws.cutv, ws.pts, ws.pjump, ws.pcut
     tk = k * dt
     npt = breakpoints(tk, dt, cutv, nc, at_end, d1, d2, from_rest, pts, pjump, pcut)
     ix[4] = 0
@@ -185,7 +187,7 @@ def step(rec, ev, ix, st, amp, strobes, first, k, prm, hold, from_rest, at_end, 
             Cf, Df = forcing(tk + 0.5 * (sa + sb), at_end, d1, d2, omega, phi, q, Z, from_rest)
             Ci, Di, LC, LD = (-Cw, -Dw, Cf, Df) if at_end else (Cf - Cw, Df - Dw, 0.0, 0.0)
             rec, ev, bad = end_over(rec, ev, ix, st, amp, k, tk, sa, sb, -(a0 + slope * (sa - t0)), -slope, Ci, Di,
-                                    LC, LD, hold, Z, m, omega, taus, vals)
+                                    LC, LD, prm, ws)
             if bad:
                 return rec, ev, True
             if iscut:
@@ -195,40 +197,48 @@ def step(rec, ev, ix, st, amp, strobes, first, k, prm, hold, from_rest, at_end, 
     return rec, ev, False
 
 
-@jit
-def march(L, c, Z, m, s, q, omega, phi, n, hold, from_rest, su, sv, sstuck, sC, sD, T, periods, merge):
-    """The whole march from ``t = 0`` for ``periods`` of ``T`` on the grid ``dt = L / (c n)``; ``hold`` 0 none, 1
-    closed, 2 open.  Returns ``(rec, ev, strobes, amp, status, t_err)``: the record; ``ev`` (4, events) rows
-    ``time, kind, v, loss``; ``strobes`` (3, periods) ``u, v, stuck`` at the period boundaries; ``amp`` (periods +
-    1) the largest ``-u`` per period; ``status`` 0, or 1 for chatter in the step at ``t_err``."""
-    dt, off = L / (c * n), 2 * n
-    nsteps = int(math.ceil(periods * T / dt - 1e-12))
-    prm = (L, c, Z, m, s, q, omega, phi, dt, math.cos(omega * 2 * L / c), math.sin(omega * 2 * L / c),
-           (L - s) / c, (L + s) / c)
-    rec, first = np.empty((8, 4 * (off + nsteps))), np.empty(off + nsteps + 1, np.int64)
-    for i in range(off):
-        rec[0, i], rec[1, i], rec[2, i], rec[3, i], rec[4, i] = i - off, 0.0, dt, 0.0, 0.0
-        rec[5, i], rec[6, i], rec[7, i] = sC, sD, 0.0
-        first[i] = i
-    ev, strobes, amp = np.empty((4, 64)), np.zeros((3, periods)), np.zeros(periods + 1)
-    ix = np.array([off, 0, 0, 1, 0], np.int64)
-    st = np.array([su, sv, 1.0 if sstuck else 0.0, 0.0])
-    amp[0] = -su
-    taus, vals = np.empty(SAMPLES + 1), np.empty(SAMPLES + 1)  # the event searches' scratch
-    ncut = int(dt / T) + 3
-    cutv, pts, pjump, pcut = np.empty(ncut), np.empty(ncut + 2), np.empty(ncut + 2), np.empty(ncut + 2)
-    pnext = 1
-    for k in range(nsteps):
-        nc = 0
-        while pnext <= periods and pnext * T <= (k + 1) * dt * (1 + 1e-15):
-            cutv[nc] = min(pnext * T - k * dt, dt)
-            nc, pnext = nc + 1, pnext + 1
-        first[k + off] = ix[0]
-        rec, ev, bad = step(rec, ev, ix, st, amp, strobes, first, k, prm, hold, from_rest, s == L, cutv, nc, pts,
-                            pjump, pcut, taus, vals)
-        if bad:
-            return rec[:, :ix[0]], ev[:, :ix[1]], strobes, amp, 1, k * dt
-        if merge:
-            ix[0] = merge_step(rec[0], rec[1], rec[2], rec[3], rec[4], rec[5], rec[6], rec[7], first[k + off],
-                               ix[0], k * dt, omega)
-    return rec[:, :ix[0]], ev[:, :ix[1]], strobes, amp, 0, 0.0
+def _march(stamp):
+    def march(L, c, Z, m, s, q, omega, phi, n, hold, from_rest, su, sv, sstuck, sC, sD, T, periods, merge):
+        """The whole march from ``t = 0`` for ``periods`` of ``T`` on the grid ``dt = L / (c n)``; ``hold`` 0 none, 1
+        closed, 2 open.  Returns ``(rec, ev, strobes, amp, status, t_err)``: the record; ``ev`` (4, events) rows
+        ``time, kind, v, loss``; ``strobes`` (3, periods) ``u, v, stuck`` at the period boundaries; ``amp`` (periods +
+        1) the largest ``-u`` per period; ``status`` 0, or 1 for chatter in the step at ``t_err``."""
+        if stamp < 0:
+            raise ValueError("never")  # never: the stamp keys the on-disk cache (:mod:`.jit`)
+        dt, off = L / (c * n), 2 * n
+        nsteps = int(math.ceil(periods * T / dt - 1e-12))
+        prm = MarchConstants(L, c, Z, m, s, q, omega, phi, dt, math.cos(omega * 2 * L / c),
+                             math.sin(omega * 2 * L / c), (L - s) / c, (L + s) / c, hold, from_rest, s == L)
+        rec, first = np.empty((8, 4 * (off + nsteps))), np.empty(off + nsteps + 1, np.int64)
+        for i in range(off):
+            rec[0, i], rec[1, i], rec[2, i], rec[3, i], rec[4, i] = i - off, 0.0, dt, 0.0, 0.0
+            rec[5, i], rec[6, i], rec[7, i] = sC, sD, 0.0
+            first[i] = i
+        ev, strobes, amp = np.empty((4, 64)), np.zeros((3, periods)), np.zeros(periods + 1)
+        ix = np.array([off, 0, 0, 1, 0], np.int64)
+        st = np.array([su, sv, 1.0 if sstuck else 0.0, 0.0])
+        amp[0] = -su
+        ncut = int(dt / T) + 3
+        ws = MarchScratch(np.empty(ncut), np.empty(ncut + 2), np.empty(ncut + 2), np.empty(ncut + 2),
+                          np.empty(SAMPLES + 1), np.empty(SAMPLES + 1))
+        cutv = ws.cutv
+        pnext = 1
+        for k in range(nsteps):
+            nc = 0
+            while pnext <= periods and pnext * T <= (k + 1) * dt * (1 + 1e-15):
+                cutv[nc] = min(pnext * T - k * dt, dt)
+                nc, pnext = nc + 1, pnext + 1
+            first[k + off] = ix[0]
+            rec, ev, bad = step(rec, ev, ix, st, amp, strobes, first, k, nc, prm, ws)
+            if bad:
+                return rec[:, :ix[0]], ev[:, :ix[1]], strobes, amp, 1, k * dt
+            if merge:
+                ix[0] = merge_step(rec[0], rec[1], rec[2], rec[3], rec[4], rec[5], rec[6], rec[7], first[k + off],
+                                   ix[0], k * dt, omega)
+        return rec[:, :ix[0]], ev[:, :ix[1]], strobes, amp, 0, 0.0
+
+
+    return march
+
+
+march = cached(_march)

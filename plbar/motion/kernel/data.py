@@ -1,29 +1,36 @@
-"""The arrays the kernel works on: a few flat arrays in small tuples, with named columns.
+"""The arrays the kernel works on: a few flat arrays in small named records, with named columns.
 
-Small tuples of plain arrays keep the compiled code small (and its first compile short);
-the column names below are the only way the kernel and :mod:`plbar.motion.run` index them.
+Small records of plain arrays (NamedTuples: numba passes them as typed tuples) keep the compiled code small (and
+its first compile short); the fields and the column names below are the only way the kernel and
+:mod:`plbar.motion.run` reach them.
 
-* model ``md = (modal, margin, maps, vc_row, S, truncated, e)`` (``e`` the coefficient of restitution):
-  ``modal[W | F | C, state]`` the
-  frequencies, modal loads and margin weights, ``margin[RQ | SIZE, state]``, ``maps[OPEN | IMPACT_POS |
-  IMPACT_VEL | OPEN_VEL]`` the switch maps (:class:`plbar.motion.Padded`);
+* :class:`Model` (``md``, :func:`model`): ``md.modal[W | F | C, state]`` the frequencies, modal loads and margin
+  weights, ``md.margin[RQ | SIZE, state]``, ``md.maps[OPEN | IMPACT_POS | IMPACT_VEL | OPEN_VEL]`` the switch maps
+  (:class:`plbar.motion.Padded`), the contact row, the impact mass, whether truncated, the restitution;
 * damping: None (undamped: no damped code is compiled) or ``damping[state, ZETA | CV]``;
-* trajectories ``tr = (tf, ti, z, tot)``: ``tf[b, T | OMEGA | PHI | TP | P]``, ``ti[b, PERIOD | STATE | ZEROS |
-  STALL | STATUS | ROUNDS | NEED | EVENTS | SHORT]``, the modal state ``z[b, 0 | 1]`` (``eta, eta'``) at the start of
-  the current segment and the totals ``tot[b, WORK | LOSSES | VISC]``; a call may stop anywhere (a block of
-  periods done, or no room to record an event: ``NEED``) and the next one goes on;
-* records ``rc = (per, ev, sx, sv, ss)``: per recorded period ``per[b, r, IMPACTS | OPENINGS | LOSS]``, the
-  recorded events ``ev[b, i, TIME | KIND | LOSS]`` (``ti[b, EVENTS]`` of them), the modal states at the
-  recorded boundaries ``sx, sv`` and their states ``ss``;
+* :class:`Trajectories` (``tr``): ``tr.tf[b, T | OMEGA | PHI | TP | P]``, ``tr.ti[b, PERIOD | STATE | ZEROS |
+  STALL | STATUS | ROUNDS | NEED | EVENTS | SHORT]``, the modal state ``tr.z[b, 0 | 1]`` (``eta, eta'``) at the
+  start of the current segment and the totals ``tr.tot[b, WORK | LOSSES | VISC]``; a call may stop anywhere (a
+  block of periods done, or no room to record an event: ``NEED``) and the next one goes on;
+* :class:`Records` (``rc``): per recorded period ``rc.per[b, r, IMPACTS | OPENINGS | LOSS]``, the recorded events
+  ``rc.ev[b, i, TIME | KIND | LOSS]`` (``ti[b, EVENTS]`` of them), the modal states at the recorded boundaries
+  ``rc.sx, rc.sv`` and their states ``rc.ss``;
 * accounts: None (a replay of the switches: no accounting code is compiled) or ``acc[b, r, D_EQ | D_W |
-  WORK_REC | STUCK_T | AMP | VISC_REC]``.
+  WORK_REC | STUCK_T | AMP | VISC_REC]``;
+* inside the kernel, :class:`Current` (one trajectory's working copies of its rows) and :class:`Work` (the work
+  space of one thread), both made by the entry point.
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
-__all__ = ["accounts", "damping", "grow_events", "model", "records", "trajectories"]
+from ..model import IMPACT, OPENS, REBOUND, STICK   # noqa: F401 (the event kinds, here by their kernel names)
+
+__all__ = ["Current", "Model", "Records", "Trajectories", "Work", "accounts", "damping", "grow_events", "model",
+           "records", "trajectories"]
 
 W, F, C = 0, 1, 2
 RQ, SIZE = 0, 1
@@ -33,22 +40,105 @@ T, OMEGA, PHI, TP, P = 0, 1, 2, 3, 4
 PERIOD, STATE, ZEROS, STALL, STATUS, ROUNDS, NEED, EVENTS, SHORT = 0, 1, 2, 3, 4, 5, 6, 7, 8
 IMPACTS, OPENINGS, LOSS = 0, 1, 2
 TIME, KIND = 0, 1
-OPENS, IMPACT, REBOUND, STICK = 1, 2, 3, 4   #: event kinds: the gap opens; a plastic impact; a rebound; rebounds
-#: that accumulate (chattering) and end stuck (recorded at their accumulation time)
 WORK, LOSSES, VISC = 0, 1, 2
 D_EQ, D_W, WORK_REC, STUCK_T, AMP, VISC_REC = 0, 1, 2, 3, 4, 5
+
+
+class Model(NamedTuple):
+    """The simulator's model as the kernel takes it (:func:`model`, from a :class:`plbar.motion.Padded`).
+
+    Attributes
+    ----------
+    modal : ndarray, shape (3, 2, m)
+        ``modal[W | F | C, state, j]``: frequencies, modal loads, margin weights.
+    margin : ndarray, shape (2, 2)
+        ``margin[RQ | SIZE, state]``: the margin's load term and its own size.
+    maps : ndarray, shape (4, m, m)
+        ``maps[OPEN | IMPACT_POS | IMPACT_VEL | OPEN_VEL]``: the switch maps.
+    vc_row : ndarray, shape (m,)
+        The contact velocity's row in state II.
+    S : float
+        The impact mass (0 for a truncated system).
+    truncated : bool
+        A truncated system (its impact loses the modal kinetic energy difference).
+    restitution : float
+        The coefficient of restitution ``e``.
+    """
+
+    modal: np.ndarray
+    margin: np.ndarray
+    maps: np.ndarray
+    vc_row: np.ndarray
+    S: float
+    truncated: bool
+    restitution: float
+
+
+class Trajectories(NamedTuple):
+    """Resumable trajectory states (:func:`trajectories`): ``tf[b, T | ...]``, ``ti[b, PERIOD | ...]``, the modal
+    state ``z[b, 0 | 1]`` at the start of the current segment, the totals ``tot[b, WORK | LOSSES | VISC]``."""
+
+    tf: np.ndarray
+    ti: np.ndarray
+    z: np.ndarray
+    tot: np.ndarray
+
+
+class Records(NamedTuple):
+    """What is recorded (:func:`records`): per period ``per[b, r, IMPACTS | OPENINGS | LOSS]``, the events
+    ``ev[b, i, TIME | KIND | LOSS]``, the boundary states ``sx, sv`` (``(B, R + 1, m)``) and their states ``ss``."""
+
+    per: np.ndarray
+    ev: np.ndarray
+    sx: np.ndarray
+    sv: np.ndarray
+    ss: np.ndarray
+
+
+class Current(NamedTuple):
+    """The trajectory being advanced: its row ``b``, the first recorded period ``first``, and working copies of its
+    rows of :class:`Trajectories` (``f``, ``s``, ``z0``, ``tot``), written back when it stops."""
+
+    b: int
+    first: int
+    f: np.ndarray
+    s: np.ndarray
+    z0: np.ndarray
+    tot: np.ndarray
+
+
+class Work(NamedTuple):
+    """One thread's work space (allocated by the entry point: the kernel's functions allocate nothing).
+
+    ``e, v``: the modal state at the current point; ``e2, v2``: the state after a switch; ``amp``: the fast modes'
+    free amplitudes (:mod:`.split`); ``rows``: four rows for :func:`.pieces.amplitude`; ``d, scale``: the Taylor
+    model's coefficients and their sizes; ``taylor``: its work space; ``P, fast``: the particular solutions and the
+    first fast mode of each state (:func:`.split.particular`).
+    """
+
+    e: np.ndarray
+    v: np.ndarray
+    e2: np.ndarray
+    v2: np.ndarray
+    amp: np.ndarray
+    rows: np.ndarray
+    d: np.ndarray
+    scale: np.ndarray
+    taylor: np.ndarray
+    P: np.ndarray
+    fast: np.ndarray
 
 
 def _f64(a):
     return np.ascontiguousarray(a, dtype=np.float64)
 
 
-def model(pad) -> tuple:
+def model(pad) -> Model:
     """The kernel's view of a :class:`plbar.motion.Padded`."""
-    return (_f64(np.stack([pad.w, pad.f, pad.c])), _f64(np.stack([pad.rq, pad.size])),
-            _f64(np.stack([pad.open_map, pad.impact_pos, pad.impact_vel,
-                                pad.open_map if pad.open_vel is None else pad.open_vel])), _f64(pad.vc_row),
-            float(0.0 if pad.truncated else pad.S), bool(pad.truncated), float(pad.restitution))
+    maps = [pad.open_map, pad.impact_pos, pad.impact_vel, pad.open_map if pad.open_vel is None else pad.open_vel]
+    return Model(_f64(np.stack([pad.w, pad.f, pad.c])), _f64(np.stack([pad.rq, pad.size])), _f64(np.stack(maps)),
+                 _f64(pad.vc_row), float(0.0 if pad.truncated else pad.S), bool(pad.truncated),
+                 float(pad.restitution))
 
 
 def damping(pad):
@@ -64,20 +154,21 @@ def large(pad):
     return np.ones(1) if pad.m >= SPLIT_MIN else None
 
 
-def trajectories(T, phi, state, eta, vel) -> tuple:
+def trajectories(T, phi, state, eta, vel) -> Trajectories:
     """Trajectories at the start of their first forcing period."""
     B = T.size
     tf = np.zeros((B, 5))
     tf[:, 0], tf[:, 1], tf[:, 2] = T, 2 * np.pi / T, phi
     ti = np.zeros((B, 9), np.int64)
     ti[:, 1] = state
-    return tf, ti, _f64(np.stack([np.asarray(eta, float), np.asarray(vel, float)], axis=1)), np.zeros((B, 3))
+    return Trajectories(tf, ti, _f64(np.stack([np.asarray(eta, float), np.asarray(vel, float)], axis=1)),
+                        np.zeros((B, 3)))
 
 
-def records(B: int, m: int, R: int, capacity: int) -> tuple:
+def records(B: int, m: int, R: int, capacity: int) -> Records:
     """Empty records for ``B`` trajectories, ``R`` periods recorded, room for ``capacity`` events each."""
-    return (np.zeros((B, R, 3)), np.zeros((B, capacity, 3)), np.zeros((B, R + 1, m)), np.zeros((B, R + 1, m)),
-            np.zeros((B, R + 1), np.int64))
+    return Records(np.zeros((B, R, 3)), np.zeros((B, capacity, 3)), np.zeros((B, R + 1, m)),
+                   np.zeros((B, R + 1, m)), np.zeros((B, R + 1), np.int64))
 
 
 def accounts(B: int, R: int, on: bool):
@@ -85,9 +176,9 @@ def accounts(B: int, R: int, on: bool):
     return np.zeros((B, R, 6)) if on else None
 
 
-def grow_events(rc: tuple) -> tuple:
+def grow_events(rc: Records) -> Records:
     """The same records with twice the room for events."""
-    ev = rc[1]
+    ev = rc.ev
     out = np.zeros((ev.shape[0], 2 * ev.shape[1], 3))
     out[:, :ev.shape[1]] = ev
-    return rc[:1] + (out,) + rc[2:]
+    return rc._replace(ev=out)

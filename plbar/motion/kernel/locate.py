@@ -29,7 +29,7 @@ def margin_at(md, st, W, c0, s0, tp, u, z0, cphi, sphi, phi, e, v, damping):
     """``(g, g', size)``: the margin, its rate and the size of its terms at ``u`` into the segment of state ``st``
     that starts at ``tp`` with the modal state ``z0`` (``c0, s0 = cos, sin(W tp)``); the modal state at ``u`` is
     left in ``e, v``."""
-    modal, margin = md[0], md[1]
+    modal, margin = md.modal, md.margin
     cW, sW, sWu = half(W, u)
     arg = W * (tp + u) - phi
     ca, sa = cos(arg), sin(arg)
@@ -59,7 +59,7 @@ def _polish(md, W, tp, x, dx, lo, hi, phi, e, v, damping):
     xn = x - dx
     if not lo <= xn <= hi:
         return x
-    modal = md[0]
+    modal = md.modal
     load = cos(W * (tp + x) - phi)
     for j in range(e.size):
         w, f = modal[D.W, FREE, j], modal[D.F, FREE, j]
@@ -79,7 +79,7 @@ def land(md, W, tp, x, lo, hi, phi, e, v, damping):
     round-off level ``ZERO``, up to ~1e-13 of its size; the reset ``x_c = 0`` would move ``x_c`` times the contact
     force of potential energy, 1e-13 of the energy at some impacts, and the budget of 1,000 periods drifted by
     1e-12 of the work (issue 28)."""
-    modal = md[0]
+    modal = md.modal
     g, g1, size, wmax = 0.0, 0.0, 0.0, 0.0
     for j in range(e.size):
         c = modal[D.C, FREE, j]
@@ -87,7 +87,7 @@ def land(md, W, tp, x, lo, hi, phi, e, v, damping):
         g1 += c * v[j]
         size += abs(c * e[j])
         wmax = max(wmax, modal[D.W, FREE, j])
-    if not (g1 < 0.0 and abs(g) <= ZERO * max(size, md[1][D.SIZE, FREE])):
+    if not (g1 < 0.0 and abs(g) <= ZERO * max(size, md.margin[D.SIZE, FREE])):
         return x
     dx = g / g1
     if not abs(dx) * wmax <= POLISH_MAX:    # a grazing impact (slow rate): the Taylor step would not be round-off
@@ -100,7 +100,7 @@ def locate(md, st, W, c0, s0, tp, lo, hi, x, z0, phi, e, v, damping):
     """The crossing in ``[lo, hi]`` (segment time; the margin positive at ``lo``, negative at ``hi`` and decreasing
     in between), from the guess ``x``: the point where the margin is within half its round-off level, or ``hi``
     where the bracket closes to an ulp first.  The modal state there is left in ``e, v``."""
-    floor = md[1][D.SIZE, st]
+    floor = md.margin[D.SIZE, st]
     cphi, sphi = cos(phi), sin(phi)
     x = min(max(x, lo), hi)
     for _ in range(MAX_NEWTON):

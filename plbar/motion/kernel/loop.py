@@ -25,7 +25,7 @@ from ..model import CHATTER, FREE, OK, STALLED, STUCK
 from . import data as D
 from .certify import ZERO, bracket, decide_step, lands, taylor
 from .closed import half, matvec, mode_flow
-from .jit import cached, inline, jit
+from .jit import alloc, cached, inline, jit
 from .locate import land, locate
 from .pieces import amplitude, piece_accounts
 from .split import particular, split_step
@@ -47,6 +47,7 @@ __all__ = [
     "rebound",
     "flow_all",
     "switch",
+    "work_space",
 ]
 
 TINY = 1e-12        #: step (in periods) where no derivative decides, and the snap of a step onto a period boundary
@@ -63,7 +64,6 @@ PROGRESS = 1e-6
 CAP = 0.25
 ORDER = 8           #: order of the Taylor model of the margin
 LARGE_ORDER = 16    #: order of the Taylor model of a system of SPLIT_MIN modes or more (longer steps, for the cost)
-SPLIT_ORDER = 16    #: order of the split model's (its low modes are slow: a higher order certifies longer steps)
 DEEP_MAX = 40       #: highest order of the deep model (where no derivative up to ORDER is significant)
 CHATTER_H = 1e-11   #: rebounds accumulate (:func:`rebound`) once the next flight is this low, of the margin's size
 
@@ -78,7 +78,7 @@ def flow_all(md, st, W, tp, u, eta0, vel0, cphi, sphi, out_e, out_v, damping):
 @jit
 def flow_at(md, st, W, c0, s0, u, cW, sW, sWu, eta0, vel0, cphi, sphi, out_e, out_v, damping):
     """:func:`flow_all` from ``c0, s0 = cos, sin(W tp)`` and ``half(W, u)`` (kept by the caller)."""
-    modal = md[0]
+    modal = md.modal
     for j in range(modal.shape[2]):
         z = 0.0 if damping is None else damping[st, D.ZETA, j]
         out_e[j], out_v[j] = mode_flow(modal[D.W, st, j], z, modal[D.F, st, j], W, c0, s0, u, eta0[j], vel0[j],
@@ -86,18 +86,19 @@ def flow_at(md, st, W, c0, s0, u, cW, sW, sWu, eta0, vel0, cphi, sphi, out_e, ou
 
 
 @inline
-def _model(md, st, eta, vel, W, T, t, ca, sa, K, d, scale, work, damping):
-    """``(event, step, lands, hi, guess)`` at local time ``t`` of the period from a Taylor model of order ``K``
-    (step -1: undecided; ``lands``: the step ends on a crossing, :func:`.certify.lands`; ``hi > 0``: the margin
-    crosses zero once in ``[step, hi]``, near ``guess``, :func:`.certify.bracket`)."""
-    modal, margin = md[0], md[1]
+def _model(md, st, W, T, ca, sa, K, wk, damping):
+    """``(event, step, lands, hi, guess)`` at the current point ``wk.e, wk.v`` (``ca, sa = cos, sin(W t - phi)``
+    there) from a Taylor model of order ``K`` (step -1: undecided; ``lands``: the step ends on a crossing,
+    :func:`.certify.lands`; ``hi > 0``: the margin crosses zero once in ``[step, hi]``, near ``guess``,
+    :func:`.certify.bracket`)."""
+    modal, margin, d, scale, work = md.modal, md.margin, wk.d, wk.scale, wk.taylor
     cap = CAP * T
     if damping is None:
-        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], eta, vel, W, ca, sa,
-                         cap, K, d, scale, None, None)
+        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], wk.e, wk.v, W, ca,
+                         sa, cap, K, d, scale, None, None)
     else:
-        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], eta, vel, W, ca, sa,
-                         cap, K, d, scale, damping[st, D.ZETA], damping[st, D.CV])
+        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], wk.e, wk.v, W, ca,
+                         sa, cap, K, d, scale, damping[st, D.ZETA], damping[st, D.CV])
     event, v, found = decide_step(d, rem, scale, K, Om * cap, margin[D.SIZE, st], work)
     landing = not event and 0 < v < Om * cap and d[1] < 0 and lands(d, K, rem, v, scale, margin[D.SIZE, st])
     hi, guess = 0.0, 0.0
@@ -107,24 +108,23 @@ def _model(md, st, eta, vel, W, T, t, ca, sa, K, d, scale, work, damping):
 
 
 @jit
-def _certify(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, amp, P, fast, large, damping):
+def _certify(md, st, W, T, ca, sa, wk, large, damping):
     """``(event, step, lands, hi, guess)`` (:func:`_model`): for a ``large`` system (not None: :data:`SPLIT_MIN`
     modes or more) from the split model (:mod:`.split`) where it certifies a step, else from the model of order
-    :data:`LARGE_ORDER`; for a small
-    one from the model of order :data:`ORDER` (constants here: their loops unroll; a small system compiles
-    neither the split model nor the large order); where that decides nothing (a bar at rest loaded far from its
-    contact), from the deep model of order ``deep``."""
+    :data:`LARGE_ORDER`; for a small one from the model of order :data:`ORDER` (constants here: their loops
+    unroll; a small system compiles neither the split model nor the large order); where that decides nothing (a
+    bar at rest loaded far from its contact), from the deep model of order ``2 m + 4`` (at most
+    :data:`DEEP_MAX`)."""
     if large is not None:
-        step = split_step(md, st, eta, vel, W, ca, sa, CAP * T, SPLIT_ORDER, d, scale, work,
-                          amp, P, fast, damping)
+        step = split_step(md, st, W, ca, sa, CAP * T, wk, damping)
         if step > 0:
             return False, step, False, 0.0, 0.0
-        event, step, landing, hi, guess = _model(md, st, eta, vel, W, T, t, ca, sa, LARGE_ORDER, d, scale, work,
-                                                 damping)
+        event, step, landing, hi, guess = _model(md, st, W, T, ca, sa, LARGE_ORDER, wk, damping)
     else:
-        event, step, landing, hi, guess = _model(md, st, eta, vel, W, T, t, ca, sa, ORDER, d, scale, work, damping)
+        event, step, landing, hi, guess = _model(md, st, W, T, ca, sa, ORDER, wk, damping)
     if step < 0:
-        event, step, landing, hi, guess = _model(md, st, eta, vel, W, T, t, ca, sa, deep, d, scale, work, damping)
+        deep = min(2 * md.modal.shape[2] + 4, DEEP_MAX)
+        event, step, landing, hi, guess = _model(md, st, W, T, ca, sa, deep, wk, damping)
     return event, step, landing, hi, guess
 
 
@@ -134,11 +134,11 @@ def switch(md, st, eta, vel, out_e, out_v, load, damping):
 
     kind 1: the gap opens (I -> II, ``x^II = E x^I``); kind 2: plastic impact (II -> I, Eq. (10)),
     loss ``S v_c^2 / 2`` (Eq. (14)); for a truncated system the modal kinetic energy difference.  With a
-    coefficient of restitution ``e > 0`` (``md[6]``) an impact is a rebound (:func:`rebound`, kind 3, the state
+    coefficient of restitution ``e > 0`` (``md.restitution``) an impact is a rebound (:func:`rebound`, kind 3, the state
     stays II) unless the rebounds accumulate (kind 4: the plastic impact, ``dt`` the time to the accumulation
     point).  ``load`` is ``cos(W t - phi)`` here.
     """
-    maps, vc_row, S, truncated, rest = md[2], md[3], md[4], md[5], md[6]
+    maps, vc_row, S, truncated, rest = md.maps, md.vc_row, md.S, md.truncated, md.restitution
     if st == STUCK:
         matvec(maps[D.OPEN], eta, out_e)
         matvec(maps[D.OPEN_VEL], vel, out_v)
@@ -159,7 +159,7 @@ def switch(md, st, eta, vel, out_e, out_v, load, damping):
 
 @jit
 def rebound(md, eta, vel, out_e, out_v, load, damping):
-    """Newton's impact law with restitution ``e = md[6]`` at an impact of state II: ``(kind, loss, dt)``.
+    """Newton's impact law with restitution ``e = md.restitution`` at an impact of state II: ``(kind, loss, dt)``.
 
     The impulse acts along the contact DOF, so in the modal coordinates (mass-orthonormal) along the contact row
     ``r`` (``x_c = r . eta``): ``v+ = v - (1 + e) (r . v) r / |r|^2``, which gives ``r . v+ = -e r . v`` and loses
@@ -174,8 +174,8 @@ def rebound(md, eta, vel, out_e, out_v, load, damping):
     what the rest of the sequence loses, ``sum (1 - e^2) e^(2k) = 1``), with ``dt``.  The bar beside it moves
     as in state I meanwhile: the contact is within that height of the wall (docs/restitution.md).
     """
-    modal, vc_row, e = md[0], md[3], md[6]
-    rr, vc, a, size = 0.0, 0.0, 0.0, md[1][D.SIZE, FREE]
+    modal, vc_row, e = md.modal, md.vc_row, md.restitution
+    rr, vc, a, size = 0.0, 0.0, 0.0, md.margin[D.SIZE, FREE]
     for j in range(vel.size):
         rr += vc_row[j] * vc_row[j]
         vc += vc_row[j] * vel[j]
@@ -195,11 +195,12 @@ def rebound(md, eta, vel, out_e, out_v, load, damping):
 
 
 @jit
-def _account(md, f, s, z0, tot, acc, first, b, tau, work, damping):
-    """Account the piece ``[tp, tp + tau]`` of the current segment (its start state ``z0``) of trajectory ``b``
-    (``work``: four rows of work space for :func:`.pieces.amplitude`)."""
+def _account(md, cur, acc, tau, rows, damping):
+    """Account the piece ``[tp, tp + tau]`` of the current segment (its start state ``cur.z0``) of the current
+    trajectory (``rows``: four rows of work space for :func:`.pieces.amplitude`)."""
     if acc is None:
         return
+    f, s, z0, tot, first, b = cur.f, cur.s, cur.z0, cur.tot, cur.first, cur.b
     st, tp, period = s[D.STATE], f[D.TP], s[D.PERIOD]
     full = period >= first
     W, phi = f[D.OMEGA], f[D.PHI]
@@ -215,7 +216,7 @@ def _account(md, f, s, z0, tot, acc, first, b, tau, work, damping):
         if st == STUCK:
             acc[b, r, D.STUCK_T] += tau
         elif tau > 0:
-            acc[b, r, D.AMP] = max(acc[b, r, D.AMP], amplitude(md, W, phi, tp, tau, z0[0], z0[1], work, damping))
+            acc[b, r, D.AMP] = max(acc[b, r, D.AMP], amplitude(md, W, phi, tp, tau, z0[0], z0[1], rows, damping))
 
 
 @jit
@@ -225,14 +226,16 @@ def _set(row, x):
 
 
 @jit
-def _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, work, damping):
-    """Account the segment that ends here, switch, record the event, count zero-length segments."""
-    per, ev = rc[0], rc[1]
+def _event(md, cur, rc, acc, wk, damping):
+    """Account the segment that ends here (at ``wk.e, wk.v``), switch, record the event, count zero-length
+    segments."""
+    per, ev, f, s, z0, tot, first, b = rc.per, rc.ev, cur.f, cur.s, cur.z0, cur.tot, cur.first, cur.b
+    e, v, e2, v2 = wk.e, wk.v, wk.e2, wk.v2
     st, tp, period = s[D.STATE], f[D.TP], s[D.PERIOD]
     if st == FREE:                     # an impact: landed on x_c = 0 to its last bits, however it was found
         f[D.P] = land(md, f[D.OMEGA], tp, f[D.P], 0.0, f[D.T] - tp, f[D.PHI], e, v, damping)
     p = f[D.P]
-    _account(md, f, s, z0, tot, acc, first, b, p, work, damping)
+    _account(md, cur, acc, p, wk.rows, damping)
     # (tp + p) first: the next segment starts at tp + p, so a zero-length phase's second event gets the same time
     # (summed as period T + tp + p it came out ulps before the first: event times must never decrease)
     time = period * f[D.T] + (tp + p)
@@ -264,10 +267,12 @@ def _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, work, damping):
 
 
 @jit
-def _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, work, damping):
-    """Account the last piece of the forcing period, restart the segment at its end, record the boundary state."""
+def _boundary(md, cur, rc, acc, wk, damping):
+    """Account the last piece of the forcing period, restart the segment at its end, record the boundary state
+    (the state at the end is left in ``wk.e, wk.v``)."""
+    f, s, z0, first, b, e, v = cur.f, cur.s, cur.z0, cur.first, cur.b, wk.e, wk.v
     st, tp, period = s[D.STATE], f[D.TP], s[D.PERIOD]
-    _account(md, f, s, z0, tot, acc, first, b, f[D.P], work, damping)
+    _account(md, cur, acc, f[D.P], wk.rows, damping)
     phi = f[D.PHI]
     flow_all(md, st, f[D.OMEGA], tp, f[D.T] - tp, z0[0], z0[1], cos(phi), sin(phi), e, v, damping)
     _set(z0[0], e)
@@ -278,23 +283,22 @@ def _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, work, damping):
     s[D.STALL] = 0
     r = period + 1 - first
     if r >= 0:
-        _set(rc[2][b, r], e)
-        _set(rc[3][b, r], v)
-        rc[4][b, r] = st
+        _set(rc.sx[b, r], e)
+        _set(rc.sv[b, r], v)
+        rc.ss[b, r] = st
 
 
 @jit
-def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, P, fast, large, damping, halt):
-    """Advance one trajectory (its state in ``f, s, z0, tot``) to the start of forcing period ``stop`` (``scratch``,
-    ``d, scale, work``, ``P, fast``: work space from :func:`advance`), or until another thread sets ``halt[0]``
-    (checked every round: a Ctrl-C stops a chattering trajectory too)."""
-    e, v, e2, v2, aw = scratch[0], scratch[1], scratch[2], scratch[3], scratch[5:]
+def _run(md, cur, rc, acc, stop, wk, large, damping, halt):
+    """Advance one trajectory (:class:`.data.Current`) to the start of forcing period ``stop`` (``wk``: the work
+    space from :func:`advance`), or until another thread sets ``halt[0]`` (checked every round: a Ctrl-C stops a
+    chattering trajectory too)."""
+    f, s, z0, first, e, v = cur.f, cur.s, cur.z0, cur.first, wk.e, wk.v
     T, W, phi = f[D.T], f[D.OMEGA], f[D.PHI]
     cphi, sphi = cos(phi), sin(phi)
-    deep = min(2 * md[0].shape[2] + 4, DEEP_MAX)
-    room = rc[1].shape[1]
+    room = rc.ev.shape[1]
     if large is not None:
-        particular(md, damping, W, P, fast)
+        particular(md, damping, W, wk.P, wk.fast)
     seg, c0, s0 = -1.0, 1.0, 0.0
     while s[D.PERIOD] < stop and s[D.STATUS] == OK and halt[0] == 0:
         st, tp, p = s[D.STATE], f[D.TP], f[D.P]
@@ -304,8 +308,7 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, P,
         flow_at(md, st, W, c0, s0, p, cW, sW, sWu, z0[0], z0[1], cphi, sphi, e, v, damping)
         cth, sth = c0 * cphi + s0 * sphi, s0 * cphi - c0 * sphi      # cos, sin(W tp - phi); then at tp + p:
         cWp = 1.0 - 2.0 * sW * sW
-        event, step, landing, hi, guess = _certify(md, st, e, v, W, T, tp + p, cth * cWp - sth * sWu,
-                                                   sth * cWp + cth * sWu, deep, d, scale, work, scratch[4], P, fast,
+        event, step, landing, hi, guess = _certify(md, st, W, T, cth * cWp - sth * sWu, sth * cWp + cth * sWu, wk,
                                                    large, damping)
         if event and s[D.PERIOD] >= first and s[D.EVENTS] >= room:
             s[D.NEED] = 1                      # no room to record it: the caller grows the record and goes on
@@ -314,7 +317,7 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, P,
             s[D.STALL] += 1
         s[D.ROUNDS] += 1
         if event:
-            _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, aw, damping)
+            _event(md, cur, rc, acc, wk, damping)
         else:
             end = T - tp
             new_p = p + (step if step > 0 else TINY * T)
@@ -322,19 +325,27 @@ def _run(md, f, s, z0, tot, rc, acc, first, b, stop, scratch, d, scale, work, P,
                 new_p = np.nextafter(p, np.inf)
             f[D.P] = end if new_p >= end - TINY * T else new_p
             if f[D.P] >= end:
-                _boundary(md, f, s, z0, tot, rc, acc, first, b, e, v, aw, damping)
+                _boundary(md, cur, rc, acc, wk, damping)
                 if step > 0 and new_p > end:    # certified past the boundary: the next round starts there
                     f[D.P] = new_p - end
             elif s[D.PERIOD] >= first and s[D.EVENTS] >= room:
                 pass                           # no room to record an event here: the next round meets it
             elif landing:
                 flow_all(md, st, W, tp, f[D.P], z0[0], z0[1], cphi, sphi, e, v, damping)
-                _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, aw, damping)   # the step ends on a crossing
+                _event(md, cur, rc, acc, wk, damping)                  # the step ends on a crossing
             elif 0 < hi and p + hi < end:      # the one crossing of a certified bracket, on the closed form
                 f[D.P] = locate(md, st, W, c0, s0, tp, f[D.P], p + hi, p + guess, z0, phi, e, v, damping)
-                _event(md, f, s, z0, tot, rc, acc, first, b, e, v, e2, v2, aw, damping)
+                _event(md, cur, rc, acc, wk, damping)
         if s[D.STALL] > MAX_STALL:
             s[D.STATUS] = STALLED
+
+
+@alloc
+def work_space(m):
+    """A :class:`.data.Work` for a system of ``m`` modes (the one allocation of the kernel's work space)."""
+    return D.Work(np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty((4, m)),
+                  np.empty(DEEP_MAX + 2), np.empty(DEEP_MAX + 2), np.empty(2 * (DEEP_MAX + 3)), np.empty((2, 2, m)),
+                  np.empty(2, np.int64))
 
 
 def _advance(stamp):
@@ -351,18 +362,16 @@ def _advance(stamp):
         if stamp < 0:                      # never: the stamp keys the on-disk cache (:func:`.jit.cached`)
             return
         tf, ti, z, tot = tr
-        m = md[0].shape[2]
-        scratch, z0 = np.empty((9, m)), np.empty((2, m))
-        d, scale, work = np.empty(DEEP_MAX + 2), np.empty(DEEP_MAX + 2), np.empty(2 * (DEEP_MAX + 3))
-        f, s, t3 = np.empty(tf.shape[1]), np.empty(ti.shape[1], np.int64), np.empty(3)
-        P, fast = np.empty((2, 2, m)), np.empty(2, np.int64)
+        m = md.modal.shape[2]
+        wk = work_space(m)
+        f, s, t3, z0 = np.empty(tf.shape[1]), np.empty(ti.shape[1], np.int64), np.empty(3), np.empty((2, m))
         for b in idx:
             _set(f, tf[b])
             _set(s, ti[b])
             _set(t3, tot[b])
             _set(z0[0], z[b, 0])
             _set(z0[1], z[b, 1])
-            _run(md, f, s, z0, t3, rc, acc, first, b, stop, scratch, d, scale, work, P, fast, large, damping, halt)
+            _run(md, D.Current(b, first, f, s, z0, t3), rc, acc, stop, wk, large, damping, halt)
             _set(tf[b], f)
             _set(ti[b], s)
             _set(tot[b], t3)

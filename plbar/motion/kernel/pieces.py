@@ -30,7 +30,7 @@ AMP_SAMPLES = 48   #: samples per state II piece before the Newton refinement of
 @jit
 def piece_accounts(md, st, W, cphi, sphi, tp, tau, eta0, vel0, full, damping):
     """``(work, d_eq, d_w, viscous)`` of a piece (``d_eq, d_w`` only where ``full``, viscous only when damped)."""
-    modal = md[0]
+    modal = md.modal
     c0, s0 = cos(W * tp), sin(W * tp)
     cb, sb = cos(0.5 * W * tau), sin(0.5 * W * tau)
     wk, d_eq, d_w, visc = 0.0, 0.0, 0.0, 0.0
@@ -49,7 +49,7 @@ def piece_accounts(md, st, W, cphi, sphi, tp, tau, eta0, vel0, full, damping):
 @jit
 def gap(md, W, phi, tp, u, eta0, vel0, cphi, sphi, damping):
     """``-x_c`` and its first two derivatives at ``u`` into a state II piece."""
-    modal = md[0]
+    modal = md.modal
     c0, s0 = cos(W * tp), sin(W * tp)
     cW, sW, sWu = half(W, u)
     load = cos(W * (tp + u) - phi)
@@ -71,7 +71,7 @@ def _samples(md, W, tp, tau, eta0, vel0, cphi, sphi, work, damping):
     Undamped, the half-angle sines and cosines of the flow are rotated from sample to sample (one sine and cosine
     per mode per piece instead of per sample), in the four rows of ``work``.
     """
-    modal = md[0]
+    modal = md.modal
     m = modal.shape[2]
     h = tau / AMP_SAMPLES
     c0, s0 = cos(W * tp), sin(W * tp)

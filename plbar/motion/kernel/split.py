@@ -30,13 +30,15 @@ from .data import SPLIT_MIN
 from .certify import step_from, taylor
 from .jit import jit
 
-__all__ = ["SPLIT_MIN", "particular", "split_step"]
+__all__ = ["SPLIT_MIN", "SPLIT_ORDER", "particular", "split_step"]
+
+SPLIT_ORDER = 16   #: order of the split model (its low modes are slow: a higher order certifies longer steps)
 
 @jit
 def particular(md, damping, W, P, fast):
     """``P[state, 0 | 1, j]`` (real, imaginary part of the steady amplitude) and ``fast[state]``: the first index
     from which every mode is fast (``w_j >= 2 W``), for a trajectory of forcing frequency ``W``."""
-    modal = md[0]
+    modal = md.modal
     m = modal.shape[2]
     for st in range(2):
         fast[st] = m
@@ -63,10 +65,12 @@ def _free(c, cvj, w, pr, pi, ct, st, W, eta, vel):
 
 
 @jit
-def split_step(md, st, eta, vel, W, ct, s_t, cap, K, d, scale, work, amp, P, fast, damping):
-    """A certified step (unscaled) from the split model, or -1 where it does not pay (see the module docstring);
-    ``ct, s_t = cos, sin(W t - phi)`` at the point."""
-    modal, margin = md[0], md[1]
+def split_step(md, st, W, ct, s_t, cap, wk, damping):
+    """A certified step (unscaled) from the split model of order :data:`SPLIT_ORDER`, or -1 where it does not pay
+    (see the module docstring), at the point ``wk.e, wk.v``, ``ct, s_t = cos, sin(W t - phi)`` there
+    (:class:`.data.Work`: ``wk.P, wk.fast`` from :func:`particular`)."""
+    modal, margin, K, eta, vel = md.modal, md.margin, SPLIT_ORDER, wk.e, wk.v
+    d, scale, amp, P, fast = wk.d, wk.scale, wk.amp, wk.P, wk.fast
     c, w, f = modal[D.C, st], modal[D.W, st], modal[D.F, st]
     m = w.size
     g = margin[D.RQ, st] * ct
@@ -100,5 +104,5 @@ def split_step(md, st, eta, vel, W, ct, s_t, cap, K, d, scale, work, amp, P, fas
     lead = d[0] - tail
     if not lead > 0:
         return -1.0
-    v = step_from(d, K, 0, lead, rem, Om * cap, work)
+    v = step_from(d, K, 0, lead, rem, Om * cap, wk.taylor)
     return v / Om if v > 0 else -1.0

@@ -13,12 +13,10 @@ from math import cos, pi, sin
 
 from ...motion.kernel.closed import half, mode_flow
 from ...motion.kernel.integrals import psi
+from ..packed import AMPLITUDE, PSI, C, LOAD, W, ZETA
 from .stamp import cached
-from .walk import C, LOAD, W, ZETA
 
 __all__ = ["energy", "PSI", "AMPLITUDE"]
-
-PSI, AMPLITUDE = 0, 1   #: what :func:`energy` computes
 
 
 def _energy(stamp):
@@ -29,7 +27,7 @@ def _energy(stamp):
         a, b, c, col = 0.0, 0.0, 0.0, 0
         for i in range(dwell.size if stamp >= 0 else 0):       # (the stamp keys the on-disk cache)
             for s in range(2 if dwell[i] == 1 else 1):
-                tab = md[0] if s == 0 and dwell[i] == 1 else md[1]
+                tab = md.tab1 if s == 0 and dwell[i] == 1 else md.tab2
                 m, t0, tau = tab.shape[1], times[col, 0], times[col, 1]
                 c0, s0 = cos(Om * t0), sin(Om * t0)
                 z = zs[col, 0]

@@ -15,8 +15,8 @@ from math import cos, sin
 import numpy as np
 
 from ...motion.kernel.closed import half, matvec, mode_flow
+from ..packed import CV, LOAD, ZETA, C, W
 from .stamp import cached, jit
-from .walk import C, CV, LOAD, W, ZETA
 
 __all__ = ["monodromy"]
 
@@ -101,7 +101,7 @@ def _impact(tabp, R, tab2, Om, t, phi, z, P, Pn):
 def _monodromy(stamp):
     def monodromy(md, damping, dwell, T, phi, times, zs, M):
         """``M``: the Jacobian of the ``m``-period map of the chain whose segments are ``times``, ``zs``."""
-        tab1, tab2, E, G, rq1, B = md
+        tab1, tab2, E, G, rq1, B = md.tab1, md.tab2, md.E, md.G, md.rq1, md.B
         n0, mm = M.shape[0], 2 * max(tab1.shape[1], tab2.shape[1])
         EG = np.zeros((E.shape[0], G.shape[1]))
         for i in range(E.shape[0]):

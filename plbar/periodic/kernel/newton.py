@@ -14,16 +14,13 @@ from math import inf, isfinite, sqrt
 
 import numpy as np
 
+from ..packed import CHORD, CONVERGED, DONE, ENDED, FAILED, FOLLOW, NEWTON, SINGULAR, Walk
 from .stamp import cached, jit
-from .walk import chain, copy, relative, segments, start_size
+from .walk import chain, copy, relative, start_size, walk_space
 
-__all__ = ["lu_factor", "lu_solve", "scratch", "augmented", "tangent", "correct", "step", "polish", "FAILED",
+__all__ = ["lu_factor", "lu_solve", "augmented", "tangent", "correct", "step", "polish", "FAILED",
            "CONVERGED", "DONE", "SINGULAR", "ENDED", "FOLLOW", "CHORD", "NEWTON"]
 
-FAILED, CONVERGED, DONE = 0, 1, 2     #: corrector outcomes (converged at its last point, or its last step taken)
-SINGULAR = 3                          #: polish: a singular Jacobian
-ENDED = 4                             #: step: a duration of the predicted point is not positive
-FOLLOW, CHORD, NEWTON = 0, 1, 2       #: step modes: a continuation step; one correction (chord, Newton)
 STEP_TOL = 1e-13                      #: the corrector's last step (scaled)
 FLOOR_TOL = 1e-10                     #: a step that stalls below this is round-off: the residual decides
 
@@ -73,28 +70,21 @@ def lu_solve(A, piv, b):
 
 
 @jit
-def scratch(md, dwell, nX):
-    """What :func:`.walk.chain` fills besides ``F`` and ``J``, for a call that does not keep it."""
-    k, n = segments(dwell), 2 * max(md[0].shape[1], md[1].shape[1])
-    return (np.empty((k, 2)), np.empty((k, 2, n)), np.empty(dwell.size), np.empty(nX - start_size(md, dwell) - 1),
-            np.empty(dwell.size))
-
-
-@jit
 def augmented(md, damping, dwell, m, Y, F, A):
     """``F`` at ``Y = (X, T)`` and the Jacobian in ``Y`` into the first rows of ``A``: exact in ``X``, the column in
     ``T`` a forward difference (step ``1e-7 T``); returns the switch scales."""
     nX = Y.size - 1
     X, T = Y[:nX], Y[nX]
     J, F2 = np.empty((nX, nX)), np.empty(nX)
-    times, zs, zero, scale, vimp = scratch(md, dwell, nX)
-    chain(md, damping, dwell, m, T, X, F, J, times, zs, zero, scale, vimp)
+    w = walk_space(md, dwell, F, J)
+    chain(md, damping, dwell, m, T, X, w)
     h = 1e-7 * T
-    chain(md, damping, dwell, m, T + h, X, F2, np.empty((0, 0)), times, zs, zero, np.empty(scale.size), vimp)
+    chain(md, damping, dwell, m, T + h, X, Walk(F2, np.empty((0, 0)), w.times, w.zs, w.zero, np.empty(w.scale.size),
+                                                 w.vimp))
     for i in range(nX):
         copy(J[i], A[i])
         A[i, nX] = (F2[i] - F[i]) / h
-    return scale
+    return w.scale
 
 
 @jit
@@ -162,8 +152,8 @@ def correct(md, damping, dwell, m, Yp, t, S, newton, Ja, chord, Y):
     n, nz = Yp.size, start_size(md, dwell)
     q = n - nz - 2
     A, piv = np.empty((n, n)), np.empty(n, np.int64)
-    F, dY, none = np.empty(n - 1), np.empty(n), np.empty((0, 0))
-    times, zs, zero, scale, vimp = scratch(md, dwell, n - 1)
+    F, dY = np.empty(n - 1), np.empty(n)
+    w = walk_space(md, dwell, F, np.empty((0, 0)))
     copy(Yp, Y)
     have, last = False, inf
     for it in range(2 * newton if chord else newton):
@@ -173,7 +163,7 @@ def correct(md, damping, dwell, m, Yp, t, S, newton, Ja, chord, Y):
         if fresh:
             augmented(md, damping, dwell, m, Y, F, A)
         else:
-            chain(md, damping, dwell, m, Y[n - 1], Y[:n - 1], F, none, times, zs, zero, scale, vimp)
+            chain(md, damping, dwell, m, Y[n - 1], Y[:n - 1], w)
         if fresh or not have:
             for i in range(n):
                 if not fresh and i < n - 1:
@@ -239,10 +229,10 @@ def _polish(stamp):
         q = nX - nz - 1
         F, J, Fn = np.empty(nX), np.empty((nX, nX)), np.empty(nX)
         piv, dX, Xn = np.empty(nX, np.int64), np.empty(nX), X.copy()
-        times, zs, zero, scale, vimp = scratch(md, dwell, nX)
-        sn, none = np.empty(scale.size), np.empty((0, 0))
+        w = walk_space(md, dwell, F, J)
+        wn = Walk(Fn, np.empty((0, 0)), w.times, w.zs, w.zero, np.empty(w.scale.size), w.vimp)   # residuals only
         for _ in range(maxit if stamp >= 0 else 0):     # (the stamp keys the on-disk cache)
-            r = chain(md, damping, dwell, m, T, X, F, J, times, zs, zero, scale, vimp)
+            r = chain(md, damping, dwell, m, T, X, w)
             if r <= roundoff:
                 break
             if not lu_factor(J, piv):
@@ -255,8 +245,8 @@ def _polish(stamp):
                 for i in range(nX):
                     Xn[i] = X[i] + lam * dX[i]
                 if _positive(Xn, nz, q):
-                    chain(md, damping, dwell, m, T, Xn, Fn, none, times, zs, zero, sn, vimp)
-                    if relative(Fn, scale, X, nz, T) < r or lam < 1e-3:     # at the scales of X
+                    chain(md, damping, dwell, m, T, Xn, wn)
+                    if relative(Fn, w.scale, X, nz, T) < r or lam < 1e-3:     # at the scales of X
                         break
                 lam *= 0.5
             copy(Xn, X)

@@ -7,10 +7,12 @@ the free flow's 2 x 2 block of each mode (unit initial states, no load) and the 
 part's derivative in the phase (zero initial state, ``(cos, sin)`` of the phase replaced by
 ``(-sin phi, cos phi)``), all linear in those arguments.
 
-A state's table ``tab[W | LOAD | C | ZETA | CV, j]`` holds its frequencies, modal loads, the
+The model is a :class:`plbar.periodic.packed.ChainModel` ``md``: a state's table ``md.tab1``,
+``md.tab2`` (``tab[W | LOAD | C | ZETA | CV, j]``) holds its frequencies, modal loads, the
 weights of its margin (``-r_eta`` in state I, ``-gap_row`` in state II), its damping ratios and
-the damper's share of the reaction (zero where there is none).  The model is
-``md = (tab1, tab2, E, G, rq1, B)`` (switch maps: opening ``E``, impact ``G``, rebound ``B``; ``rq1 = -r_q``).
+the damper's share of the reaction (zero where there is none); ``md.E, md.G, md.B`` are the switch
+maps (opening, impact, rebound), ``md.rq1 = -r_q``.  What a walk fills is a
+:class:`plbar.periodic.packed.Walk`.
 A pair's kind ``dwell[i]`` is 1 (a stuck phase of positive dwell, then the free phase), 0 (zero dwell: the
 opening at once) or 2 (a rebound: the free phase at once); the impact that ends a pair is a rebound (``B``)
 when the next pair is of kind 2, else the plastic impact (``G``).
@@ -23,11 +25,10 @@ from math import cos, pi, sin
 import numpy as np
 
 from ...motion.kernel.closed import half, matvec, mode_flow
+from ..packed import CV, LOAD, ZETA, C, W, Walk
 from .stamp import cached, jit
 
-__all__ = ["W", "LOAD", "C", "ZETA", "CV", "chain", "segments", "copy", "relative"]
-
-W, LOAD, C, ZETA, CV = 0, 1, 2, 3, 4   #: rows of a state's table
+__all__ = ["chain", "segments", "copy", "relative", "start_size", "walk_space"]
 
 
 @jit
@@ -123,7 +124,16 @@ def segments(dwell):
 @jit
 def start_size(md, dwell):
     """The start state's size: state I, or state II when the first pair begins with a rebound."""
-    return 2 * (md[1] if dwell[0] == 2 else md[0]).shape[1]
+    return 2 * (md.tab2 if dwell[0] == 2 else md.tab1).shape[1]
+
+
+@jit
+def walk_space(md, dwell, F, J):
+    """A :class:`plbar.periodic.packed.Walk` of residuals ``F`` and Jacobian ``J`` (empty: none) for a walk of
+    ``dwell`` whose other arrays the caller does not keep."""
+    k, n = segments(dwell), 2 * max(md.tab1.shape[1], md.tab2.shape[1])
+    return Walk(F, J, np.empty((k, 2)), np.empty((k, 2, n)), np.empty(dwell.size),
+                np.empty(F.size - start_size(md, dwell) - 1), np.empty(dwell.size))
 
 
 @jit
@@ -159,17 +169,18 @@ def _close(X, nz, q, m, T, z, D, F, J, jac):
 
 
 def _chain(stamp):
-    def chain(md, damping, dwell, m, T, X, F, J, times, zs, zero, scale, vimp):
-        """Residuals ``F`` (and, unless ``J`` is empty, the Jacobian ``J``) of the chain of ``dwell`` over ``m``
-        periods at ``T``; returns the largest relative residual (:func:`relative`).
+    def chain(md, damping, dwell, m, T, X, out):
+        """Residuals ``out.F`` (and, unless ``out.J`` is empty, the Jacobian ``out.J``) of the chain of ``dwell``
+        over ``m`` periods at ``T``; returns the largest relative residual (:func:`relative`).
 
-        Also fills the segments' start times and lengths ``times[i]``, their states ``zs[i, 0 | 1]`` (start, end;
-        padded; segment ``i`` is the one of duration ``X[nz + i]``), the margins after impacts followed by a zero
-        dwell ``zero``, the size of the terms of every switching residual ``scale`` and the contact velocity
-        before every impact ``vimp``.  The state and its derivative live in two buffers each (``a``: the current
-        one).
+        Also fills (:class:`plbar.periodic.packed.Walk`) the segments' start times and lengths ``times[i]``, their
+        states ``zs[i, 0 | 1]`` (start, end; padded; segment ``i`` is the one of duration ``X[nz + i]``), the
+        margins after impacts followed by a zero dwell ``zero``, the size of the terms of every switching residual
+        ``scale`` and the contact velocity before every impact ``vimp``.  The state and its derivative live in two
+        buffers each (``a``: the current one).
         """
-        tab1, tab2, E, G, rq1, B = md
+        tab1, tab2, E, G, rq1, B = md.tab1, md.tab2, md.E, md.G, md.rq1, md.B
+        F, J, times, zs, zero, scale, vimp = out.F, out.J, out.times, out.zs, out.zero, out.scale, out.vimp
         nz, nX, k = start_size(md, dwell), X.size, dwell.size
         n, jac = 2 * max(tab1.shape[1], tab2.shape[1]), J.size > 0 and stamp >= 0   # (the stamp keys the cache)
         Om, phi = 2.0 * pi / T, X[nX - 1]
