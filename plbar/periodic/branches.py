@@ -23,13 +23,13 @@ are kept once.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 import numpy as np
 
 from ..model import Problem
 from ..paths import FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING
-from ..util.reprs import build, count, rng
+from .branch import DWELL_ZERO, PREMATURE, Branch
 from .floquet import monodromy, multipliers
 from .follow import END_DWELL, FollowSettings, follow
 from .seeds import doubled, split, zero_dwell
@@ -41,130 +41,8 @@ __all__ = ["Branch", "find_branches", "from_paths", "KINDS", "PD", "NS", "FOLD",
 
 KINDS = ("paper", "default", "all")
 PD, NS, FOLD = PERIOD_DOUBLING, NEIMARK_SACKER, FOLD_T
-DWELL_ZERO = "stuck phase -> 0"     #: event kind: a stuck phase shrinks to zero (the signature changes)
-PREMATURE = "premature switch"      #: branch end: the next point on its curve switches prematurely
 M_MAX = 4                 #: longest orbit (in forcing periods) seeded by period doublings
 STABLE_TOL = 1e-9
-
-
-@dataclass(frozen=True)
-class Branch:
-    """Admissible periodic responses of one signature along a curve in ``T`` (ordered).
-
-    Attributes
-    ----------
-    sig : Signature
-        As followed (``label`` is its canonical string).
-    orbits : tuple of Orbit
-    stable : ndarray of bool
-    max_abs_multiplier : ndarray
-    events : list of dict
-        ``kind`` (:data:`PD`, :data:`NS`, :data:`FOLD`, :data:`GRAZING` where the branch stops being admissible,
-        :data:`DWELL_ZERO` where a stuck phase shrinks to zero), ``index``, ``T``.
-    ends : (str, str)
-        What ended the branch at its first and last point: :data:`PREMATURE` (the next point on the curve switches
-        prematurely), or why the curve itself ended (:mod:`.follow`: ``"window"``, ``"dwell->0"``, ...; the
-        paper's class: :attr:`plbar.paths.Branch.ends`).
-    grazing_points : ndarray of bool, optional
-        Per point, a grazing contact (the paper's class: its dense admissibility check).
-    """
-
-    id: int
-    sig: Signature
-    orbits: tuple = field(repr=False)
-    stable: np.ndarray = field(repr=False)
-    max_abs_multiplier: np.ndarray = field(repr=False)
-    events: list = field(default_factory=list, repr=False)
-    ends: tuple = ("", "")
-    grazing_points: np.ndarray | None = field(default=None, repr=False)
-
-    @property
-    def label(self) -> str:
-        return str(self.sig.canonical())
-
-    def _a(self, name):
-        return np.array([getattr(o, name) for o in self.orbits], float)
-
-    @property
-    def T(self):
-        return self._a("T")
-
-    @property
-    def dPL(self):
-        return self._a("dPL")
-
-    @property
-    def loss_per_T(self):
-        return self._a("loss_per_T")
-
-    @property
-    def xi(self):
-        return self._a("xi")
-
-    @property
-    def xi_w(self):
-        return self._a("xi_w")
-
-    @property
-    def xi_total(self):
-        return self._a("xi_total")
-
-    @property
-    def viscous(self):
-        return self._a("viscous")
-
-    @property
-    def amplitude(self):
-        """``max |x_c|`` of each orbit (:attr:`Orbit.amplitude`)."""
-        return self._a("amplitude")
-
-    @property
-    def T1(self):
-        """The total stuck time over each orbit (``m`` periods): the paper's ``T^I`` for ``1P``."""
-        return np.array([o.durations[0::2].sum() for o in self.orbits])
-
-    @property
-    def T2(self):
-        """The total free time over each orbit: the paper's ``T^II`` for ``1P``."""
-        return np.array([o.durations[1::2].sum() for o in self.orbits])
-
-    @property
-    def grazing(self):
-        """Per point: a grazing contact (:attr:`grazing_points`, where the paper's dense admissibility check gives
-        them); else the branch ends there because the next point on its curve switches prematurely (a grazing
-        contact or a premature opening: :data:`GRAZING` events)."""
-        if self.grazing_points is not None:
-            return self.grazing_points
-        g = np.zeros(len(self), bool)
-        for e in self.events:
-            if e["kind"] == GRAZING:
-                g[e["index"]] = True
-        return g
-
-    @property
-    def paper(self) -> bool:
-        """Of the paper's class (signature ``1P``)."""
-        return self.sig.canonical() == PAPER
-
-    def describe(self) -> str:
-        """One line: id, signature, points, ``T`` and ``xi`` ranges, stable points, events by kind, the ends."""
-        kinds = [e["kind"] for e in self.events]
-        ev = ", ".join(f"{k}: {kinds.count(k)}" for k in dict.fromkeys(kinds))
-        return (f"branch {self.id} ({self.label}): {len(self)} points, T in {rng(self.T)}, xi in {rng(self.xi)}, "
-                f"stable {count(self.stable)}" + (f", events {{{ev}}}" if ev else "") +
-                f", ends: {' / '.join(self.ends)}")
-
-    @property
-    def phi(self):
-        return self._a("phi")
-
-    def __len__(self) -> int:
-        return len(self.orbits)
-
-    def __repr__(self) -> str:
-        return build("Branch", {"id": self.id, "signature": self.label, "points": len(self), "T": rng(self.T),
-                                      "xi": rng(self.xi), "loss_per_T": rng(self.loss_per_T),
-                                      "stable": count(self.stable), "events": len(self.events)})
 
 
 def _curve(prob, orb: Orbit, window, st) -> tuple[list[Orbit], list[str]]:
