@@ -65,7 +65,7 @@ def compare(ref: Path, new: Path) -> list[str]:
     out = []
     if h0 != h1:
         out.append(f"  header differs: {sorted(set(h0) ^ set(h1))}")
-    if "signature" in h0 and "signature" in h1:
+    if "durations" in h0 and "durations" in h1:                 # paths.csv
         r0, r1, unmatched = _by_point(h0, r0, h1, r1)
         if unmatched:
             out.append(f"  {unmatched} rows without a match ({len(r0)} matched)")
