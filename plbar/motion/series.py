@@ -145,7 +145,8 @@ class Series:
         rv = np.asarray(sy.r_v, float) if getattr(sy, "damped", False) else np.zeros(m1)
         out = np.zeros(t.size)
         W = 2 * np.pi / self.T
-        out[one] = -(eta[one, :m1] @ sy.r_eta + vel[one, :m1] @ rv + prob.r_q * np.cos(W * t[one] - self.phi))
+        out[one] = -(_dots(eta[one, :m1], sy.r_eta) + _dots(vel[one, :m1], rv)
+                     + prob.r_q * np.cos(W * t[one] - self.phi))
         return out
 
     def energies(self, times):
@@ -155,7 +156,7 @@ class Series:
         ek, ep = np.zeros(st.size), np.zeros(st.size)
         for s, w in ((1, sy.w1), (2, sy.w2)):
             sel, m = st == s, w.size
-            ek[sel] = 0.5 * np.sum(vel[sel, :m] ** 2, axis=1)
+            ek[sel] = 0.5 * _dots(vel[sel, :m], vel[sel, :m])
             ep[sel] = 0.5 * np.sum((w * eta[sel, :m]) ** 2, axis=1)
         return ek, ep
 
@@ -314,6 +315,18 @@ def _physical(sy, st, eta, vel):
     """Physical ``x, v`` (K, n) of modal states ``eta, vel`` (K, n) in states ``st`` (K,)."""
     x, v = np.zeros((st.size, sy.n)), np.zeros((st.size, sy.n))
     one, m1, m2 = st == 1, sy.w1.size, sy.w2.size
-    x[one, :-1], v[one, :-1] = eta[one, :m1] @ sy.V1.T, vel[one, :m1] @ sy.V1.T
-    x[~one], v[~one] = eta[~one, :m2] @ sy.V2.T, vel[~one, :m2] @ sy.V2.T
+    x[one, :-1], v[one, :-1] = _each(sy.V1, eta[one, :m1]), _each(sy.V1, vel[one, :m1])
+    x[~one], v[~one] = _each(sy.V2, eta[~one, :m2]), _each(sy.V2, vel[~one, :m2])
     return x, v
+
+
+# numpy's stacked matmul makes one BLAS call per row, the same call as for a single vector: a sample's value is
+# the same bits whichever other samples are evaluated with it (one plain matrix product would round differently)
+def _each(A, X):
+    """``A @ x`` for each row ``x`` of ``X``: (K, n) from (n, m) and (K, m)."""
+    return np.matmul(A, X[..., None])[..., 0]
+
+
+def _dots(X, y):
+    """``x . y`` for each row ``x`` of ``X`` (K, m) and ``y`` (m,) or each row of ``y`` (K, m): (K,)."""
+    return np.matmul(X[:, None, :], np.asarray(y, float)[..., None])[:, 0, 0]
