@@ -131,6 +131,16 @@ def test_motion_with_rebounds_and_chattering(e, T):
     assert d.field_data["impact_loss"].sum() == pytest.approx(r.loss[0].sum(), rel=1e-12)
     assert np.all(d.field_data["state"][ev == 4] == 2) and np.all(d.field_data["state"][ev == 5] == 1)
 
+    _each_sample_alone(ms, d.times + ms.t0)
+
+
+def _each_sample_alone(series, t):
+    """The series evaluates all times at once (vectorised) to the same bits as each time alone."""
+    together = (*series.response(t), series.reaction(t), *series.energies(t))
+    for i in np.linspace(0, t.size - 1, 25).astype(int):
+        alone = (*series.response(t[i:i + 1]), series.reaction(t[i:i + 1]), *series.energies(t[i:i + 1]))
+        assert all(np.array_equal(a[i], b[0]) for a, b in zip(together, alone))
+
 
 def test_a_period_near_a_surveyed_one_is_taken_and_says_so(folder, capsys):
     """Issue 44: ``--T`` within 1e-3 of a surveyed period (and nearer it than half the spacing to the next) shows
