@@ -1,5 +1,4 @@
-"""Base layer: input validation, atomic file writers, thread pools, BLAS threads, the root finder, the record of
-a simulation.
+"""Base layer: validation, atomic file writers, thread pools, BLAS threads, the root finder, a simulation's record.
 
 Nothing here imports another plbar subpackage (only :mod:`plbar.errors`).
 """
