@@ -91,7 +91,7 @@ class Case:
         Which periodic responses to find.  ``"default"``: the paper's class and every signature found
         without the user (the zero-dwell class, period doublings up to ``m = 4``, the neighbouring
         signatures where a branch stops being admissible, and the periodic motions of a simulation from
-        rest at 81 forcing periods, 600 periods each: :func:`plbar.periodic.find_hybrid`); ``"paper"``:
+        rest at 81 forcing periods, 600 periods each: :func:`plbar.periodic.find_branches`); ``"paper"``:
         the paper's class only (one stuck phase, one impact per period: the fastest, no compiled
         simulator); ``"all"``: the default with the survey's simulation (161 periods, 1,000 each) and
         orbits up to ``m = 8``.

@@ -171,15 +171,16 @@ def case_of_run(folder) -> Case:
 
 
 def _hybrid_row(case, cols, k: int, branch: int, index: int):
-    """The orbit of row ``k`` of another signature, as an :class:`plbar.periodic.OrbitSeries`, and its info."""
-    from ..periodic import OrbitSeries, from_row, signature
+    """The orbit of row ``k`` of another signature, as a :class:`plbar.motion.Series`
+    (:func:`plbar.periodic.orbit_series`), and its info."""
+    from ..periodic import from_row, orbit_series, signature
 
     sig = signature(cols["signature"][k])
     d = [float(x) for x in str(cols["durations"][k]).split(";")]
     orb = from_row(case.problem(), sig, float(cols["T"][k]), d, float(cols["phi"][k]))
     info = {"T1": float(cols["T1"][k]), "T2": float(cols["T2"][k]), "phi": orb.phi, "T_forcing": orb.T,
             "signature": str(sig), "m": sig.m, "xi": orb.xi, "dPL": orb.dPL, "branch": branch, "index": index}
-    return OrbitSeries(orb), info
+    return orbit_series(orb), info
 
 
 def _tuples(o):

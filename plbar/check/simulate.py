@@ -42,6 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from ..errors import InputError
+from ..util.record import Record, events
 from ..util.reprs import build, rng
 from .segments import (IMPACT, OPEN, SAMPLES_PER_RAD, SimulationError, _at, _energy, _Model, _model, _next_event,
                        _physical, _Seg, _switch, _viscous, _work)
@@ -90,20 +91,22 @@ class History:
                                  "energy": rng(self.energy)})
 
 
-@dataclass(frozen=True)
-class Simulation:
-    """Result of :func:`simulate`.
+@dataclass(frozen=True, kw_only=True)
+class Simulation(Record):
+    """Result of :func:`simulate`: a :class:`plbar.util.record.Record` of one trajectory.
 
     Attributes
     ----------
-    T, phi, t0, t_end : float
-        Forcing period and phase, start and end time.
-    event_times : ndarray, shape (E,)
-    event_kinds : ndarray of int, shape (E,)
-        :data:`OPEN` (1, gap opens) or :data:`IMPACT` (2, plastic impact).
-    event_losses : ndarray, shape (E,)
-        Mechanical energy lost at each event (Eq. (14) at impacts; zero up
-        to round-off at openings).
+    T, phi : float
+        Forcing period and phase.
+    status : ndarray of int, shape (1,)
+        0 (a contact that chatters raises :class:`SimulationError` instead).
+    events : ndarray of dtype EVENT, shape (E,)
+        ``time``; ``kind``: :data:`OPEN` (1, gap opens) or :data:`IMPACT` (2, plastic impact); ``loss``: the
+        mechanical energy lost at each event (Eq. (14) at impacts; zero up to round-off at openings); ``traj`` 0,
+        ``v`` nan.
+    t0, t_end : float
+        Start and end time.
     x, v : ndarray, shape (n,)
         Final physical state at ``t_end`` (contact DOF last).
     state : int
@@ -122,13 +125,8 @@ class Simulation:
         Energy the Rayleigh dampers dissipate over ``[t0, t_end]`` (quadrature of ``v^T C v``); 0 undamped.
     """
 
-    T: float
-    phi: float
     t0: float
     t_end: float
-    event_times: np.ndarray
-    event_kinds: np.ndarray
-    event_losses: np.ndarray
     x: np.ndarray
     v: np.ndarray
     state: int
@@ -144,24 +142,25 @@ class Simulation:
 
     def __repr__(self) -> str:
         return build("Simulation", {"T": self.T, "phi": self.phi, "t": f"[{self.t0:.6g}, {self.t_end:.6g}]",
-                                    "n": np.size(self.x), "openings": int(np.sum(self.event_kinds == OPEN)),
-                                    "impacts": int(np.sum(self.event_kinds == IMPACT)), "state": self.state,
+                                    "n": np.size(self.x), "openings": int(np.sum(self.events["kind"] == OPEN)),
+                                    "impacts": int(np.sum(self.events["kind"] == IMPACT)), "state": self.state,
                                     "strobes": np.size(self.strobe_t), "energy_residual": f"{self.energy_residual:.3g}",
                                     "history": "None" if self.history is None else f"{self.history.t.size} samples"})
 
     @property
     def impact_times(self) -> np.ndarray:
-        return self.event_times[self.event_kinds == IMPACT]
+        """Time of each plastic impact."""
+        return self.events["time"][self.events["kind"] == IMPACT]
 
     @property
     def impact_losses(self) -> np.ndarray:
         """Energy lost at each plastic impact (Eq. (14))."""
-        return self.event_losses[self.event_kinds == IMPACT]
+        return self.events["loss"][self.events["kind"] == IMPACT]
 
     @property
     def energy_residual(self) -> float:
         """Energy budget ``work - sum(event losses) - viscous - (energy - energy0)``; zero up to round-off."""
-        return self.work - float(np.sum(self.event_losses)) - self.viscous - (self.energy - self.energy0)
+        return self.work - float(np.sum(self.events["loss"])) - self.viscous - (self.energy - self.energy0)
 
 
 def _check_state(mod: _Model, x0, v0, state):
@@ -323,8 +322,9 @@ def _simulation(mod: _Model, T, phi, seg0: _Seg, t_end: float, n_periods: float,
     work = sum(_work(mod, W, phi, s, float(te - s.ts)) for s, te in zip(segs, ends))
     visc = sum(_viscous(mod, W, phi, s, float(te - s.ts)) for s, te in zip(segs, ends))
     hist = None if rec is None else _history(mod, W, phi, segs, starts, rec)
-    return Simulation(T, phi, seg0.ts, t_end, times, kinds, losses, xe, ve, se, st, sx, sv, ss, float(work), E0,
-                      Ee, hist, float(visc))
+    return Simulation(T=T, phi=phi, status=np.zeros(1, int), events=events(times, kinds, losses), t0=seg0.ts,
+                      t_end=t_end, x=xe, v=ve, state=se, strobe_t=st, strobe_x=sx, strobe_v=sv, strobe_state=ss,
+                      work=float(work), energy0=E0, energy=Ee, history=hist, viscous=float(visc))
 
 
 def _history(mod: _Model, W, phi, segs, starts, rec) -> History:

@@ -38,6 +38,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import InputError
+from ..util.record import Record, events
 from .bar import ContinuumBar
 from .modes import Segment, closed_modes, energy, open_modes, overlap, state
 
@@ -46,12 +47,18 @@ __all__ = ["ModalRun", "simulate_modal", "OPENING", "IMPACT"]
 OPENING, IMPACT = 1, 2
 
 
-@dataclass(frozen=True)
-class ModalRun:
-    """What :func:`simulate_modal` recorded, per forcing period (``P = periods``).
+@dataclass(frozen=True, kw_only=True)
+class ModalRun(Record):
+    """What :func:`simulate_modal` recorded, per forcing period (``P = periods``): a
+    :class:`plbar.util.record.Record` of one trajectory.
 
     Attributes
     ----------
+    T, phi : float
+    status : ndarray of int, shape (1,)
+        0 (an accumulation of switches raises instead).
+    events : ndarray of dtype EVENT, shape (E,)
+        ``time``, ``kind`` (1 opening, 2 impact), ``v`` (impact velocity), ``loss``; ``traj`` 0.
     impacts, openings : ndarray of int, shape (P,)
     loss, work, dissipation, transfer, v2, psi : ndarray, shape (P,)
         Impact loss ``m_e v_L^2 / 2`` (Eq. (14)), work of the load, Rayleigh dissipation, the truncation's energy
@@ -65,8 +72,6 @@ class ModalRun:
         ``u(L), v(L)`` and stuck (1) / free (0) at every period boundary.
     strobe_u, strobe_v : ndarray, shape (R + 1, n + 1)
         ``u, v`` on the grid ``x_j = j L / n`` at the boundaries of the last ``R = record`` periods.
-    events : dict of ndarray
-        ``time``, ``kind`` (1 opening, 2 impact), ``v`` (impact velocity), ``loss``.
     record : int
         The last periods that :attr:`xi_eq`, :attr:`xi_omega` and the grid states cover.
     kept_until : float
@@ -74,8 +79,6 @@ class ModalRun:
     """
 
     bar: ContinuumBar
-    T: float
-    phi: float
     rayleigh: tuple
     modes: int
     periods: int
@@ -93,7 +96,6 @@ class ModalRun:
     end: np.ndarray
     strobe_u: np.ndarray
     strobe_v: np.ndarray
-    events: dict
     elapsed: float
     kept_until: float
     segments: tuple = field(default=(), repr=False)
@@ -166,13 +168,14 @@ class _Books:
         return q, v
 
     def result(self, T, phi, rayleigh, modes, elapsed, kept_until, kept) -> ModalRun:
-        ev = {k: np.array(v) for k, v in self.events.items()}
-        acc = (self.acc[n] for n in ("loss", "work", "dissipation", "transfer", "v2", "psi"))
-        return ModalRun(self.bar, float(T), float(phi), rayleigh, int(modes), self.amp.size,
-                        self.amp.size - self.first, self.counts[IMPACT],
-                        self.counts[OPENING], *acc, self.energy, self.amp, self.end,
-                        np.array([u for u, _ in self.strobes]), np.array([v for _, v in self.strobes]), ev, elapsed,
-                        kept_until, kept)
+        ev = events(*(np.array(self.events[k]) for k in ("time", "kind", "loss")), v=np.array(self.events["v"]))
+        acc = {n: self.acc[n] for n in ("loss", "work", "dissipation", "transfer", "v2", "psi")}
+        return ModalRun(T=float(T), phi=float(phi), status=np.zeros(1, int), events=ev, bar=self.bar,
+                        rayleigh=rayleigh, modes=int(modes), periods=self.amp.size, record=self.amp.size - self.first,
+                        impacts=self.counts[IMPACT], openings=self.counts[OPENING], **acc, energy=self.energy,
+                        amp=self.amp, end=self.end, strobe_u=np.array([u for u, _ in self.strobes]),
+                        strobe_v=np.array([v for _, v in self.strobes]), elapsed=elapsed, kept_until=kept_until,
+                        segments=kept)
 
     def segment(self, sg: Segment, tau: float, p: int, low: list, dt: float):
         """Book a segment ``[0, tau]`` in period ``p``: its integrals, and its end's excursion if free."""

@@ -1,6 +1,6 @@
 """The last periods of a continuum run as a time series (:class:`ContinuumSeries`), for export and render.
 
-It has the interface of :class:`plbar.motion.MotionSeries` that :func:`plbar.io.motion_data` samples: the fields
+It has the interface of :class:`plbar.motion.Series` that :func:`plbar.io.motion_data` samples: the fields
 ``u, v`` on the grid ``x_j = j L / n`` (``u`` exact: it integrates ``u_x`` from the clamp), the contact's state and
 reaction, the energies, the switches.  Everything is evaluated from the stored delay line (:mod:`.fields`), so a
 sample is the run's own solution, not an interpolation of its strobes.

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from ..util.record import Record, events
 from .accounts import bar_energy, strobe, velocity_square, work
 from .bar import ContinuumBar
 from .fields import Line
@@ -17,12 +18,18 @@ from .stepper import IMPACT, OPENING, Start, march
 __all__ = ["ContinuumRun", "simulate"]
 
 
-@dataclass(frozen=True)
-class ContinuumRun:
-    """What :func:`simulate` recorded, per forcing period ``p`` (``P = periods``; ``R = record``).
+@dataclass(frozen=True, kw_only=True)
+class ContinuumRun(Record):
+    """What :func:`simulate` recorded, per forcing period ``p`` (``P = periods``; ``R = record``): a
+    :class:`plbar.util.record.Record` of one trajectory.
 
     Attributes
     ----------
+    T, phi : float
+    status : ndarray of int, shape (1,)
+        0 (a march that cannot go on raises instead).
+    events : ndarray of dtype EVENT, shape (E,)
+        ``time``, ``kind`` (1 opening, 2 impact), ``v`` (impact velocity), ``loss``; ``traj`` 0.
     impacts, openings : ndarray of int, shape (P,)
     loss, work, amp : ndarray, shape (P,)
         Impact loss (``m_e v^2 / 2``, Eq. (14); 0 at ``m_e = 0``), work of the load, largest ``-u(L)``.
@@ -34,15 +41,13 @@ class ContinuumRun:
         ``u, v`` on the grid ``x_j = j L / n`` at the boundaries of the last ``R`` periods.
     end : ndarray, shape (P + 1, 3)
         ``u(L), v(L)`` and stuck (1) / free (0) at every period boundary.
-    events : dict of ndarray
-        ``time``, ``kind`` (1 opening, 2 impact), ``v`` (impact velocity), ``loss``.
+    elapsed : float
+        Seconds the march took.
     line : Line
         The stored delay line: the whole solution (:mod:`.fields` evaluates it anywhere, :class:`.ContinuumSeries`).
     """
 
     bar: ContinuumBar
-    T: float
-    phi: float
     periods: int
     record: int
     n: int
@@ -57,7 +62,6 @@ class ContinuumRun:
     strobe_u: np.ndarray
     strobe_v: np.ndarray
     end: np.ndarray
-    events: dict
     elapsed: float
     line: Line = field(default=None, repr=False)
 
@@ -82,7 +86,7 @@ class ContinuumRun:
                 f"{self.impacts[-self.record:].mean():.3g}, loss/period={self.loss[-self.record:].mean():.6g})")
 
 
-def _per_period(ev: dict, T: float, periods: int, kind: int, what: str | None = None) -> np.ndarray:
+def _per_period(ev: np.ndarray, T: float, periods: int, kind: int, what: str | None = None) -> np.ndarray:
     sel = ev["kind"] == kind
     idx = np.minimum((ev["time"][sel] / T).astype(int), periods - 1)
     w = None if what is None else ev[what][sel]
@@ -127,15 +131,17 @@ def simulate(bar: ContinuumBar, T: float, periods: int = 20, steps_per_L: int = 
     ln = Line(h["t0"], h["t1"], h["a0"], h["a1"], h["C"], h["D"], mc.omega, phi, bar.q, bar.L, bar.c, bar.Z,
               bar.s, start is None)
     keep = mc.events["time"] <= periods * T
-    ev = {k: v[keep] for k, v in mc.events.items()}
+    ev = events(*(mc.events[k][keep] for k in ("time", "kind", "loss")), v=mc.events["v"][keep])
     st = start or Start()
     end = np.concatenate([[(st.u, st.v, float(st.stuck))], mc.strobes[:periods]])
     bounds = T * np.arange(periods + 1)
     energy = bar_energy(ln, bounds) + 0.5 * bar.end_mass * end[:, 1] ** 2
     grid = [strobe(ln, t, steps_per_L) for t in bounds[periods - record:]]
     impacts, openings = (_per_period(ev, T, periods, kd).astype(int) for kd in (IMPACT, OPENING))
-    return ContinuumRun(bar, float(T), float(phi), int(periods), record, int(steps_per_L), mc.dt, impacts, openings,
-                        _per_period(ev, T, periods, IMPACT, "loss"), work(ln, T, periods), np.array(mc.amp[:periods]),
-                        energy, velocity_square(ln, T, periods - record, periods, steps_per_L),
-                        np.array([g[0] for g in grid]), np.array([g[1] for g in grid]), end, ev,
-                        time.perf_counter() - t0, ln)
+    return ContinuumRun(T=float(T), phi=float(phi), status=np.zeros(1, int), events=ev, bar=bar,
+                        periods=int(periods), record=record, n=int(steps_per_L), dt=mc.dt, impacts=impacts,
+                        openings=openings, loss=_per_period(ev, T, periods, IMPACT, "loss"), work=work(ln, T, periods),
+                        amp=np.array(mc.amp[:periods]), energy=energy,
+                        v2=velocity_square(ln, T, periods - record, periods, steps_per_L),
+                        strobe_u=np.array([g[0] for g in grid]), strobe_v=np.array([g[1] for g in grid]), end=end,
+                        elapsed=time.perf_counter() - t0, line=ln)

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError, PlbarError
+from ..motion import Series
 from ..util.reprs import build, rng
 
 __all__ = ["ResponseData", "response_data", "motion_data", "nodal_stress", "FIELD_KEYS", "POINT_FIELDS",
@@ -173,9 +174,10 @@ def response_data(orbit, info: dict | None = None, periods: int = 1, steps: int 
 
     Parameters
     ----------
-    orbit : Orbits or plbar.periodic.OrbitSeries
-        One orbit (its first is used); ``orbit.prob`` must come from a Bar.  An orbit of another
-        signature is sampled over its whole orbit (``m`` forcing periods).
+    orbit : Orbits or plbar.motion.Series
+        One orbit (its first is used), or an orbit of another signature as a series
+        (:func:`plbar.periodic.orbit_series`: sampled over its whole orbit, ``m`` forcing periods); ``orbit.prob``
+        must come from a Bar.
     info : dict, optional
         Extra orbit information kept in :attr:`ResponseData.info`.
     periods : {1, 2}
@@ -187,21 +189,26 @@ def response_data(orbit, info: dict | None = None, periods: int = 1, steps: int 
         raise InputError(f"periods = {periods!r} is not allowed; choose 1 or 2")
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 4:
         raise InputError(f"steps = {steps!r} must be an integer >= 4 (steps per period)")
-    orb = orbit.take([0])
-    T = float(orb.T[0])
+    series = isinstance(orbit, Series)
+    orb = orbit if series else orbit.take([0])
+    T = float(orb.span) if series else float(orb.T[0])
     k = np.arange(periods * steps)
     t_abs = k * T / steps
     t_loc = (k % steps) * T / steps
-    x, v, state = orb.response(t_loc[None, :])
-    if hasattr(orb, "reaction_at"):             # an orbit of any signature (plbar.periodic.OrbitSeries)
-        margin = orb.reaction_at(t_loc)[0]
+    if series:
+        x, v, state = orb.response(t_loc)
+        margin = orb.reaction(t_loc)
+        ek, ep = orb.energies(t_loc)
+        full = {"T1": float(orb.stuck_time), "T2": float(orb.free_time), "phi": float(np.mod(orb.phi, 2 * np.pi)),
+                "T": T}
     else:
+        x, v, state = (a[0] for a in orb.response(t_loc[None, :]))
         margin = orb.reaction_margin(np.minimum(t_loc, orb.T1[0])[None, :])[0]
-    ek, ep = orb.energies(t_loc[None, :])
-    full = {"T1": float(orb.T1[0]), "T2": float(orb.T2[0]), "phi": float(np.mod(orb.phi[0], 2 * np.pi)), "T": T}
+        ek, ep = (a[0] for a in orb.energies(t_loc[None, :]))
+        full = {"T1": float(orb.T1[0]), "T2": float(orb.T2[0]), "phi": float(np.mod(orb.phi[0], 2 * np.pi)), "T": T}
     full.update(info or {})
     full.update({"periods": periods, "steps": steps})
-    return _sampled(orb.prob, t_abs, t_abs, t_loc, x[0], v[0], state[0], margin, ek[0], ep[0], full)
+    return _sampled(orb.prob, t_abs, t_abs, t_loc, x, v, state, margin, ek, ep, full)
 
 
 def _nodal_kinetic(prob, v) -> np.ndarray:
@@ -240,7 +247,8 @@ def _sampled(prob, times, t_abs, t_loc, x, v, state, margin, ek, ep, info, extra
 
 
 def motion_data(series, steps: int = 40, info: dict | None = None) -> ResponseData:
-    """Sample a simulated motion (:class:`plbar.motion.MotionSeries`) on its bar mesh, events marked.
+    """Sample a simulated motion (:func:`plbar.motion.motion_series`, or a continuum's
+    :class:`plbar.continuum.ContinuumSeries`) on its bar mesh, events marked.
 
     ``steps`` samples per forcing period over the series' window, and one more just after every event (opening or
     impact), so the time series holds the impacts as marked steps: the per-step fields ``event`` (0 a regular

@@ -32,7 +32,7 @@ XDMF (``.xdmf`` + ``.h5``)
     and ``<name>_steps.csv``); the time is the XDMF step time.
 
 The displacements and velocities are those of :meth:`Orbits.response` (or of
-the simulator's recorded window, :class:`plbar.motion.MotionSeries`), so the
+the simulator's recorded window, :func:`plbar.motion.motion_series`), so the
 file holds exactly the solver's response.
 
 Definitions of the derived fields

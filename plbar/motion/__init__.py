@@ -5,14 +5,15 @@
   the certified event search, switches, accounts of every piece, one trajectory at a time;
 * :mod:`.run` -- :func:`run`, many forcing periods on every core, and its record :class:`Run`;
 * :mod:`.compile` -- the kernel's first compile: due or not, ahead, in another process;
-* :mod:`.series` -- :class:`MotionSeries`: a recorded window at any times (export, render);
+* :mod:`.series` -- :class:`Series`, a motion at any times, vectorised (export, render): a recorded window
+  (:func:`motion_series`) or a periodic orbit (:func:`plbar.periodic.orbit_series`);
 * :mod:`.steady` -- :func:`steady`: periodic (stroboscopic period ``m``) or not, loss, ``xi_eq``, ``xi_w``.
 """
 
 from .model import CHATTER, FREE, IMPACT, OK, OPENS, REBOUND, STALLED, STICK, STUCK, Padded, padded
 from .compile import COMPILE_NOTE, Elsewhere, compile_elsewhere, compiled
 from .run import Run, Start, Stopped, energy, halt_flag, prepare, rest, run
-from .series import MotionSeries
+from .series import Series, boundary_mismatch, motion_series
 from .steady import BATCHES, DRIFT_TOL, KINDS, M_MAX, PERIODIC_TOL, T_CRIT, Steady, periodicity, steady, trend
 
 __all__ = [
@@ -30,7 +31,9 @@ __all__ = [
            "T_CRIT",
            "trend",
            "M_MAX",
-           "MotionSeries",
+           "Series",
+           "motion_series",
+           "boundary_mismatch",
            "OK",
            "PERIODIC_TOL",
            "STALLED",

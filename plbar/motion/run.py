@@ -11,6 +11,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model import Problem
+from ..util.record import Record, events, messages
 from ..util.reprs import build, listing, rng
 from ..util.threads import map_chunks, n_threads, off_main
 from .compile import kind
@@ -46,17 +47,21 @@ def rest(pad: Padded, B: int) -> Start:
     return Start(np.full(B, STUCK), np.zeros((B, pad.m)), np.zeros((B, pad.m)))
 
 
-@dataclass(frozen=True)
-class Run:
-    """What a batched simulation recorded: per trajectory ``b`` and recorded forcing period ``r``.
+@dataclass(frozen=True, kw_only=True)
+class Run(Record):
+    """What a batched simulation recorded: per trajectory ``b`` and recorded forcing period ``r``
+    (a :class:`plbar.util.record.Record`: ``T, phi, status, events``, and the accounts below).
 
     Attributes
     ----------
     T, phi : ndarray, shape (B,)
+    status : ndarray of int, shape (B,)
+        A code of :data:`plbar.util.record.STATUS`: 0 ok, 1 stopped by a chattering contact, 2 stalled.
+    events : ndarray of dtype EVENT, shape (E,)
+        The recorded window's events: ``traj``, ``time`` (absolute), ``kind`` (1 opening, 2 impact, 3 rebound,
+        4 the impact that ends a chattering sequence), ``loss`` (``v`` nan: not kept).
     periods, record : int
         Forcing periods simulated, and how many of the last ones are recorded (``R``).
-    status : ndarray of int, shape (B,)
-        0 ok, 1 stopped by a chattering contact, 2 stalled.
     impacts, openings : ndarray of int, shape (B, R)
     loss : ndarray, shape (B, R)
         Impact loss (Eq. (14)) per recorded period.
@@ -67,8 +72,6 @@ class Run:
     strobe_x, strobe_v : ndarray, shape (B, R + 1, n)
         Physical state at the boundaries of the recorded periods (after any event there).
     strobe_state : ndarray of int, shape (B, R + 1)
-    events : dict of ndarray
-        The recorded window's events: ``traj``, ``time`` (absolute), ``kind`` (1 opening, 2 impact), ``loss``.
     work, losses, energy0, energy_end : ndarray, shape (B,)
         Totals over the whole run: the energy budget is ``work - losses - viscous - (energy_end - energy0)``.
     viscous, viscous_rec : ndarray, shapes (B,), (B, R)
@@ -81,11 +84,8 @@ class Run:
         Rounds (certified steps and switches) over all trajectories.
     """
 
-    T: np.ndarray
-    phi: np.ndarray
     periods: int
     record: int
-    status: np.ndarray
     impacts: np.ndarray
     openings: np.ndarray
     loss: np.ndarray
@@ -97,7 +97,6 @@ class Run:
     strobe_x: np.ndarray
     strobe_v: np.ndarray
     strobe_state: np.ndarray
-    events: dict
     work: np.ndarray
     losses: np.ndarray
     energy0: np.ndarray
@@ -111,14 +110,12 @@ class Run:
     @property
     def messages(self) -> list[str]:
         """One line for each trajectory that stopped before the end (none when all ran to the end)."""
-        why = {1: "a chattering contact (switches ever closer in time: a contact that sticks, or a contact node "
-                  "of a very small mass: give it more, e.g. a larger end mass)",
-               2: "a stall (no progress in time: a stiff contact)"}
         out = []
-        for b in np.flatnonzero(self.status != 0):
+        bad = np.flatnonzero(self.status != OK)
+        for b, why in zip(bad, messages(self.status[bad])):
             t = np.nan if self.stop_time is None else float(self.stop_time[b])
             out.append(f"T = {self.T[b]:.10g}: stopped at t = {t:.10g} (forcing period {int(t // self.T[b])} of "
-                       f"{self.periods}) by {why.get(int(self.status[b]), 'an unknown status')}")
+                       f"{self.periods}) by {why}")
         return out
 
     @property
@@ -232,17 +229,20 @@ def _collect(pad: Padded, T, phi, periods, record, tr, rc, acc, e0) -> Run:
     ev_n = ti[:, D.EVENTS]
     rows = np.repeat(np.arange(B), ev_n)
     cols = np.concatenate([np.arange(k) for k in ev_n]) if B else np.zeros(0, int)
-    events = {"traj": rows, "time": ev[rows, cols, D.TIME], "kind": ev[rows, cols, D.KIND].astype(int),
-              "loss": ev[rows, cols, D.LOSS]}
     a = acc if acc is not None else np.zeros((B, record, 6))
     tf = tr[0]
     stop = np.where(ti[:, D.STATUS] != OK, ti[:, D.PERIOD] * tf[:, D.T] + tf[:, D.TP] + tf[:, D.P], np.nan)
-    return Run(T, phi, periods, record, ti[:, D.STATUS].copy(), per[..., D.IMPACTS].astype(int),
-               per[..., D.OPENINGS].astype(int), per[..., D.LOSS].copy(), a[..., D.D_EQ].copy(), a[..., D.D_W].copy(),
-               a[..., D.WORK_REC].copy(), a[..., D.STUCK_T].copy(), a[..., D.AMP].copy(), _physical(pad, ss, sx),
-               _physical(pad, ss, sv), ss, events, tot[:, D.WORK].copy(), tot[:, D.LOSSES].copy(), e0, e_end,
-               Start(state, z[:, 0].copy(), z[:, 1].copy()), int(ti[:, D.ROUNDS].sum()), tot[:, D.VISC].copy(),
-               a[..., D.VISC_REC].copy(), stop)
+    return Run(T=T, phi=phi, status=ti[:, D.STATUS].copy(),
+               events=events(ev[rows, cols, D.TIME], ev[rows, cols, D.KIND].astype(int), ev[rows, cols, D.LOSS],
+                             traj=rows),
+               periods=periods, record=record, impacts=per[..., D.IMPACTS].astype(int),
+               openings=per[..., D.OPENINGS].astype(int), loss=per[..., D.LOSS].copy(), d_eq=a[..., D.D_EQ].copy(),
+               d_w=a[..., D.D_W].copy(), work_rec=a[..., D.WORK_REC].copy(), stuck=a[..., D.STUCK_T].copy(),
+               amp=a[..., D.AMP].copy(), strobe_x=_physical(pad, ss, sx), strobe_v=_physical(pad, ss, sv),
+               strobe_state=ss, work=tot[:, D.WORK].copy(), losses=tot[:, D.LOSSES].copy(), energy0=e0,
+               energy_end=e_end, final=Start(state, z[:, 0].copy(), z[:, 1].copy()),
+               rounds=int(ti[:, D.ROUNDS].sum()), viscous=tot[:, D.VISC].copy(), viscous_rec=a[..., D.VISC_REC].copy(),
+               stop_time=stop)
 
 
 def _physical(pad: Padded, state, modal) -> np.ndarray:

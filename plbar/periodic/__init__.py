@@ -18,7 +18,7 @@ from .floquet import monodromy, multipliers
 from .follow import FollowSettings, follow
 from .prepare import compiled, prepare
 from .seeds import doubled, from_motion, zero_dwell
-from .series import OrbitSeries, canonical, from_row
+from .series import canonical, from_row, orbit_series
 from .signature import ONE_REBOUND, PAPER, ZERO_DWELL, Signature, signature
 from .solve import Orbit, NotConverged, orbit_at, polish
 from .verify import admissible, expected_events
@@ -27,5 +27,5 @@ __all__ = ["KINDS", "Branch", "find_branches", "from_paths",
            "Chain", "evaluate", "monodromy", "multipliers", "FollowSettings",
            "follow", "doubled", "from_motion", "zero_dwell", "PAPER", "ZERO_DWELL", "ONE_REBOUND", "Signature",
            "signature",
-           "OrbitSeries", "canonical", "from_row", "Orbit", "NotConverged", "orbit_at", "polish", "admissible",
+           "orbit_series", "canonical", "from_row", "Orbit", "NotConverged", "orbit_at", "polish", "admissible",
            "expected_events", "compiled", "prepare"]

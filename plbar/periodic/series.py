@@ -1,23 +1,22 @@
-"""One periodic response of any signature as a time series over its whole orbit (``m`` forcing periods).
+"""One periodic response of any signature as a time series over its whole orbit (:func:`orbit_series`), and the
+orbit of a table row (:func:`from_row`, :func:`canonical`).
 
-:class:`OrbitSeries` answers what :func:`plbar.io.response_data` asks of the
-paper's :class:`plbar.Orbits` (``T``, ``T1``, ``T2``, ``phi``, ``take``,
-``response``, ``energies``) plus the state I reaction at any time
-(``reaction_at``), so export and render work for every signature: ``T`` is
-the orbit's period ``m T_forcing``; ``T1`` and ``T2`` the total time stuck
-and free over it.
+:func:`orbit_series` is the orbit as a :class:`plbar.motion.Series` (one block of pieces: the chain's segments),
+what :func:`plbar.io.response_data` samples for export and render of every signature: its ``span`` is the orbit's
+period ``m T_forcing``; ``stuck_time`` and ``free_time`` the total time stuck and free over it.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..response import segment
-from .chain import layout, state_data
+from ..motion import Series
+from ..util.record import events
+from .chain import layout
 from .signature import Signature
 from .solve import Orbit, polish
 
-__all__ = ["OrbitSeries", "canonical", "from_row"]
+__all__ = ["orbit_series", "canonical", "from_row"]
 
 
 def canonical(orb: Orbit) -> tuple[Signature, np.ndarray, float]:
@@ -49,72 +48,24 @@ def from_row(prob, sig: Signature, T: float, durations, phi: float) -> Orbit:
     return polish(prob, sig, T, np.concatenate([np.zeros(nz), var, [phi]]))
 
 
-class OrbitSeries:
-    """A :class:`Orbit` sampled at any times of its orbit ``[0, m T)`` (see the module docstring)."""
+def orbit_series(orb: Orbit) -> Series:
+    """The orbit ``orb`` as a :class:`plbar.motion.Series` over ``[0, m T)``, its pieces the chain's segments.
 
-    def __init__(self, orb: Orbit):
-        self.orb = orb
-        self.prob = orb.prob
-        d = orb.durations
-        self.T = np.array([orb.sig.m * orb.T])
-        self.T1 = np.array([float(d[0::2].sum())])
-        self.T2 = np.array([float(d[1::2].sum())])
-        self.phi = np.array([orb.phi])
-        segs = list(orb.chain.segments)
-        self._segs = segs
-        self._starts = np.array([s.t0 for s in segs])
-
-    def __len__(self) -> int:
-        return 1
-
-    def take(self, idx):
-        return self
-
-    def _modal(self, t):
-        """Per time: state (1 or 2) and modal ``eta, etadot`` (padded lists)."""
-        prob, orb = self.prob, self.orb
-        W = 2 * np.pi / orb.T
-        t = np.asarray(t, float).ravel()
-        j = np.clip(np.searchsorted(self._starts, t, side="right") - 1, 0, len(self._segs) - 1)
-        out = []
-        for ti, ji in zip(t, j):
-            s = self._segs[ji]
-            w, f, _, _, zeta, _ = state_data(prob, s.state)
-            m = w.size
-            e, v = segment(w, f, W, s.t0, ti - s.t0, s.z0[:m], s.z0[m:], np.cos(orb.phi), np.sin(orb.phi),
-                           zeta=zeta)
-            out.append((s.state, e, v, ti))
-        return out
-
-    def response(self, t):
-        """Physical ``x, v`` (1, K, n) and state (1, K) at times ``t`` in ``[0, m T)``."""
-        sy = self.prob.system
-        xs, vs, st = [], [], []
-        for s, e, v, _ in self._modal(t):
-            if s == 1:
-                xs.append(sy.embed(sy.V1 @ e))
-                vs.append(sy.embed(sy.V1 @ v))
-            else:
-                xs.append(sy.V2 @ e)
-                vs.append(sy.V2 @ v)
-            st.append(s)
-        return np.array(xs)[None], np.array(vs)[None], np.array(st)[None]
-
-    def reaction_at(self, t):
-        """``-R`` in state I at times ``t`` (0 in state II); (1, K)."""
-        sy, prob, orb = self.prob.system, self.prob, self.orb
-        W = 2 * np.pi / orb.T
-        rv = np.asarray(sy.r_v, float) if getattr(sy, "damped", False) else np.zeros(sy.w1.size)
-        out = [-(sy.r_eta @ e + rv @ v + prob.r_q * np.cos(W * ti - orb.phi)) if s == 1 else 0.0
-               for s, e, v, ti in self._modal(t)]
-        return np.array(out)[None]
-
-    def energies(self, t):
-        """Kinetic and potential energy (Eqs. (12)-(13)); each (1, K)."""
-        sy = self.prob.system
-        ek, ep = [], []
-        for s, e, v, _ in self._modal(t):
-            w = sy.w1 if s == 1 else sy.w2
-            ek.append(0.5 * float(v @ v))
-            ep.append(0.5 * float(np.sum((w * e) ** 2)))
-        return np.array(ek)[None], np.array(ep)[None]
+    Its events are the switches between the segments (1 opening, 2 impact, 3 rebound; ``loss`` nan: not computed
+    here).
+    """
+    segs = list(orb.chain.segments)
+    sy = orb.prob.system
+    st = np.array([sg.state for sg in segs])
+    cols = max(sy.w1.size, sy.w2.size)
+    eta, vel = np.zeros((st.size, cols)), np.zeros((st.size, cols))
+    for i, sg in enumerate(segs):                  # z0 = (eta, etadot) of the segment's state
+        m = (sy.w1 if sg.state == 1 else sy.w2).size
+        eta[i, :m], vel[i, :m] = sg.z0[:m], sg.z0[m:2 * m]
+    starts = np.array([sg.t0 for sg in segs])
+    kind = np.where(st[1:] == 2, np.where(st[:-1] == 1, 1, 3), 2)
+    d = orb.durations
+    return Series(prob=orb.prob, T=float(orb.T), phi=float(orb.phi), t0=0.0, span=orb.sig.m * orb.T,
+                  periods=int(orb.sig.m), events=events(starts[1:], kind, np.full(kind.size, np.nan)),
+                  stuck_time=float(d[0::2].sum()), free_time=float(d[1::2].sum()), block=orb.sig.m * orb.T,
+                  starts=starts, blocks=np.zeros(starts.size, int), state=st, eta=eta, vel=vel)

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 import plbar
-from plbar.motion import MotionSeries, padded, run, steady
+from plbar.motion import motion_series, padded, run, steady
 from plbar.model import MASSES
 
 NS = [int(x) for x in sys.argv[1:] if not x.startswith("--")] or [8, 16, 32, 64, 128, 256]
@@ -50,7 +50,7 @@ def batch_se(x, nb=20):
 def contact_history(prob, T, periods=20, samples=400):
     """First impact times and the contact displacement over the first ``periods`` periods from rest."""
     r = run(padded(prob), np.array([T]), 0.0, periods, periods)
-    ms = MotionSeries(prob, r, 0)
+    ms = motion_series(prob, r, 0)
     t = np.linspace(0.0, periods * T, samples + 1)[1:]
     x, _, _ = ms.response(t)
     ev = r.events

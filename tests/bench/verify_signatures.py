@@ -37,8 +37,8 @@ def check(o) -> dict:
     et, ek = expected_events(o)
     span = o.sig.m * o.T
     n = et.size
-    same = np.array_equal(sim.event_kinds[:n], ek) and bool(np.all(sim.event_times[n:] >= span * (1 - 1e-9)))
-    dt = float(np.max(np.abs(sim.event_times[:n] - et)) / span) if sim.event_times.size >= n else np.inf
+    same = np.array_equal(sim.events["kind"][:n], ek) and bool(np.all(sim.events["time"][n:] >= span * (1 - 1e-9)))
+    dt = float(np.max(np.abs(sim.events["time"][:n] - et)) / span) if sim.events["time"].size >= n else np.inf
     z = np.concatenate([sim.strobe_x[-1][:-1], sim.strobe_v[-1][:-1]])
     z0 = np.concatenate([x0[:-1], v0[:-1]])
     back = float(np.max(np.abs(z - z0)) / np.max(np.abs(z0)))

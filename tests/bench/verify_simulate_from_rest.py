@@ -26,10 +26,11 @@ for N in (32, 64):
     s = simulate(prob, T, 0.0, np.zeros(n), np.zeros(n), state=1, n_periods=20)
     r = run(prob, [T], 0.0, periods=20, record=20)
     t, k = np.asarray(r.events["time"]), np.asarray(r.events["kind"])
-    m = min(t.size, s.event_times.size)
-    dt = np.abs(t[:m] - s.event_times[:m]).max()
-    print(f"N = {N}: simulate {s.event_times.size} events, motion {t.size}; first {np.round(s.event_times[:3], 8)}; "
-          f"same kinds {np.array_equal(k[:m], s.event_kinds[:m])}, max |dt| {dt:.2g}")
+    m = min(t.size, s.events["time"].size)
+    dt = np.abs(t[:m] - s.events["time"][:m]).max()
+    ts = s.events["time"]
+    print(f"N = {N}: simulate {ts.size} events, motion {t.size}; first {np.round(ts[:3], 8)}; "
+          f"same kinds {np.array_equal(k[:m], s.events['kind'][:m])}, max |dt| {dt:.2g}")
 
 N = 32
 case = plbar.Case(model="fe", n=N, element="P1", mass="lumped", end_mass=0.5, load_points=((0.37, 1.0),))

@@ -35,8 +35,8 @@ def test_one_period_returns_to_periodic_state(default_result):
         sim, err = _returns(prob, orb, k)
         assert sim.state == 1
         assert sim.x[-1] == 0.0 and sim.v[-1] == 0.0
-        assert list(sim.event_kinds) == [OPEN, IMPACT]
-        dt = np.abs(sim.event_times - [orb.T1[k], orb.T[k]]).max()
+        assert list(sim.events["kind"]) == [OPEN, IMPACT]
+        dt = np.abs(sim.events["time"] - [orb.T1[k], orb.T[k]]).max()
         worst_z, worst_t = max(worst_z, err), max(worst_t, dt)
     assert worst_z < 1e-9
     assert worst_t < 1e-10
@@ -59,8 +59,8 @@ def test_fe_p2_consistent_returns(fe_small):
     for orb, k in pts:
         sim, err = _returns(prob, orb, k)
         assert err < 1e-9
-        assert list(sim.event_kinds) == [OPEN, IMPACT]
-        assert np.abs(sim.event_times - [orb.T1[k], orb.T[k]]).max() < 1e-10
+        assert list(sim.events["kind"]) == [OPEN, IMPACT]
+        assert np.abs(sim.events["time"] - [orb.T1[k], orb.T[k]]).max() < 1e-10
         # consistent mass: the impact changes v_r too, and the loss is the orbit's Delta_PL
         assert sim.impact_losses[0] == pytest.approx(plbar.impact_loss(orb.take([k]))[0], rel=1e-9)
 
@@ -105,13 +105,13 @@ def test_free_vibration_energy(default_result):
     assert sim.work == 0.0
     assert sim.impact_times.size >= 10
     assert np.all(sim.impact_losses > 0)
-    assert np.all(np.abs(sim.event_losses[sim.event_kinds == OPEN]) < 1e-13 * sim.energy0)
+    assert np.all(np.abs(sim.events["loss"][sim.events["kind"] == OPEN]) < 1e-13 * sim.energy0)
     E = sim.history.energy
-    seg = np.searchsorted(sim.event_times, rec, side="right")
+    seg = np.searchsorted(sim.events["time"], rec, side="right")
     # after some impacts the reaction is tensile at once: the gap reopens at the same instant (zero-length
     # state I segments, no samples); compare the energy levels of consecutive non-empty intervals
     levels, idx = [], []
-    for i in range(sim.event_times.size + 1):
+    for i in range(sim.events["time"].size + 1):
         Ei = E[seg == i]
         if Ei.size:
             assert np.ptp(Ei) < 1e-10 * sim.energy0
@@ -119,8 +119,8 @@ def test_free_vibration_energy(default_result):
             idx.append(i)
     assert len(idx) > 10
     for (i, a), (j, b) in zip(zip(idx, levels), zip(idx[1:], levels[1:])):
-        assert a - b == pytest.approx(sim.event_losses[i:j].sum(), rel=0, abs=1e-10 * sim.energy0)
-    assert sim.energy0 - sim.energy == pytest.approx(sim.event_losses.sum(), rel=1e-10)
+        assert a - b == pytest.approx(sim.events["loss"][i:j].sum(), rel=0, abs=1e-10 * sim.energy0)
+    assert sim.energy0 - sim.energy == pytest.approx(sim.events["loss"].sum(), rel=1e-10)
     assert abs(sim.energy_residual) < 1e-12 * sim.energy0
 
 
@@ -187,15 +187,15 @@ def test_state_2_start_and_immediate_opening(default_result):
     x, v, st = o.response([tm])
     assert st[0, 0] == 2
     sim = simulate(prob, o.T[0], o.phi[0], x[0, 0], v[0, 0], state=2, t0=tm, n_periods=1.0)
-    assert list(sim.event_kinds) == [IMPACT, OPEN]
-    assert np.allclose(sim.event_times, [o.T[0], o.T[0] + o.T1[0]], rtol=0, atol=1e-10)
+    assert list(sim.events["kind"]) == [IMPACT, OPEN]
+    assert np.allclose(sim.events["time"], [o.T[0], o.T[0] + o.T1[0]], rtol=0, atol=1e-10)
     assert np.allclose(sim.x, x[0, 0], atol=1e-10 * np.abs(x).max())
     # at rest with a load pulling the contact node away from the wall: the gap opens at once
     q = np.zeros(5)
     q[-1] = -1.0
     pull = dataclasses.replace(prob, q=q, f1=np.zeros(4), f2=prob.system.V2.T @ q, r_q=1.0)
     sim = simulate(pull, 10.0, 0.0, np.zeros(5), np.zeros(5), n_periods=0.1)
-    assert sim.event_kinds[0] == OPEN and sim.event_times[0] == 0.0
+    assert sim.events["kind"][0] == OPEN and sim.events["time"][0] == 0.0
     assert sim.state == 2 and sim.x[-1] < 0
 
 

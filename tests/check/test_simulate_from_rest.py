@@ -32,15 +32,15 @@ def _from_rest(prob, periods):
 def test_n64_runs_and_opens_with_the_wave():
     """The reported reproducer: N = 64 raised scipy's ValueError in the first segment (t ~ 0.0125)."""
     sim = _from_rest(_problem(64), 2)
-    assert sim.event_kinds[0] == 1 and sim.event_times[0] == pytest.approx(1.25190047, abs=1e-7)
+    assert sim.events["kind"][0] == 1 and sim.events["time"][0] == pytest.approx(1.25190047, abs=1e-7)
     assert abs(sim.energy_residual) < 1e-12
 
 
 def test_n32_no_events_before_the_wave():
     """N = 32: the first event is the opening at t = 1.26178 (the compiled simulator and the exact series agree)."""
     sim = _from_rest(_problem(32), 2)
-    assert sim.event_times[0] == pytest.approx(1.26178339, abs=1e-7)
-    assert list(sim.event_kinds[:3]) == [1, 2, 1]
+    assert sim.events["time"][0] == pytest.approx(1.26178339, abs=1e-7)
+    assert list(sim.events["kind"][:3]) == [1, 2, 1]
 
 
 def _exact_margin(prob, times, terms=260, digits=120):

@@ -9,7 +9,7 @@ import plbar
 from plbar.cli import main
 from plbar.errors import InputError
 from plbar.io import load_pvd, motion_data, write_data
-from plbar.motion import MotionSeries, padded, run
+from plbar.motion import boundary_mismatch, motion_series, padded, run
 from plbar.studies.survey import run_survey, survey_motion
 
 PERIODS, RECORD = 300, 30
@@ -44,8 +44,8 @@ def test_boundaries_are_the_stroboscopic_states_and_the_energy_integrates(folder
     for T in (7.0, 9.6):
         r = run(padded(prob), np.array([T]), 0.0, PERIODS, RECORD)       # the survey's simulation, again
         P, steps = 20, 10
-        ms = MotionSeries(prob, r, 0, P)
-        assert ms.boundary_mismatch() <= 1e-12
+        ms = motion_series(prob, r, 0, P)
+        assert boundary_mismatch(ms, r, 0) <= 1e-12
         d = motion_data(ms, steps)
         reg = np.flatnonzero(d.field_data["event"] == 0)
         at = reg[::steps]                                           # the P + 1 boundaries
@@ -122,14 +122,24 @@ def test_motion_with_rebounds_and_chattering(e, T):
     to 1e-12; the exported losses are the run's (1e-12); rebounds (4) and chatter ends (5) are marked steps."""
     prob = plbar.Case(restitution=e).problem()
     r = run(padded(prob), np.array([T]), 0.0, 200, 10)
-    ms = MotionSeries(prob, r, 0)
-    assert ms.boundary_mismatch() <= 1e-12
+    ms = motion_series(prob, r, 0)
+    assert boundary_mismatch(ms, r, 0) <= 1e-12
     d = motion_data(ms, 8)
     ev = d.field_data["event"]
     kinds = r.events["kind"][r.events["time"] < ms.t0 + ms.span]
     assert np.sum(ev == 4) == np.sum(kinds == 3) > 0 and np.sum(ev == 5) == np.sum(kinds == 4)
     assert d.field_data["impact_loss"].sum() == pytest.approx(r.loss[0].sum(), rel=1e-12)
     assert np.all(d.field_data["state"][ev == 4] == 2) and np.all(d.field_data["state"][ev == 5] == 1)
+
+    _each_sample_alone(ms, d.times + ms.t0)
+
+
+def _each_sample_alone(series, t):
+    """The series evaluates all times at once (vectorised) to the same bits as each time alone."""
+    together = (*series.response(t), series.reaction(t), *series.energies(t))
+    for i in np.linspace(0, t.size - 1, 25).astype(int):
+        alone = (*series.response(t[i:i + 1]), series.reaction(t[i:i + 1]), *series.energies(t[i:i + 1]))
+        assert all(np.array_equal(a[i], b[0]) for a, b in zip(together, alone))
 
 
 def test_a_period_near_a_surveyed_one_is_taken_and_says_so(folder, capsys):

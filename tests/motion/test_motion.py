@@ -46,19 +46,19 @@ def test_events_agree_with_the_independent_simulator_on_20_random_cases():
         r = run(prob, [T], periods=100, record=100)
         sim = plbar.simulate(prob, T, 0.0, np.zeros(n), np.zeros(n), n_periods=100)
         te, ke = r.events["time"], r.events["kind"]
-        m = min(te.size, sim.event_times.size)
-        ts = sim.event_times[:m].copy()
+        m = min(te.size, sim.events["time"].size)
+        ts = sim.events["time"][:m].copy()
         # from rest with a load that does not reach the reaction at once (r_q = 0), the reaction may pull from
         # t = 0+ (its first non-zero derivative is negative): the certified search opens at 0, the sampling
         # simulator once the margin is below its tolerance (seen: up to 3.7e-4 T); the motion is the same
         ts[(te[:m] == 0.0) & (ts < 1e-3 * T)] = 0.0
         k, dmax = _first_divergence(te[:m], ts, T)
         upto = m if k is None else k
-        assert np.array_equal(ke[:upto], sim.event_kinds[:upto])
+        assert np.array_equal(ke[:upto], sim.events["kind"][:upto])
         # a divergence is allowed only after many agreeing events (sensitive dependence), never at the start
         assert k is None or k >= 20, (case, T, k)
         if k is None:
-            assert te.size == sim.event_times.size
+            assert te.size == sim.events["time"].size
         assert dmax <= 1e-9
         report.append((T, m, k))
     agreed = sum(k is None for _, _, k in report)
@@ -167,10 +167,10 @@ def test_damped_batch_against_the_independent_simulator(model):
         sim = plbar.simulate(prob, T, 0.0, np.zeros(n), np.zeros(n), n_periods=60)
         sel = r.events["traj"] == b
         te, ke = r.events["time"][sel], r.events["kind"][sel]
-        m = min(te.size, sim.event_times.size)
-        ts = sim.event_times[:m].copy()
+        m = min(te.size, sim.events["time"].size)
+        ts = sim.events["time"][:m].copy()
         ts[(te[:m] == 0.0) & (ts < 1e-3 * T)] = 0.0
-        assert np.array_equal(ke[:m], sim.event_kinds[:m]) and te.size == sim.event_times.size
+        assert np.array_equal(ke[:m], sim.events["kind"][:m]) and te.size == sim.events["time"].size
         assert np.max(np.abs(te[:m] - ts)) <= 1e-9 * T
         assert r.viscous[b] == pytest.approx(sim.viscous, rel=1e-9)
 

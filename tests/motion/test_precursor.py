@@ -12,7 +12,7 @@ of the reaction's size), which the flights exceed from t ~ 0.12 on.
 import numpy as np
 
 import plbar
-from plbar.motion import OK, MotionSeries, padded, run
+from plbar.motion import OK, boundary_mismatch, motion_series, padded, run
 
 #: (time, kind 1 opening / 2 impact, loss) from tests/bench/p2_precursor_reference.py, 0.129 < t < 0.7
 REFERENCE = [
@@ -63,4 +63,4 @@ def test_a_series_from_rest_replays_an_opening_at_t_zero():
     prob = case.problem()
     r = run(padded(prob), np.array([2.5]), 0.0, 6, 6)
     assert r.events["time"][0] == 0.0 and r.events["kind"][0] == 1
-    assert MotionSeries(prob, r, 0).boundary_mismatch() <= 1e-12
+    assert boundary_mismatch(motion_series(prob, r, 0), r, 0) <= 1e-12

@@ -39,9 +39,9 @@ def check_by_simulation(o, tol=1e-9):
     et, ek = expected_events(o)
     span = o.sig.m * o.T
     n = et.size
-    assert np.array_equal(sim.event_kinds[:n], ek)
-    assert np.max(np.abs(sim.event_times[:n] - et)) <= tol * span
-    assert np.all(sim.event_times[n:] >= span * (1 - tol))
+    assert np.array_equal(sim.events["kind"][:n], ek)
+    assert np.max(np.abs(sim.events["time"][:n] - et)) <= tol * span
+    assert np.all(sim.events["time"][n:] >= span * (1 - tol))
     # back to the start (the simulator samples after an event at the period boundary, FORMULATION §7)
     z = np.concatenate([sim.strobe_x[-1][:-1], sim.strobe_v[-1][:-1]])
     z0 = np.concatenate([x0[:-1], v0[:-1]])
@@ -258,8 +258,8 @@ def test_damped_responses_of_every_signature(monkeypatch):
             sim = simulate(prob, orb.T, orb.phi, x0, v0, state=1, n_periods=orb.sig.m)
             et, ek = expected_events(orb)
             n = et.size
-            assert np.array_equal(sim.event_kinds[:n], ek)
-            assert np.max(np.abs(sim.event_times[:n] - et)) <= 1e-9 * orb.sig.m * orb.T
+            assert np.array_equal(sim.events["kind"][:n], ek)
+            assert np.max(np.abs(sim.events["time"][:n] - et)) <= 1e-9 * orb.sig.m * orb.T
             scale = max(abs(sim.work), sim.energy0)
             assert abs(sim.work - orb.dPL - orb.viscous) <= 1e-9 * scale
             assert abs(sim.viscous - orb.viscous) <= 1e-9 * scale

@@ -13,8 +13,8 @@ import pytest
 
 import plbar
 from plbar.errors import InputError
-from plbar.periodic import (ONE_REBOUND, OrbitSeries, Signature, admissible, expected_events, find_branches,
-                            from_motion, monodromy, multipliers, signature, zero_dwell)
+from plbar.periodic import (ONE_REBOUND, Signature, admissible, expected_events, find_branches, from_motion,
+                            monodromy, multipliers, orbit_series, signature, zero_dwell)
 from plbar.periodic.chain import layout
 from plbar.periodic.verify import start_of
 from plbar.motion import FREE, STUCK, Start, padded, run, steady
@@ -98,9 +98,9 @@ def _modal(prob, state, x, v):
 def _section(o, frac=0.37):
     """The orbit's state at ``t0 = frac T`` from its own segments (exact flows): ``(t0, state, modal y)``; the
     simulator started there with the load's phase ``phi - W t0`` follows the orbit from ``t0``."""
-    x, v, st = OrbitSeries(o).response([frac * o.T])
-    state = STUCK if st[0, 0] == 1 else FREE
-    return frac * o.T, state, _modal(o.prob, state, x[0, 0], v[0, 0])
+    x, v, st = orbit_series(o).response([frac * o.T])
+    state = STUCK if st[0] == 1 else FREE
+    return frac * o.T, state, _modal(o.prob, state, x[0], v[0])
 
 
 def _simulate(prob, o, t0, state, Y, periods, accounts=False):

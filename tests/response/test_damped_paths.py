@@ -43,9 +43,9 @@ def test_every_damped_response_is_verified_by_the_simulator(res):
     worst = dict(events=0.0, back=0.0, budget=0.0, viscous=0.0)
     for k in range(len(orb)):
         sim = simulate(prob, orb.T[k], orb.phi[k], xr[k], vr[k], n_periods=1.0)
-        assert list(sim.event_kinds) == [plbar.check.OPEN, plbar.check.IMPACT]
-        worst["events"] = max(worst["events"], abs(sim.event_times[0] - orb.T1[k]) / orb.T[k],
-                              abs(sim.event_times[1] - orb.T[k]) / orb.T[k])
+        assert list(sim.events["kind"]) == [plbar.check.OPEN, plbar.check.IMPACT]
+        worst["events"] = max(worst["events"], abs(sim.events["time"][0] - orb.T1[k]) / orb.T[k],
+                              abs(sim.events["time"][1] - orb.T[k]) / orb.T[k])
         z0 = np.r_[xr[k], vr[k]]
         worst["back"] = max(worst["back"], np.abs(np.r_[sim.x[:-1], sim.v[:-1]] - z0).max() / np.abs(z0).max())
         worst["budget"] = max(worst["budget"], abs(sim.energy_residual) / sim.work)

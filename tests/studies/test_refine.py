@@ -156,8 +156,8 @@ def test_fe_family_at_N32_is_the_scan_branch():
         orb = plbar.orbits(prob, np.array([T1]), np.array([T2]), np.array([phi]))
         xr, vr = periodic_state(orb)
         sim = plbar.simulate(prob, T1 + T2, phi, xr[0], vr[0], n_periods=1.0)
-        assert list(sim.event_kinds) == [OPEN, IMPACT]
-        assert np.abs(sim.event_times - [T1, T1 + T2]).max() < 1e-9 * (T1 + T2)
+        assert list(sim.events["kind"]) == [OPEN, IMPACT]
+        assert np.abs(sim.events["time"] - [T1, T1 + T2]).max() < 1e-9 * (T1 + T2)
         z0, z1 = np.r_[xr[0], vr[0]], np.r_[sim.x[:-1], sim.v[:-1]]
         assert np.linalg.norm(z1 - z0) < 1e-8 * np.linalg.norm(z0)
 

@@ -26,6 +26,7 @@ from ...app import Case
 from ...errors import PlbarError
 from ...motion import CHATTER, FREE, OK, STUCK, Run, Start
 from ...util.progress import message
+from ...util.record import events
 
 __all__ = ["continuum_run", "continuum_runs", "as_run", "NO_XI_EQ", "MODAL_MODES", "blank_columns"]
 
@@ -92,7 +93,7 @@ def as_run(runs, T, periods: int, record: int, n: int) -> Run:
     status = np.full(B, OK)
     work, losses, e0, e1, visc = (np.zeros(B) for _ in range(5))
     visc_rec = np.zeros((B, R))
-    ev = {k: [] for k in ("traj", "time", "kind", "loss")}
+    ev = []
     for b, cr in enumerate(runs):
         if cr is None:
             status[b] = CHATTER
@@ -108,15 +109,15 @@ def as_run(runs, T, periods: int, record: int, n: int) -> Run:
         sx[b], sv[b] = cr.strobe_u[:, 1:], cr.strobe_v[:, 1:]
         ss[b] = np.where(cr.end[-(R + 1):, 2] > 0, STUCK, FREE)
         work[b], losses[b], e0[b], e1[b] = cr.work.sum(), cr.loss.sum(), cr.energy[0], cr.energy[-1]
-        keep = cr.events["time"] >= (periods - R) * cr.T
-        ev["traj"].append(np.full(int(keep.sum()), b))
-        for k in ("time", "kind", "loss"):
-            ev[k].append(cr.events[k][keep])
-    events = {k: (np.concatenate(v) if v else np.zeros(0)) for k, v in ev.items()}
-    zero = np.zeros(B)
-    return Run(T, zero, int(periods), R, status, imp, opn, f["loss"], f["d_eq"], f["d_w"], f["work_rec"], f["stuck"],
-               f["amp"], sx, sv, ss, events, work, losses, e0, e1,
-               Start(ss[:, -1], np.zeros((B, 0)), np.zeros((B, 0))), 0, visc, visc_rec)
+        keep = cr.events[cr.events["time"] >= (periods - R) * cr.T].copy()
+        keep["traj"] = b
+        ev.append(keep)
+    return Run(T=T, phi=np.zeros(B), status=status, events=np.concatenate(ev) if ev else events([], [], []),
+               periods=int(periods), record=R, impacts=imp, openings=opn, loss=f["loss"], d_eq=f["d_eq"],
+               d_w=f["d_w"], work_rec=f["work_rec"], stuck=f["stuck"], amp=f["amp"], strobe_x=sx, strobe_v=sv,
+               strobe_state=ss, work=work, losses=losses, energy0=e0, energy_end=e1,
+               final=Start(ss[:, -1], np.zeros((B, 0)), np.zeros((B, 0))), rounds=0, viscous=visc,
+               viscous_rec=visc_rec)
 
 
 def continuum_run(case: Case, T, periods: int, record: int, progress=None) -> Run:

@@ -3,7 +3,7 @@
 ``plbar export --from SURVEY --T 7 --periods 20`` and ``plbar render --from SURVEY --T 7`` show what the
 survey characterised: the same case, the same simulation (the compiled kernel is deterministic: the same
 start, periods and forcing give the same trajectory, bit for bit), its last ``periods`` periods as a
-:class:`plbar.motion.MotionSeries`.  ``start``: ``rest`` (the survey's runs from rest), or ``up`` / ``down``
+:func:`plbar.motion.motion_series`.  ``start``: ``rest`` (the survey's runs from rest), or ``up`` / ``down``
 (a sweep of the survey: the motion at ``T`` from the final state the sweep left at the forcing period before
 it, read from the sweep's checkpoints).
 """
@@ -18,7 +18,7 @@ import numpy as np
 
 from ...app import Case
 from ...errors import InputError
-from ...motion import MotionSeries, padded, run
+from ...motion import Series, motion_series, padded, run
 from ...util.outputs import read_owner
 from .points import start_of
 from .tasks import MODES, case_of, sweep_key
@@ -41,7 +41,7 @@ class SurveyMotion:
     """One motion of a survey: its case, the series of its last periods and what the survey said of it."""
 
     case: Case
-    series: MotionSeries        # or a plbar.continuum.ContinuumSeries (model = "continuum")
+    series: Series              # or a plbar.continuum.ContinuumSeries (model = "continuum")
     row: dict
     start: str
     T: float = float("nan")     # the surveyed forcing period shown (the one nearest the T asked for)
@@ -124,7 +124,7 @@ def survey_motion(folder, T: float, periods: int = 10, start: str = "rest") -> S
         return SurveyMotion(case, ContinuumSeries(cr, int(periods), grid), row, start, T)
     prob = case.problem()
     r = run(padded(prob), np.array([T]), 0.0, total, int(periods), s0)
-    return SurveyMotion(case, MotionSeries(prob, r, 0, int(periods)), row, start, T)
+    return SurveyMotion(case, motion_series(prob, r, 0, int(periods)), row, start, T)
 
 
 def _row(folder: Path, T: float, start: str) -> dict:

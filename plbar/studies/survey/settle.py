@@ -45,7 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import PlbarError
-from ...periodic import Orbit, OrbitSeries, from_motion, monodromy, multipliers
+from ...periodic import Orbit, from_motion, monodromy, multipliers, orbit_series
 from ...motion import M_MAX, Run
 
 __all__ = ["CANDIDATE", "SETTLED", "RATE_MATCH", "Approach", "candidate_periods", "orbit_of", "approach", "settle"]
@@ -154,8 +154,8 @@ def approach(r: Run, b: int, orb: Orbit) -> Approach:
     scale = max(float(np.linalg.norm(z, axis=1).max()), 1e-300)
     t_first = (r.periods - R) * T
     lag = np.mod((float(r.phi[b]) - orb.phi) / W - t_first, T)      # first boundary + lag = an impact of the orbit
-    xs, vs, _ = OrbitSeries(orb).response(np.mod(-lag + np.arange(p) * T, p * T))
-    B = np.concatenate([xs[0], vs[0]], axis=1)                         # orbit state at boundary i (mod p) after t_first
+    xs, vs, _ = orbit_series(orb).response(np.mod(-lag + np.arange(p) * T, p * T))
+    B = np.concatenate([xs, vs], axis=1)         # orbit state at boundary i (mod p) after t_first
     rows = np.arange(R + 1)
     j = int(np.argmin([np.linalg.norm(z[R] - B[(R + j) % p]) for j in range(p)]))
     e = np.linalg.norm(z - B[(rows + j) % p], axis=1) / scale
