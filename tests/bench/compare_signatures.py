@@ -63,14 +63,15 @@ def branches_of(res) -> list[dict]:
     """The hybrid branches of a result as plain data."""
     return [{"label": b.label, "sig": str(b.sig), "T": b.T.tolist(), "loss_per_T": b.loss_per_T.tolist(),
              "xi": b.xi.tolist(), "stable": b.stable.astype(int).tolist(), "X": [o.X.tolist() for o in b.orbits]}
-            for b in res.hybrid]
+            for b in [b for b in res.branches if not b.paper]]
 
 
 def save(path, argv) -> None:
     t = time.perf_counter()
     res = plbar.solve(case_of(argv))
-    print(f"solved in {time.perf_counter() - t:.2f} s with {plbar.__file__}: {len(res.hybrid)} branches, "
-          f"{sum(len(b) for b in res.hybrid)} points")
+    others = [b for b in res.branches if not b.paper]
+    print(f"solved in {time.perf_counter() - t:.2f} s with {plbar.__file__}: {len(others)} branches, "
+          f"{sum(len(b) for b in others)} points")
     with open(path, "w") as fh:
         json.dump(branches_of(res), fh)
 

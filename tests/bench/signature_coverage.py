@@ -32,7 +32,7 @@ def _candidates(res, label):
                                                                          [o.T1[i], o.T2[i], o.phi[i]]]))
                     for i in range(len(b))]
             out.append((PAPER, orbs))
-    for h in res.hybrid:
+    for h in [b for b in res.branches if not b.paper]:
         if h.label == label:
             out.append((h.sig, list(h.orbits)))
     return out

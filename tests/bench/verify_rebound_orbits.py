@@ -23,11 +23,12 @@ from test_rebound_orbits import _fd_map, _modal, _section, _simulate  # noqa: E4
 for e in [float(x) for x in sys.argv[1:]] or [0.3, 0.6]:
     t0 = time.perf_counter()
     res = plbar.solve(plbar.Case(restitution=e))
+    others = [b for b in res.branches if not b.paper]
     prob = res.prob
-    orbs = [o for b in res.hybrid for o in b.orbits]
-    stable = np.concatenate([b.stable for b in res.hybrid]) if res.hybrid else np.zeros(0, bool)
-    print(f"e = {e}: {len(res.hybrid)} branches, {len(orbs)} points ({int(stable.sum())} stable), "
-          f"{len({b.label for b in res.hybrid})} signatures, solve {time.perf_counter() - t0:.1f} s")
+    orbs = [o for b in others for o in b.orbits]
+    stable = np.concatenate([b.stable for b in others]) if others else np.zeros(0, bool)
+    print(f"e = {e}: {len(others)} branches, {len(orbs)} points ({int(stable.sum())} stable), "
+          f"{len({b.label for b in others})} signatures, solve {time.perf_counter() - t0:.1f} s")
     pad = padded(prob)
     st = np.zeros(len(orbs), int)
     eta, vel = np.zeros((len(orbs), pad.m)), np.zeros((len(orbs), pad.m))

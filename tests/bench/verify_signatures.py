@@ -59,11 +59,12 @@ def main(argv):
         case, lo, hi = plbar.Case(signatures="default"), 6.0, 14.0
     t0 = time.perf_counter()
     res = plbar.solve(case)
+    others = [b for b in res.branches if not b.paper]
     print(f"solve ({case.signatures}): {time.perf_counter() - t0:.1f} s, "
-          f"{len(res.hybrid)} branches of other signatures")
+          f"{len(others)} branches of other signatures")
     seg.SAMPLES_PER_RAD = PER_RAD
     rows, grazing = [], []
-    for b in res.hybrid:
+    for b in others:
         for o in b.orbits:
             if not lo <= o.T <= hi:
                 continue
