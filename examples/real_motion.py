@@ -33,7 +33,7 @@ PERIODS, RECORD = (400, 40) if QUICK else (1000, 100)
 def main():
     res = plbar.solve(plbar.Case(signatures="paper" if QUICK else "default"))
     with get_executor("local") as ex:
-        s = run_survey(plbar.Case(), T, PERIODS, RECORD, OUT, executor=ex, overwrite=True, paths=res.paths)
+        s = run_survey(plbar.Case(), T, PERIODS, RECORD, OUT, executor=ex, overwrite=True, paths=res.paper)
     t = s.table
     kinds = Counter(t["kind"])
     print(f"survey of the default case: {len(t['T'])} forcing periods, {PERIODS} periods each: "

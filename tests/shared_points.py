@@ -14,8 +14,8 @@ def good_points(res, per_branch=3, min_len=15):
     are left out.
     """
     out = []
-    vmax = max(np.abs(b.adm.v_impact).max() for b in res.branches)
-    for b in res.branches:
+    vmax = max(np.abs(b.adm.v_impact).max() for b in res.paths.branches)
+    for b in res.paths.branches:
         if len(b) < min_len:
             continue
         ok = np.flatnonzero(~b.grazing & (b.adm.v_impact > 0.05 * vmax) & (b.e1 < 1e-12) & (b.e2 < 1e-12))

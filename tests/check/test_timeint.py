@@ -57,7 +57,7 @@ def _check_points(res, picks):
     prob = res.prob
     s = prob.system
     for bi, k in picks:
-        b = res.branches[bi]
+        b = res.paths.branches[bi]
         orb = b.orbits.take([k])
         xr0, vr0 = s.V1 @ orb.eta0[0], s.V1 @ orb.v0[0]
         t = np.linspace(0, orb.T[0], 41)[1:-1]
@@ -74,10 +74,10 @@ def _check_points(res, picks):
 
 def _picks(res, n_branches=3):
     """Middle points of the longest branches whose orbits are not grazing."""
-    order = sorted(range(len(res.branches)), key=lambda i: -len(res.branches[i]))
+    order = sorted(range(len(res.paths.branches)), key=lambda i: -len(res.paths.branches[i]))
     out = []
     for i in order:
-        b = res.branches[i]
+        b = res.paths.branches[i]
         ok = np.flatnonzero(~b.grazing & (b.adm.v_impact > 0.05 * np.abs(b.adm.v_impact).max()))
         if ok.size:
             out.append((i, int(ok[ok.size // 2])))

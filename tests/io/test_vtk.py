@@ -55,7 +55,7 @@ def test_pvd_and_xdmf_read_back_equal_response(default_result, tmp_path):
 
 
 def test_p2_line3_cells_and_energy_consistency(p2_small, tmp_path):
-    orb, info = export.select(p2_small, index=0, branch=p2_small.branches[0].id)
+    orb, info = export.select(p2_small, index=0, branch=p2_small.paths.branches[0].id)
     d = pio.response_data(orb, info, steps=12)
     assert d.cell_type == "line3" and d.cells.shape[1] == 3
     # exact element strain energies sum to the modal potential energy; kinetic/potential totals match Orbits
@@ -74,7 +74,7 @@ def test_p2_line3_cells_and_energy_consistency(p2_small, tmp_path):
 
 def test_from_run_matches_solver(small, tmp_path):
     plbar.write_results(small, tmp_path)
-    b = max(small.branches, key=len)
+    b = max(small.paths.branches, key=len)
     case, orb, info = export.from_run(tmp_path, branch=b.id, index=1)
     assert case.to_dict() == small.case.to_dict()
     ref = b.orbits.take([1])
@@ -96,7 +96,7 @@ def test_bad_selection_and_format(small, tmp_path):
 
 def test_orbits_source_and_xi_along_mesh(small, tmp_path):
     prob = small.prob
-    b = small.branches[0]
+    b = small.paths.branches[0]
     f = export.write_response((prob, b.orbits), tmp_path / "o", steps=8)
     assert len(f.vtus) == 8 and "branch" not in f.info
     bar = prob.bar

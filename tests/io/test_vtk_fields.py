@@ -11,7 +11,7 @@ pytest.importorskip("h5py")
 
 
 def _largest_xi(res):
-    b = max(res.branches, key=lambda b: b.xi.max())
+    b = max(res.paths.branches, key=lambda b: b.xi.max())
     j = int(np.argmax(b.xi))
     return b.orbits.take([j]), {"branch": b.id, "index": j, "xi": float(b.xi[j])}
 

@@ -254,9 +254,14 @@ def test_the_cache_key_covers_every_source_the_kernel_is_built_from():
                     assert target.resolve() in sources, (path.name, node.module)
 
 
-def test_solving_the_paper_class_does_not_import_numba():
+def test_solving_the_paper_class_loads_the_chain_not_the_simulator():
+    """The paper's class alone (``--signatures paper``) makes each of its points an exact orbit of the chain (the
+    one periodic core: the chain's kernel), and needs no simulator: after an install it compiles one kernel
+    package, not two (it imported no numba before the one branch record, issue 40)."""
     code = ("import sys, plbar; plbar.solve(plbar.Case(signatures='paper')); "
-            "assert 'numba' not in sys.modules, 'numba imported'")
+            "from plbar.motion.kernel import loop; from plbar.periodic.kernel import walk; "
+            "assert walk.chain.signatures, 'no chain'; "
+            "assert not loop.advance.signatures, 'the simulator was loaded'")
     subprocess.run([sys.executable, "-c", code], check=True)
 
 

@@ -30,7 +30,7 @@ def res(request):
 def test_damped_cases_have_branches(damped_result, damped_fe_result):
     for r in (damped_result, damped_fe_result):
         s = r.prob.system
-        assert s.damped and len(r.branches) >= 2 and sum(len(b) for b in r.branches) > 150
+        assert s.damped and len(r.paths.branches) >= 2 and sum(len(b) for b in r.paths.branches) > 150
         assert np.all(s.zeta1 > 0) and np.all(s.zeta2 > 0)
 
 
@@ -62,7 +62,7 @@ def test_work_equals_impact_plus_viscous_loss(res):
     assert np.all(d.viscous > 0) and np.all(d.dPL > 0)
     assert np.abs(w - d.dPL - d.viscous).max() < 1e-9 * np.abs(w).max()
     # the two losses per branch, as written to paths.csv
-    for b in res.branches:
+    for b in res.paths.branches:
         assert np.array_equal(b.viscous, b.damping.viscous) and np.array_equal(b.xi_total, b.damping.xi_total)
 
 
@@ -85,7 +85,7 @@ def test_rayleigh_ratio_and_total(damped_result):
     s = damped_result.prob.system
     for T in (8.0, 12.0):
         assert abs(s.rayleigh_ratio(2 * np.pi / T) - 0.02) < 1e-15
-    for b in damped_result.branches:
+    for b in damped_result.paths.branches:
         W = 2 * np.pi / b.T
         assert np.allclose(b.damping.zeta_rayleigh, s.alpha / (2 * W) + s.beta * W / 2, rtol=1e-15, atol=0)
         assert np.allclose(b.xi_total, b.damping.zeta_rayleigh + b.xi, rtol=1e-15, atol=0)
@@ -115,7 +115,7 @@ def test_damped_multipliers_match_finite_differences(res):
 def test_damping_pulls_the_multipliers_inwards(damped_result, default_result):
     """A stable damped response attracts a perturbed start; damping shrinks the spectral radius."""
     prob = damped_result.prob
-    b = max(damped_result.branches, key=len)
+    b = max(damped_result.paths.branches, key=len)
     k = int(np.argmin(b.max_abs_multiplier))
     o = b.orbits.take([k])
     rho = float(b.max_abs_multiplier[k])

@@ -30,9 +30,9 @@ def solved(request):
 
 def test_impact_loss_is_half_S_vc_squared(solved):
     S = solved.prob.system.impact_mass
-    assert solved.branches and S > 0
+    assert solved.paths.branches and S > 0
     npts, sizeable = 0, 0
-    for b in solved.branches:
+    for b in solved.paths.branches:
         orb = b.orbits
         vc = orb.contact_velocity(orb.T2[:, None])[:, 0]
         ek = 0.5 * np.sum(orb.end()[1] ** 2, axis=1)            # E_K^- (Eq. (12)), the scale of Eq. (14)

@@ -176,7 +176,7 @@ def test_truncated_model_multipliers_converge_to_the_full_ones():
     """With every mode kept the truncated path is the full one; with most modes the multipliers agree closely."""
     full = plbar.Case(model="fe", n=12, grid=(80, 80), signatures="paper")
     res = plbar.solve(full)
-    b = max(res.branches, key=len)
+    b = max(res.paths.branches, key=len)
     k = len(b) // 2
     mu_full = b.stab.multipliers[k]
     prob_t = plbar.Case(model="fe", n=12, modes=11).problem()          # all modes of state I, 11 of 12 of state II

@@ -47,7 +47,7 @@ def _check(obj, name, *parts):
 
 def test_reprs_of_the_fe_solve(fe8):
     p = fe8.paths
-    b = max(fe8.branches, key=len)
+    b = max(fe8.paths.branches, key=len)
     s = p.prob.system
     n = s.n
     _check(p, "Paths", f"branches={len(p.branches)}", f"points={sum(len(x) for x in p.branches)}",
@@ -93,7 +93,7 @@ def test_response_data_and_files_reprs(fe8, tmp_path):
     pytest.importorskip("pyvista")
     from plbar import io as pio
 
-    b = max(fe8.branches, key=lambda b: b.xi.max())
+    b = max(fe8.paths.branches, key=lambda b: b.xi.max())
     d = pio.response_data(b.orbits.take([0]), {"branch": b.id, "index": 0}, periods=2, steps=40)
     _check(d, "ResponseData", f"points={fe8.prob.system.n + 1}", "cells=8 line", "steps=80", "displacement",
            "stress_nodal", f"branch: {b.id}")
