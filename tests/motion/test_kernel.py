@@ -1,6 +1,5 @@
 """The compiled kernel (plbar.motion.kernel) against the numpy closed forms, brute force and its own promises."""
 
-import ast
 import subprocess
 import sys
 from math import cos, sin
@@ -242,16 +241,9 @@ def test_polynomial_step_reaches_the_first_root():
 def test_the_cache_key_covers_every_source_the_kernel_is_built_from():
     """numba keys a cached function by its own file; the kernel's entry closes over a hash of every file the
     kernel is compiled from.  Every module it imports from (numba freezes imported constants) must be one."""
-    here = jit.SOURCES[0].parent
-    sources = {p.resolve() for p in jit.SOURCES}
-    assert {p.resolve() for p in here.glob("*.py")} <= sources
-    for path in here.glob("*.py"):
-        for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.ImportFrom) and node.level >= 2:
-                base = here.parents[node.level - 2].joinpath(*node.module.split("."))
-                targets = [base / f"{a.name}.py" for a in node.names if (base / f"{a.name}.py").exists()]
-                for target in targets or [base.with_suffix(".py")]:     # a module imported from a package, or one
-                    assert target.resolve() in sources, (path.name, node.module)
+    from kernel_sources import assert_imports_covered
+
+    assert_imports_covered(jit.SOURCES[0].parent, jit.SOURCES)
 
 
 def test_solving_the_paper_class_loads_the_chain_not_the_simulator():

@@ -1,7 +1,6 @@
 """The compiled chain (plbar.periodic.kernel) against independent references: the numpy flows, finite differences,
 numpy's LU, the independent simulator."""
 
-import ast
 
 import numpy as np
 import pytest
@@ -236,13 +235,6 @@ def test_the_cache_key_covers_every_source_the_kernel_is_built_from():
     from plbar.periodic.kernel import stamp
     from plbar.motion.kernel import jit
 
-    sources = {p.resolve() for p in stamp.SOURCES} | {p.resolve() for p in jit.SOURCES}
-    here = stamp.SOURCES[0].parent
-    assert {p.resolve() for p in here.glob("*.py")} <= sources
-    for path in here.glob("*.py"):
-        for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.ImportFrom) and node.level >= 2:
-                base = here.parents[node.level - 2].joinpath(*node.module.split("."))
-                targets = [base / f"{a.name}.py" for a in node.names if (base / f"{a.name}.py").exists()]
-                for target in targets or [base.with_suffix(".py")]:     # a module imported from a package, or one
-                    assert target.resolve() in sources, (path.name, node.module)
+    from kernel_sources import assert_imports_covered
+
+    assert_imports_covered(stamp.SOURCES[0].parent, [*stamp.SOURCES, *jit.SOURCES])
