@@ -8,21 +8,21 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import asdict, dataclass, field, fields, replace
 from functools import lru_cache
 
 import numpy as np
 
 from ..errors import InputError
-from ..model import (ELEMENTS, MASSES, Bar, Load, Problem, chain, check_rayleigh, check_restitution, graded_nodes,
-                     problem)
+from ..model import (ELEMENTS, MASSES, Bar, Load, Problem, Structure, chain, check_rayleigh, check_restitution,
+                     graded_nodes, problem)
 from ..paths import Domain, default_domain
 from ..util.check import choice, integer, interval, number, pairs, positive, show
 from ..util.check import grid as check_grid
 
 __all__ = ["Case", "MODELS", "SIGNATURES"]
 
-MODELS = ("chain", "fe", "continuum")
+MODELS = ("chain", "fe", "continuum", "structure")
 #: grid steps per travel time L / c of the continuum's characteristics (its ``n``) when not given
 CONTINUUM_STEPS = 32
 SIGNATURES = ("default", "paper", "all")    #: which periodic responses a solve finds (see Case.signatures)
@@ -48,11 +48,12 @@ class Case:
 
     Parameters
     ----------
-    model : {"chain", "fe", "continuum"}
+    model : {"chain", "fe", "continuum", "structure"}
         The paper's mass-spring chain, a finite-element bar, or the uniform continuum bar solved exactly by
         characteristics (:mod:`plbar.continuum`: the N = infinity limit of the FE bar; a survey and its motions
         only, plastic, one point load, no FE options); with Rayleigh damping (a Kelvin-Voigt bar) by the exact
-        modes of each contact state, ``modes`` of them (default 1024; a survey only).
+        modes of each contact state, ``modes`` of them (default 1024; a survey only).  ``"structure"``: the
+        matrices of ``structure`` (set by giving it).
     n : int, optional
         Masses of the chain / elements of the FE bar / grid steps per travel time ``L / c`` of the continuum (its
         fields are sampled on ``n + 1`` points) (default 5 / 8 / 32).
@@ -110,6 +111,10 @@ class Case:
         loss).  Default 0: the paper's perfectly plastic impact.  Every command takes any ``e``: the
         periodic responses (``run``) then have rebounds (``R`` in their signatures) and chattering sequences
         (``R...RP``); the studies of the paper's class (``sweep-loads``, ``refine``) need ``e = 0``.
+    structure : plbar.Structure, optional
+        Any two-state structure by its matrices (:class:`plbar.Structure`: another FE code's, a beam, two bodies
+        and a joint): ``run`` solves it as it solves a bar.  It carries its own load, damping and restitution
+        (the case's ``rayleigh`` and ``restitution`` are taken from it); the bar's options do not apply.
     """
 
     model: str = "chain"
@@ -137,9 +142,13 @@ class Case:
     label: str = field(default="", compare=False)
     rayleigh: tuple[float, float] | None = None
     restitution: float = 0.0
+    structure: Structure | None = None
 
     def __post_init__(self):
-        choice("model", self.model, MODELS)
+        if self.structure is not None or self.model == "structure":
+            self._check_structure()
+            return
+        choice("model", self.model, MODELS[:-1])
         choice("element", self.element, ELEMENTS)
         choice("mass", self.mass, MASSES)
         choice("method", self.method, ("continuation", "grid"))
@@ -185,15 +194,49 @@ class Case:
         object.__setattr__(self, "_load", ld)                           # the one validated Load (not a field)
         object.__setattr__(self, "_bar", bar)
 
+    def _check_structure(self) -> None:
+        """A case of given matrices: the structure, and the search options (every bar option refused)."""
+        if not isinstance(self.structure, Structure):
+            raise InputError(f"structure = {show(self.structure)} must be a plbar.Structure (model = 'structure' "
+                             "is set by giving one)")
+        if self.model not in ("chain", "structure"):
+            raise InputError(f"model = {self.model!r} conflicts with a structure given by its matrices; drop model")
+        defaults = {f.name: f.default for f in fields(Case)}
+        bar = [k for k in ("n", "element", "mass", "length", "EA", "rhoA", "m", "k", "grading", "mesh_file",
+                           "point_masses", "end_mass", "end_mass_absolute", "load_nodes", "load_points",
+                           "rayleigh", "restitution") if getattr(self, k) != defaults[k]]
+        if bar:
+            raise InputError(f"{bar[0]} does not apply to a structure given by its matrices (plbar.Structure: "
+                             "its load, damping and restitution are its own)")
+        choice("method", self.method, ("continuation", "grid"))
+        choice("signatures", self.signatures, SIGNATURES)
+        if self.modes is not None:
+            object.__setattr__(self, "modes", integer("modes", self.modes, 1, self.structure.n))
+        object.__setattr__(self, "model", "structure")
+        object.__setattr__(self, "rayleigh", self.structure.rayleigh)
+        object.__setattr__(self, "restitution", self.structure.restitution)
+        object.__setattr__(self, "grid", check_grid(self.grid, warn=False))
+        for nm in ("T1", "T2"):
+            if getattr(self, nm) is not None:
+                object.__setattr__(self, nm, interval(f"search domain {nm}", getattr(self, nm)))
+
+    dofs = property(lambda self: self.structure.n if self.structure is not None else self.bar().n_dofs,
+                    doc="Free DOFs of the structure.")
+
     @property
     def n_eff(self) -> int:
         """Masses of the chain / elements of the FE bar (a mesh file's own count; default 5 / 8)."""
+        if self.structure is not None:
+            return self.structure.n
         if self.mesh_file is not None and "_bar" in self.__dict__:
             return self.bar().n_elements
         return self.n if self.n is not None else {"chain": 5, "fe": 8, "continuum": CONTINUUM_STEPS}[self.model]
 
     def bar(self) -> Bar:
         """The bar of this case (built once, when the case was made)."""
+        if self.structure is not None:
+            raise InputError("this case is a plbar.Structure given by its matrices: it has no bar (the bar's "
+                             "studies and exports need model = 'chain' or 'fe')")
         return self.__dict__["_bar"]
 
     def _check_end_mass(self) -> None:
@@ -291,6 +334,7 @@ class Case:
 
     def load(self) -> Load:
         """The load of this case (validated once, when the case was made)."""
+        self.bar()
         return self.__dict__["_load"]
 
     def problem(self) -> Problem:
@@ -322,7 +366,13 @@ class Case:
         no ``m, k``, and a mesh file stands for ``n``, ``grading`` and ``length``; ``rayleigh`` appears only for a
         damped case, ``restitution`` only where it is not 0.
         """
+        if self.structure is not None:
+            st = self.structure
+            return {"model": "structure", "dofs": st.n, "structure": st.fingerprint, "grid": list(self.grid),
+                    "T1": self.T1, "T2": self.T2, "method": self.method, "signatures": self.signatures,
+                    "modes": self.modes, "restitution": st.restitution, "rayleigh": st.rayleigh}
         d = asdict(self)
+        d.pop("structure")
         d["n"] = self.n_eff
         d["length"] = self.bar().length
         d.pop("label")
@@ -345,4 +395,6 @@ def _problem(case: Case) -> Problem:
     """:meth:`Case.problem`, built once per process for equal cases (the two eigenproblems of an FE bar take seconds
     to minutes at N = 512: a survey's tasks, its compile check and its preparation each asked for it; forked
     workers inherit it from the parent)."""
+    if case.structure is not None:
+        return problem(case.structure, modes=case.modes)
     return problem(case.bar(), case.load(), modes=case.modes, rayleigh=case.rayleigh, restitution=case.restitution)

@@ -81,7 +81,7 @@ def _loglog(n: float, table, exponent: float) -> float:
 
 def estimate_cost(case: Case) -> Cost:
     """The estimated time and memory of ``plbar.solve(case)`` (see the module docstring)."""
-    dofs = case.bar().n_dofs
+    dofs = case.dofs
     modes = dofs if case.modes is None else min(case.modes, dofs)
     g = case.grid[0] * case.grid[1] / GRID
     sig = 0.0 if case.signatures == "paper" else _loglog(modes, SIGNATURES, SIGNATURES_EXPONENT)
@@ -120,7 +120,7 @@ def survey_seconds(case: Case, motions: int, periods: int, T=None) -> float:
             x = np.asarray(T, float) / case.bar().transit / CONTINUUM_TL
             growth = float(np.mean(np.where(x > 1, x ** CONTINUUM_TL_POWER, x)))
         return motions * CONTINUUM_PERIOD2 * periods ** 2 * case.n_eff / 32 * growth
-    return motions * periods * _loglog(case.bar().n_dofs, SURVEY_PERIOD, SURVEY_EXPONENT)
+    return motions * periods * _loglog(case.dofs, SURVEY_PERIOD, SURVEY_EXPONENT)
 
 
 def duration_range(s: float, busy: float = BUSY) -> str:

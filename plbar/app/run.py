@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import CoarseGridWarning, InputError
-from ..model import Problem
+from ..model import Problem, Structure
 from ..paths import Domain, Paths, find_paths
 from ..periodic import canonical, find_branches, from_paths, prepare
 from ..util.check import MIN_BRANCH_POINTS, show
@@ -85,7 +85,7 @@ class Result:
 
     def __repr__(self) -> str:
         n = sum(len(b) for b in self.branches)
-        bar = self.prob.bar.describe() if self.prob.bar else "bar"
+        bar = self.prob.bar.describe() if self.prob.bar else f"structure of {self.prob.system.n} DOFs"
         lines = listing((b.describe() for b in self.branches), 5)
         return (f"Result({bar}; {len(self.branches)} branches ({len(self.paper)} of the paper's class), {n} points, "
                 f"solved in {self.solver_time:.3g} s)\n  case: {self.case!r}" + "".join("\n  " + ln for ln in lines))
@@ -116,8 +116,10 @@ class Result:
         }
 
 
-def solve(case: Case | None = None, progress: bool = False) -> Result:
+def solve(case: Case | Structure | None = None, progress: bool = False) -> Result:
     """Solve ``case`` (default: the paper's chain N = 5, unit force on DOF 1): every periodic response.
+
+    ``case`` may be a :class:`plbar.Structure` (any matrices, any contact row): ``Case(structure=...)``.
 
     The paper's class comes from the paper's scan of ``G`` over the search domain and its continuation
     (:func:`plbar.find_paths`, made branches of the one record by :func:`plbar.periodic.from_paths`), the other
@@ -129,6 +131,8 @@ def solve(case: Case | None = None, progress: bool = False) -> Result:
     """
     if case is None:
         case = Case()
+    if isinstance(case, Structure):
+        case = Case(structure=case)
     if not isinstance(case, Case):
         raise InputError(f"case = {show(case)} is not a plbar.Case ({type(case).__name__}); "
                          "build one with plbar.Case(...) or read a file with plbar.casefile.load_case")

@@ -1,17 +1,21 @@
-"""The model: the bar and its finite-element assembly, loads, and the two-state modal system.
+"""The model: a two-state structure, its builders, and its two-state modal system.
 
-``Bar`` -> :func:`assemble` (scikit-fem; K, M over the free DOFs, contact DOF
-last) -> :func:`two_state` (modes of the stuck state I and the free state II and
-the switch maps, Eqs. (2)-(10)) -> :func:`problem` (with the load vector of a
-:class:`Load`, Eq. (3)).
+:class:`Structure` (mass, stiffness, the contact row, the load, damping, restitution: any matrices) is what
+every solver takes; :func:`bar_structure` builds it for the finite-element bar (``Bar`` -> :func:`assemble`,
+scikit-fem, contact DOF last) and the paper's chain (:func:`chain`); :func:`problem` turns it into the modes
+of the stuck state I and the free state II and the switch maps (:func:`two_state`, Eqs. (2)-(10)) with the
+modal load (Eq. (3)), in the contact coordinates of :func:`contact_coordinates`.
 """
 
 from .bar import (ELEMENTS, MASSES, Assembled, Bar, assemble, chain, graded_nodes, uniform_bar,
                   uniform_nodes)
 from .damping import check_rayleigh, rayleigh_from_ratio, rayleigh_ratio
 from .load import Load, node, point
-from .system import Problem, TwoStateSystem, check_restitution, problem, two_state, with_load_vector
+from .builders import BarOrigin, bar_structure
+from .structure import Coordinates, Structure, check_restitution, contact_coordinates
+from .system import Problem, TwoStateSystem, problem, two_state, with_load_vector
 
 __all__ = ["ELEMENTS", "MASSES", "Assembled", "Bar", "assemble", "chain", "graded_nodes", "uniform_bar",
            "uniform_nodes", "check_rayleigh", "rayleigh_from_ratio", "rayleigh_ratio", "Load", "node", "point",
-           "Problem", "TwoStateSystem", "problem", "two_state", "with_load_vector", "check_restitution"]
+           "Problem", "TwoStateSystem", "problem", "two_state", "with_load_vector", "check_restitution",
+           "BarOrigin", "bar_structure", "Coordinates", "Structure", "contact_coordinates"]

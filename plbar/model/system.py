@@ -21,11 +21,13 @@ from dataclasses import dataclass, replace
 import numpy as np
 import scipy.linalg as sla
 
-from .bar import Assembled, Bar, assemble
+from .bar import Assembled, Bar
+from .builders import bar_structure
 from .damping import check_rayleigh, rayleigh_ratio
 from ..errors import InputError
 from .load import Load
 from .matrices import check_matrices
+from .structure import Structure, check_restitution, contact_coordinates
 from ..util.reprs import build, rng
 
 __all__ = ["TwoStateSystem", "Problem", "two_state", "problem", "with_load_vector", "check_restitution"]
@@ -245,22 +247,20 @@ def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray, modes=None, rayleigh=
 
 @dataclass(frozen=True)
 class Problem:
-    """A two-state system with its load: everything the periodic solver needs.
+    """A structure's two-state modal system with its load: everything the periodic solver needs.
 
     Attributes
     ----------
     system : TwoStateSystem
+        In the structure's contact coordinates (:func:`plbar.model.contact_coordinates`; its DOFs for a bar).
     q : ndarray, shape (n,)
-        Load amplitude vector ``q0`` (Eq. (1)); ``q[:-1]`` acts in state I.
+        Load amplitude vector ``q0`` (Eq. (1)) in those coordinates; ``q[:-1]`` acts in state I.
     f1, f2 : ndarray
         Modal forces of states I and II (Eq. (3)).
     r_q : float
         Load term of the state I reaction, ``M_cr V1 f1 - q_c``.
-    bar, load, asm : optional
-        Where the problem came from.
-    restitution : float
-        Coefficient of restitution ``e`` of the contact, ``0 <= e <= 1`` (Newton's impact law, issue 31):
-        0 is the paper's perfectly plastic impact; only the simulator (:mod:`plbar.motion`) uses ``e > 0``.
+    structure : Structure, optional
+        The structure it was built from (None for a system given its load vector directly).
     """
 
     system: TwoStateSystem
@@ -268,10 +268,33 @@ class Problem:
     f1: np.ndarray
     f2: np.ndarray
     r_q: float
-    bar: Bar | None = None
-    load: Load | None = None
-    asm: Assembled | None = None
-    restitution: float = 0.0
+    structure: Structure | None = None
+
+    @property
+    def restitution(self) -> float:
+        """Coefficient of restitution ``e`` of the contact, ``0 <= e <= 1`` (Newton's impact law): 0 is the
+        paper's perfectly plastic impact; only the simulator (:mod:`plbar.motion`) uses ``e > 0``."""
+        return self.structure.restitution if self.structure is not None else 0.0
+
+    @property
+    def origin(self):
+        """What built the structure (:class:`plbar.model.BarOrigin` for a bar), or None."""
+        return self.structure.origin if self.structure is not None else None
+
+    @property
+    def bar(self) -> Bar | None:
+        """The bar this problem came from, or None (a structure of other origin)."""
+        return getattr(self.origin, "bar", None)
+
+    @property
+    def load(self) -> Load | None:
+        """The bar's load, or None (a load vector given directly, or a structure of other origin)."""
+        return getattr(self.origin, "load", None)
+
+    @property
+    def asm(self) -> Assembled | None:
+        """The bar's assembly, or None."""
+        return getattr(self.origin, "asm", None)
 
     def __repr__(self) -> str:
         s = self.system
@@ -286,6 +309,15 @@ class Problem:
             items["restitution"] = self.restitution
         return build("Problem", items)
 
+    def under(self, q) -> "Problem":
+        """The same system under the load amplitude vector ``q`` (in its coordinates; no eigensolve)."""
+        st = self.structure
+        if st is not None:
+            y = contact_coordinates(st)
+            qx = np.asarray(q, float) if y.identity else np.linalg.solve(y.B.T, np.asarray(q, float))
+            st = replace(st, q=qx, origin=None if st.origin is None else replace(st.origin, load=None))
+        return with_load_vector(self.system, q, st)
+
     def cached(self, key: str, factory):
         """``factory(self)``, computed once per problem (a private cache of derived constants).
 
@@ -299,55 +331,42 @@ class Problem:
         return k[2]
 
 
-def with_load_vector(sys: TwoStateSystem, q: np.ndarray, bar=None, load=None, asm=None) -> Problem:
-    """The problem of ``sys`` under the load amplitude vector ``q`` (modal forces of Eq. (3); no eigensolve)."""
+def with_load_vector(sys: TwoStateSystem, q: np.ndarray, structure: Structure | None = None) -> Problem:
+    """The problem of ``sys`` under the load amplitude vector ``q`` (modal forces of Eq. (3); no eigensolve).
+
+    ``q`` is in the coordinates of ``sys`` (a bar's DOFs).
+    """
     q = np.asarray(q, float)
     f1 = sys.V1.T @ q[:-1]
     f2 = sys.V2.T @ q
     r_q = float(sys.MV1_c @ f1 - q[-1])
-    return Problem(sys, q, f1, f2, r_q, bar, load, asm)
+    return Problem(sys, q, f1, f2, r_q, structure)
 
 
-def check_restitution(e) -> float:
-    """A validated coefficient of restitution: a finite number in ``[0, 1]``."""
-    bad = f"restitution = {e!r} must be a number in [0, 1] (0: plastic impact, the paper; 1: elastic)"
-    if isinstance(e, (bool, str, bytes)):
-        raise InputError(bad)
-    try:
-        v = float(e)
-    except (TypeError, ValueError):
-        raise InputError(bad) from None
-    if not 0.0 <= v <= 1.0:
-        raise InputError(bad)
-    return v
-
-
-def problem(bar: Bar, load: Load | None = None, q: np.ndarray | None = None, modes=None,
+def problem(model, load: Load | None = None, q: np.ndarray | None = None, modes=None,
             rayleigh=None, restitution: float = 0.0) -> Problem:
-    """Assemble ``bar``, build both states and attach the load.
+    """The two-state modal problem of a structure: both states' modes, the switch maps and the load.
 
     Parameters
     ----------
-    bar : Bar
+    model : Structure or Bar
+        A :class:`plbar.Structure` (any matrices and contact row; its load, damping and restitution are its
+        own), or a :class:`plbar.Bar`, assembled and made one by :func:`plbar.model.bar_structure` with:
     load : Load, optional
-        The harmonic load; or give the amplitude vector ``q`` directly.
+        The bar's harmonic load; or give the amplitude vector ``q`` directly.
+    rayleigh : (float, float), optional
+        The bar's Rayleigh damping ``(alpha, beta)`` (see :func:`two_state`); default none.
+    restitution : float
+        The bar's coefficient of restitution (:attr:`Problem.restitution`); default 0, the paper's plastic impact.
     modes : int or (int, int), optional
         Modal truncation (see :func:`two_state`); default all modes.
-    rayleigh : (float, float), optional
-        Rayleigh damping ``(alpha, beta)`` (see :func:`two_state`); default none.
-    restitution : float
-        Coefficient of restitution of the contact (:class:`Problem`); default 0, the paper's plastic impact.
     """
-    e = check_restitution(restitution)
-    a = assemble(bar)
-    sys = two_state(a.M, a.K, a.x, modes, rayleigh)
-    if load is not None:
-        qv = load.vector(bar, a)
-    elif q is not None:
-        qv = np.asarray(q, float)
-        if qv.shape != (a.n,) or not np.all(np.isfinite(qv)) or not np.any(qv):
-            raise InputError(f"load vector q must be finite, non-zero and of length {a.n}")
+    if isinstance(model, Structure):
+        if load is not None or q is not None or rayleigh is not None or restitution:
+            raise InputError("a Structure carries its own load, damping and restitution; give them to "
+                             "plbar.Structure(...), not to plbar.problem")
+        s = model
     else:
-        raise InputError("give a load (plbar.point / plbar.node) or a load vector q")
-    prob = with_load_vector(sys, qv, bar, load, a)
-    return replace(prob, restitution=e) if e else prob
+        s = bar_structure(model, load, q, rayleigh, check_restitution(restitution))
+    y = contact_coordinates(s)
+    return with_load_vector(two_state(y.M, y.K, y.x, modes, s.rayleigh), y.q, s)

@@ -18,7 +18,6 @@ from plbar.response import orbits
 from plbar.paths import find_paths
 from plbar.response import scan_G as Gfield
 from plbar.response import check, coefficients, phase
-from plbar.model import two_state
 from plbar.model import with_load_vector as _with_q
 
 CASES = {
@@ -38,7 +37,7 @@ def solved(request):
 
 def _brute(prob, q, T1, T2):
     """xi, dPL and the residual coefficients of load q at (T1, T2): the full per-load solve."""
-    pq = _with_q(prob.system, q, prob.bar, None, prob.asm)
+    pq = prob.under(q)
     co = coefficients(pq, T1, T2)
     d = damping(orbits(pq, T1, T2, phase(co), co=co))
     return d.xi, d.dPL, co
@@ -81,7 +80,7 @@ def _paths_for_random_loads(solved, count):
     worst = np.zeros(4)
     for _ in range(count):
         q = rng.standard_normal(prob.system.n)
-        bf = find_paths(_with_q(prob.system, q, prob.bar, None, prob.asm), paths.domain, case.grid)
+        bf = find_paths(prob.under(q), paths.domain, case.grid)
         worst = np.maximum(worst, _compare_paths(prob, paths, bf))
     point, normal, dphi, lone = worst
     # the same zero set and phase to 1e-10; the continuation points themselves may slide along the
@@ -131,7 +130,7 @@ def test_phase_is_the_admissible_one_not_its_mirror(solved):
     ph = lf.phase(Q)
     for k, q in enumerate(Q):
         keep = ~lf.no_path(q)
-        pq = _with_q(prob.system, q, prob.bar, None, prob.asm)
+        pq = prob.under(q)
         co = coefficients(pq, lf.T1, lf.T2)
         assert np.abs(np.angle(np.exp(2j * (phase(co) - ph[:, k])))).max() / 2 < 1e-9, name     # mod pi
         o = orbits(pq, lf.T1, lf.T2, ph[:, k], co=co)
@@ -269,12 +268,12 @@ def test_truncated_model_is_refused():
     """With modes < n the paths depend on the load (residuals O(1)): load_forms refuses."""
     bar = plbar.uniform_bar(8, element="P1", mass="lumped", point_masses=((1.0, 0.3),))
     a = plbar.assemble(bar)
-    prob = _with_q(two_state(a.M, a.K, a.x, 4), a.load_vector(0.3), bar, None, a)
+    prob = plbar.problem(plbar.bar_structure(bar, q=a.load_vector(0.3), asm=a), modes=4)
     paths = find_paths(prob, grid=(40, 40))
     assert paths.branches
     with pytest.raises(InputError, match="full modal model"):
         load_forms(paths)
     o = paths.points()
-    o2 = orbits(_with_q(prob.system, np.arange(1.0, 9.0), bar, None, a), o.T1, o.T2, o.phi)
+    o2 = orbits(prob.under(np.arange(1.0, 9.0)), o.T1, o.T2, o.phi)
     x, _, _ = o2.response(np.linspace(0, 1, 40)[None] * o2.T[:, None])
     assert np.max(np.abs(o2.residuals()[1]) / np.abs(x[..., -1]).max(axis=1)) > 1e-3

@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 import plbar
-from plbar.model import with_load_vector as _with_q
 from plbar.paths import find_paths
 from plbar.response import check, coefficients, damping, orbits, phase
 from plbar.studies.loads.forms import DampedLoadForms, load_forms
@@ -47,7 +46,7 @@ def test_paths_survive_damping_with_a_phase_shift(solved):
     rng = np.random.default_rng(7)
     shifts = []
     for q in (rng.standard_normal(prob.system.n), rng.standard_normal(prob.system.n)):
-        bf = find_paths(_with_q(prob.system, q, prob.bar, None, prob.asm), paths.domain, case.grid)
+        bf = find_paths(prob.under(q), paths.domain, case.grid)
         o = bf.points()
         assert [len(b) for b in bf.branches] == [len(b) for b in paths.branches], name
         assert np.abs(o.T1 - ref.T1).max() < 1e-9 * ref.T.max() and np.abs(o.T2 - ref.T2).max() < 1e-9 * ref.T.max()
@@ -67,7 +66,7 @@ def test_xi_dpl_and_phase_equal_brute_force(solved):
     Q = np.random.default_rng(3).standard_normal((8, lf.n))
     xi, dpl, ph = lf.xi(Q), lf.dPL(Q), lf.phase(Q)
     for k, q in enumerate(Q):
-        pq = _with_q(prob.system, q, prob.bar, None, prob.asm)
+        pq = prob.under(q)
         co = coefficients(pq, lf.T1, lf.T2)
         assert np.abs(np.angle(np.exp(2j * (phase(co) - ph[:, k])))).max() / 2 < 1e-9, name
         o = orbits(pq, lf.T1, lf.T2, ph[:, k], co=co)

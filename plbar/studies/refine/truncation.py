@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from ...model import Bar, Load, assemble, two_state, with_load_vector
+from ...model import Bar, Load, bar_structure, problem
 from ...paths import default_domain, find_paths
 
 __all__ = ["truncation_check"]
@@ -65,12 +65,11 @@ def truncation_check(bar: Bar, load: Load, modes, grid: tuple[int, int] = (200, 
         m = (modes, modes) if np.ndim(modes) == 0 else tuple(modes)
         ref_modes = (2 * int(m[0]), 2 * int(m[1]))
     out = {"modes": modes, "ref_modes": ref_modes}
-    a = assemble(bar)
-    q = load.vector(bar, a)
+    st = bar_structure(bar, load)
     res = {}
     for key, mm in (("ref", ref_modes), ("trunc", modes)):
         t0 = time.perf_counter()
-        prob = with_load_vector(two_state(a.M, a.K, a.x, mm), q, bar, load, a)
+        prob = problem(st, modes=mm)
         if domain is None:
             domain = default_domain(prob)
         res[key] = find_paths(prob, domain, grid, method=method)
