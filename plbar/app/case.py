@@ -19,6 +19,7 @@ from ..model import (ELEMENTS, MASSES, Bar, Load, Problem, Structure, chain, che
 from ..paths import Domain, default_domain
 from ..util.check import choice, integer, interval, number, pairs, positive, show
 from ..util.check import grid as check_grid
+from .applies import FE_ONLY, check_applies
 
 __all__ = ["Case", "MODELS", "SIGNATURES"]
 
@@ -28,18 +29,6 @@ CONTINUUM_STEPS = 32
 SIGNATURES = ("default", "paper", "all")    #: which periodic responses a solve finds (see Case.signatures)
 #: default load of an FE bar: a unit point force at this fraction of the length (mid-bar, whatever the mesh)
 DEFAULT_FE_LOAD = 0.5
-
-
-#: the options of an FE bar and their defaults: on a chain, any other value is refused (it would be ignored)
-FE_ONLY = {"element": "P1", "mass": "lumped", "EA": 1.0, "rhoA": 1.0, "grading": 1.0, "mesh_file": None,
-           "point_masses": ()}
-#: the command-line spelling of the Case fields named in messages
-FLAGS = {"n": "-N", "element": "--element", "mass": "--mass", "grading": "--grading", "mesh_file": "--mesh-file",
-         "length": "--length", "EA": "--EA", "rhoA": "--rhoA", "point_masses": "no CLI option"}
-
-
-def _flag(name: str) -> str:
-    return FLAGS.get(name, "no CLI option")
 
 
 @dataclass(frozen=True)
@@ -173,7 +162,7 @@ class Case:
             v = getattr(self, nm)
             object.__setattr__(self, nm, () if v is None else pairs(nm, v, what))
         self._check_end_mass()
-        self._check_applies()
+        check_applies(self)
         object.__setattr__(self, "grid", check_grid(self.grid, warn=False))
         for nm in ("T1", "T2"):
             if getattr(self, nm) is not None:
@@ -191,8 +180,6 @@ class Case:
         ld.check(bar)
         object.__setattr__(self, "load_nodes", ld.nodes)
         object.__setattr__(self, "load_points", ld.points)
-        object.__setattr__(self, "_load", ld)                           # the one validated Load (not a field)
-        object.__setattr__(self, "_bar", bar)
 
     def _check_structure(self) -> None:
         """A case of given matrices: the structure, and the search options (every bar option refused)."""
@@ -228,16 +215,19 @@ class Case:
         """Masses of the chain / elements of the FE bar (a mesh file's own count; default 5 / 8)."""
         if self.structure is not None:
             return self.structure.n
-        if self.mesh_file is not None and "_bar" in self.__dict__:
+        if self.mesh_file is not None and self.model != "chain":
             return self.bar().n_elements
         return self.n if self.n is not None else {"chain": 5, "fe": 8, "continuum": CONTINUUM_STEPS}[self.model]
 
     def bar(self) -> Bar:
-        """The bar of this case (built once, when the case was made)."""
+        """The bar of this case (built once per process for equal cases)."""
         if self.structure is not None:
             raise InputError("this case is a plbar.Structure given by its matrices: it has no bar (the bar's "
                              "studies and exports need model = 'chain' or 'fe')")
-        return self.__dict__["_bar"]
+        try:
+            return _bar(self)
+        except TypeError:                      # a field that cannot be hashed: built afresh
+            return self._make_bar()
 
     def _check_end_mass(self) -> None:
         must = ">= 0 (a fraction of the bar's mass, or an absolute mass with end_mass_absolute)"
@@ -249,54 +239,6 @@ class Case:
             raise InputError(f"end_mass_absolute = {show(self.end_mass_absolute)} must be True or False "
                              "(end_mass is an absolute mass, or a fraction of the bar's mass)")
         object.__setattr__(self, "end_mass_absolute", bool(self.end_mass_absolute))
-
-    def _check_applies(self) -> None:
-        """The one rule of which options apply to which model: one that would be ignored is refused."""
-        if self.model == "chain":
-            fe_only = [(k, getattr(self, k)) for k, v in FE_ONLY.items() if getattr(self, k) != v]
-            if self.length not in (1.0, float(self.n_eff)):
-                fe_only.insert(0, ("length", self.length))
-            if fe_only:
-                k, v = fe_only[0]
-                raise InputError(f"{k} = {show(v)} does not apply to model = 'chain' (a P1 lumped chain of N "
-                                 f"masses m and springs k, L = N); use model = 'fe' (--model fe) or drop {k} "
-                                 f"({_flag(k)})")
-        elif (self.m, self.k) != (1.0, 1.0):
-            k = "m" if self.m != 1.0 else "k"
-            raise InputError(f"{k} = {show(getattr(self, k))} does not apply to model = 'fe'; give the section "
-                             "with EA and rhoA, or use model = 'chain'")
-        if self.mesh_file is not None:
-            given = [(k, getattr(self, k)) for k, v in (("n", None), ("grading", 1.0), ("length", 1.0))
-                     if getattr(self, k) != v]
-            if given:
-                k, v = given[0]
-                raise InputError(f"{k} = {show(v)} conflicts with mesh_file = {self.mesh_file!r}, which fixes the "
-                                 f"mesh (its elements, grading and length); drop {k} ({_flag(k)}) or the mesh file")
-        if self.model == "continuum":
-            self._check_continuum()
-        if self.end_mass_absolute and self.end_mass == 0:
-            raise InputError("end_mass_absolute = True needs an end mass: give end_mass > 0 (--end-mass M), or drop "
-                             "end_mass_absolute (--end-mass-absolute)")
-
-    def _check_continuum(self) -> None:
-        """What the continuum solver takes (:mod:`plbar.continuum`): a uniform undamped bar, plastic contact, one
-        point load; an option it would ignore is refused."""
-        fe = [(k, getattr(self, k)) for k in ("element", "mass", "grading", "mesh_file", "point_masses")
-              if getattr(self, k) != FE_ONLY[k]]
-        if fe:
-            k, v = fe[0]
-            raise InputError(f"{k} = {show(v)} does not apply to model = 'continuum' (the exact uniform bar, no mesh); "
-                             f"drop {k} ({_flag(k)}) or use model = 'fe'")
-        if self.modes is not None and self.rayleigh is None:
-            raise InputError("modes does not apply to the undamped model = 'continuum' (characteristics: it has every "
-                             "mode); drop --modes. With Rayleigh damping it sets the exact modes kept per contact "
-                             "state (default 1024)")
-        if self.restitution:
-            raise InputError(f"model = 'continuum' has a plastic contact (restitution 0), got {self.restitution:g}; "
-                             "use model = 'fe' for e > 0")
-        if self.load_nodes or len(self.load_points) > 1:
-            raise InputError("model = 'continuum' takes one point load (--load-at S), not DOF loads (--load-node) "
-                             "nor several points")
 
     @property
     def end_mass_value(self) -> float:
@@ -333,9 +275,9 @@ class Case:
                    f"fe-{self.element}-{self.mass}-{len(nodes) - 1}")
 
     def load(self) -> Load:
-        """The load of this case (validated once, when the case was made)."""
+        """The load of this case (validated when the case was made)."""
         self.bar()
-        return self.__dict__["_load"]
+        return Load(points=self.load_points, nodes=self.load_nodes)
 
     def problem(self) -> Problem:
         """Assemble the bar, solve both eigenproblems and attach the load (the expensive step: call once)."""
@@ -388,6 +330,12 @@ class Case:
         else:
             d["rayleigh"] = list(d["rayleigh"])
         return {k: v for k, v in d.items() if k not in drop}
+
+
+@lru_cache(maxsize=8)
+def _bar(case: Case) -> Bar:
+    """:meth:`Case.bar`: the mesh (file) read and the end mass placed once per equal case."""
+    return case._make_bar()
 
 
 @lru_cache(maxsize=2)

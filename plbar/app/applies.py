@@ -1,0 +1,70 @@
+"""Which options of a :class:`plbar.Case` apply to which model: the one rule, so that an option that would be
+ignored is refused with the flag that sets it."""
+
+from __future__ import annotations
+
+from ..errors import InputError
+from ..util.check import show
+
+__all__ = ["FE_ONLY", "FLAGS", "check_applies"]
+
+#: the options of an FE bar and their defaults: on a chain, any other value is refused (it would be ignored)
+FE_ONLY = {"element": "P1", "mass": "lumped", "EA": 1.0, "rhoA": 1.0, "grading": 1.0, "mesh_file": None,
+           "point_masses": ()}
+#: the command-line spelling of the Case fields named in messages
+FLAGS = {"n": "-N", "element": "--element", "mass": "--mass", "grading": "--grading", "mesh_file": "--mesh-file",
+         "length": "--length", "EA": "--EA", "rhoA": "--rhoA", "point_masses": "no CLI option"}
+
+
+def _flag(name: str) -> str:
+    return FLAGS.get(name, "no CLI option")
+
+
+def check_applies(case) -> None:
+    """The one rule of which options apply to which model: one that would be ignored is refused."""
+    if case.model == "chain":
+        fe_only = [(k, getattr(case, k)) for k, v in FE_ONLY.items() if getattr(case, k) != v]
+        if case.length not in (1.0, float(case.n_eff)):
+            fe_only.insert(0, ("length", case.length))
+        if fe_only:
+            k, v = fe_only[0]
+            raise InputError(f"{k} = {show(v)} does not apply to model = 'chain' (a P1 lumped chain of N "
+                             f"masses m and springs k, L = N); use model = 'fe' (--model fe) or drop {k} "
+                             f"({_flag(k)})")
+    elif (case.m, case.k) != (1.0, 1.0):
+        k = "m" if case.m != 1.0 else "k"
+        raise InputError(f"{k} = {show(getattr(case, k))} does not apply to model = 'fe'; give the section "
+                         "with EA and rhoA, or use model = 'chain'")
+    if case.mesh_file is not None:
+        given = [(k, getattr(case, k)) for k, v in (("n", None), ("grading", 1.0), ("length", 1.0))
+                 if getattr(case, k) != v]
+        if given:
+            k, v = given[0]
+            raise InputError(f"{k} = {show(v)} conflicts with mesh_file = {case.mesh_file!r}, which fixes the "
+                             f"mesh (its elements, grading and length); drop {k} ({_flag(k)}) or the mesh file")
+    if case.model == "continuum":
+        _check_continuum(case)
+    if case.end_mass_absolute and case.end_mass == 0:
+        raise InputError("end_mass_absolute = True needs an end mass: give end_mass > 0 (--end-mass M), or drop "
+                         "end_mass_absolute (--end-mass-absolute)")
+
+
+def _check_continuum(case) -> None:
+    """What the continuum solver takes (:mod:`plbar.continuum`): a uniform undamped bar, plastic contact, one
+    point load; an option it would ignore is refused."""
+    fe = [(k, getattr(case, k)) for k in ("element", "mass", "grading", "mesh_file", "point_masses")
+          if getattr(case, k) != FE_ONLY[k]]
+    if fe:
+        k, v = fe[0]
+        raise InputError(f"{k} = {show(v)} does not apply to model = 'continuum' (the exact uniform bar, no mesh); "
+                         f"drop {k} ({_flag(k)}) or use model = 'fe'")
+    if case.modes is not None and case.rayleigh is None:
+        raise InputError("modes does not apply to the undamped model = 'continuum' (characteristics: it has every "
+                         "mode); drop --modes. With Rayleigh damping it sets the exact modes kept per contact "
+                         "state (default 1024)")
+    if case.restitution:
+        raise InputError(f"model = 'continuum' has a plastic contact (restitution 0), got {case.restitution:g}; "
+                         "use model = 'fe' for e > 0")
+    if case.load_nodes or len(case.load_points) > 1:
+        raise InputError("model = 'continuum' takes one point load (--load-at S), not DOF loads (--load-node) "
+                         "nor several points")
