@@ -20,7 +20,7 @@ from .errors import CaseFileError, InputError, OutputExistsError, PlbarError
 from .model import (Bar, Load, Problem, Structure, TwoStateSystem, assemble, bar_structure, chain, graded_nodes,
                     node, point, problem, rayleigh_from_ratio, two_state, uniform_bar, uniform_nodes)
 from .paths import Branch, Domain, Paths, default_domain, find_paths
-from .response import Orbits, Response, damping, find_response, impact_loss, orbits, stability
+from .response import Orbits, Response, damping, find_response, impact_loss, orbits
 from .util.version import __version__
 
 __all__ = [
@@ -28,5 +28,5 @@ __all__ = [
     "impact_loss", "CaseFileError", "InputError", "OutputExistsError", "PlbarError", "Load", "node", "point",
     "Orbits", "orbits", "Branch", "Domain", "Paths", "default_domain", "find_paths", "Result", "solve",
     "write_results", "Response", "find_response", "Problem", "Structure", "bar_structure", "TwoStateSystem", "problem",
-    "two_state", "simulate", "stability", "rayleigh_from_ratio", "__version__",
+    "two_state", "simulate", "rayleigh_from_ratio", "__version__",
 ]

@@ -170,7 +170,7 @@ def _psi_quadrature(orb, state: int) -> np.ndarray:
 def _check_paths(paths: plbar.Paths):
     """Every output finite; the identities of FORMULATION §5 at every path point."""
     for b in paths.branches:
-        for nm in ("T1", "T2", "phi", "T", "dPL", "xi", "e1", "e2", "max_abs_multiplier"):
+        for nm in ("T1", "T2", "phi", "T", "dPL", "xi", "e1", "e2"):
             _finite(f"branch {b.id} {nm}", getattr(b, nm))
         _finite("eta0", b.orbits.eta0)
         _finite("v0", b.orbits.v0)

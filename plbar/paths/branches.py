@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..model import Problem
-from ..response import Admissibility, Damping, Orbits, Stability, damping, stability
+from ..response import Admissibility, Damping, Orbits, damping
 from ..util.check import interval
 from ..util.reprs import build, count, listing, rng
 
@@ -53,16 +53,14 @@ class Branch:
     adm : plbar.response.Admissibility
     e1, e2 : ndarray
         Switch residuals, relative to their scale.
-    stab : plbar.response.Stability
-        Floquet multipliers, ``max_abs`` and the ``stable`` flag per point.
     ends : (str, str)
         What ended the branch at its first and last point (``"domain edge"``,
         ``"closed loop"``, ``"premature switch (reaction)"``, ``"premature
         switch (gap)"``, ``"impact velocity <= 0"``, ``"not periodic"``, ...).
     events : tuple of dict
-        Events detected along the branch (folds in ``T``, grazing, stability
-        changes classified by the critical multiplier), each with ``kind``,
-        ``index`` (between points ``index`` and ``index + 1``) and ``T1, T2, T``.
+        Events detected along the branch (folds in ``T``, grazing), each with ``kind``, ``index`` and
+        ``T1, T2, T``.  Stability and its changes are the periodic core's (:func:`plbar.periodic.from_paths`:
+        ``plbar.solve(case).paper``), for this class as for every other signature.
     """
 
     id: int
@@ -71,17 +69,8 @@ class Branch:
     adm: Admissibility
     e1: np.ndarray
     e2: np.ndarray
-    stab: Stability
     ends: tuple[str, str] = ("", "")
     events: tuple = ()
-
-    @property
-    def stable(self):
-        return self.stab.stable
-
-    @property
-    def max_abs_multiplier(self):
-        return self.stab.max_abs
 
     @property
     def T1(self):
@@ -130,15 +119,15 @@ class Branch:
         return len(self.orbits)
 
     def describe(self) -> str:
-        """One line: id, points, ``T`` and ``xi`` ranges, stable points, events by kind and the ends."""
+        """One line: id, points, ``T`` and ``xi`` ranges, events by kind and the ends."""
         ev = _event_counts(self.events)
-        return (f"branch {self.id}: {len(self)} points, T in {rng(self.T)}, xi in {rng(self.xi)}, "
-                f"stable {count(self.stable)}" + (f", events {ev}" if ev else "") + f", ends: {' / '.join(self.ends)}")
+        return (f"branch {self.id}: {len(self)} points, T in {rng(self.T)}, xi in {rng(self.xi)}"
+                + (f", events {ev}" if ev else "") + f", ends: {' / '.join(self.ends)}")
 
     def __repr__(self) -> str:
         return build("Branch", {"id": self.id, "points": len(self), "T": rng(self.T),
                                 "T1": rng(self.T1), "T2": rng(self.T2), "xi": rng(self.xi),
-                                "stable": count(self.stable), "grazing": count(self.grazing),
+                                "grazing": count(self.grazing),
                                 "events": _event_counts(self.events) or "{}", "ends": self.ends})
 
 
@@ -174,15 +163,8 @@ def _event_counts(evs) -> str:
     return "{" + ", ".join(f"{k}: {kinds.count(k)}" for k in order) + "}" if kinds else ""
 
 
-def _stability_kind(mu) -> str:
-    crit = mu[np.argmin(np.abs(np.abs(mu) - 1.0))]
-    if abs(crit.imag) > 1e-6 * abs(crit):
-        return NEIMARK_SACKER
-    return PERIOD_DOUBLING if crit.real < 0 else FOLD_MU
-
-
-def events(T1, T2, T, adm: Admissibility, stab: Stability) -> list[dict]:
-    """Folds in ``T``, grazing and stability changes along an ordered branch (kinds: :data:`EVENT_KINDS`)."""
+def events(T1, T2, T, adm: Admissibility) -> list[dict]:
+    """Folds in ``T`` and grazing along an ordered branch."""
     ev = []
     dT = np.diff(T)
     for k in np.flatnonzero(dT[:-1] * dT[1:] < 0):
@@ -190,10 +172,6 @@ def events(T1, T2, T, adm: Admissibility, stab: Stability) -> list[dict]:
     g = adm.grazing
     for k in np.flatnonzero(g[1:] & ~g[:-1]):
         ev.append(dict(kind=GRAZING, index=int(k + 1)))
-    st = stab.max_abs < 1
-    for k in np.flatnonzero(st[1:] != st[:-1]):
-        j = k if not st[k] else k + 1              # the unstable side
-        ev.append(dict(kind=_stability_kind(stab.multipliers[j]), index=int(k)))
     for e in ev:
         i = e["index"]
         e.update(T1=float(T1[i]), T2=float(T2[i]), T=float(T[i]))
@@ -204,7 +182,7 @@ def build_branches(ev, runs) -> list[Branch]:
     """Branches from admissible runs of evaluated points (``ev``: :class:`~plbar.paths.evaluate.Evaluated`).
 
     ``runs`` is a list of ``(point indices, (start reason, end reason))``.  The
-    damping and stability of all points are computed in one batch; branches
+    damping of all points is computed in one batch; branches
     are numbered by their smallest period and ordered by increasing ``T`` of
     their ends.
     """
@@ -213,7 +191,7 @@ def build_branches(ev, runs) -> list[Branch]:
         return []
     orb = ev.orbits
     sorb = orb.take(sel)
-    dmp, stb = damping(sorb), stability(sorb)
+    dmp = damping(sorb)
     lookup = {int(k): j for j, k in enumerate(sel)}
     out = []
     for bid, r in enumerate(sorted(range(len(runs)), key=lambda r: min(orb.T[runs[r][0]]))):
@@ -221,7 +199,7 @@ def build_branches(ev, runs) -> list[Branch]:
         if orb.T[run[0]] > orb.T[run[-1]]:
             run, ends = run[::-1], ends[::-1]
         jj = [lookup[k] for k in run]
-        bo, ba, st = orb.take(run), ev.adm.take(run), stb.take(jj)
-        out.append(Branch(bid, bo, dmp.take(jj), ba, ev.r1[run], ev.r2[run], st, ends,
-                          tuple(events(bo.T1, bo.T2, bo.T, ba, st))))
+        bo, ba = orb.take(run), ev.adm.take(run)
+        out.append(Branch(bid, bo, dmp.take(jj), ba, ev.r1[run], ev.r2[run], ends,
+                          tuple(events(bo.T1, bo.T2, bo.T, ba))))
     return out

@@ -4,7 +4,7 @@
 2. :mod:`.evaluate` keeps the true zeros and picks the admissible phase;
 3. :mod:`.continuation` (or :mod:`.contour`) turns the crossings into ordered curves;
 4. the curves are cut into maximal admissible runs, and :mod:`.branches` makes
-   them branches with damping, stability and events.
+   them branches with damping and events (stability: the periodic core, :func:`plbar.periodic.from_paths`).
 """
 
 from __future__ import annotations
@@ -108,7 +108,7 @@ def find_paths(prob: Problem, domain: Domain | None = None, grid: tuple[int, int
             curves, ev = _traced(prob, sc, ev0, progress, stats)
         stats["t_curves"] = time.perf_counter() - t1c
         runs = admissible_runs(curves, ev.good, ev.why) if ev is not None else []
-        with progress_bar(1, progress, "damping and stability", "batch", delay=2.0) as bar:
+        with progress_bar(1, progress, "damping", "batch", delay=2.0) as bar:
             branches = build_branches(ev, runs)
             bar.update(1)
         stats["admissible"] = int(sum(len(r) for r, _ in runs))

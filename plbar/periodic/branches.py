@@ -28,7 +28,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..model import Problem
-from ..paths import FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING
+from ..paths import FOLD_MU, FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING
 from .branch import DWELL_ZERO, PREMATURE, Branch
 from .floquet import monodromy, multipliers
 from .follow import END_DWELL, FollowSettings, follow
@@ -80,6 +80,10 @@ def _flags(mus) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def _events(orbs, mus) -> list[dict]:
+    """Folds in ``T`` and the changes of stability along a curve of orbits: a real multiplier through -1
+    (period doubling), a complex pair through the unit circle (Neimark-Sacker), and any other change of the
+    verdict ``max |mu| < 1 - STABLE_TOL`` classified by the critical multiplier of its unstable side (through +1:
+    a fold of the multipliers).  ``index`` is the first point past a change, the point at a fold."""
     ev = []
     if len(orbs) < 2:
         return ev
@@ -89,15 +93,27 @@ def _events(orbs, mus) -> list[dict]:
     both = known[1:] & known[:-1]
     flip_pd = (pd[1:] != pd[:-1]) & both
     flip_ns = cplx[1:] & cplx[:-1] & ((cmax[1:] > 1) != (cmax[:-1] > 1)) & both
+    st = np.array([bool(np.abs(mu).max() < 1 - STABLE_TOL) if mu.size else True for mu in mus])
+    flip_st = (st[1:] != st[:-1]) & both & ~flip_pd & ~flip_ns
     fold = np.r_[False, (T[2:] - T[1:-1]) * (T[1:-1] - T[:-2]) < 0]
-    for i in np.flatnonzero(flip_pd | flip_ns | fold) + 1:
+    for i in (np.flatnonzero(flip_pd | flip_ns | flip_st | fold) + 1).tolist():
         if flip_pd[i - 1]:
             ev.append({"kind": PD, "index": i, "T": orbs[i].T})
         if flip_ns[i - 1]:
             ev.append({"kind": NS, "index": i, "T": orbs[i].T})
+        if flip_st[i - 1]:
+            ev.append({"kind": _critical(mus[i] if not st[i] else mus[i - 1]), "index": i, "T": orbs[i].T})
         if fold[i - 1]:
             ev.append({"kind": FOLD, "index": i - 1, "T": orbs[i - 1].T})
     return ev
+
+
+def _critical(mu) -> str:
+    """The kind of a change of stability by its multiplier nearest the unit circle."""
+    crit = mu[np.argmin(np.abs(np.abs(mu) - 1.0))]
+    if abs(crit.imag) > 1e-6 * abs(crit):
+        return NS
+    return PD if crit.real < 0 else FOLD_MU
 
 
 class _Curves:
@@ -200,16 +216,19 @@ def from_paths(prob: Problem, paper_branches) -> list[Branch]:
     """The branches of the paper's class of :func:`plbar.find_paths` (its record: closed-form orbits in
     ``(T^I, T^II, phi)``) as branches of this record: every point the chain's exact orbit of signature ``1P``
     (:func:`.solve.orbit_at`: residuals recomputed from the flow, the loss ``S v_c^2 / 2``, ``xi_eq`` over the
-    chain's segments), the stability, the events, the ends and the grazing points (its dense admissibility check)
-    the paper's class found."""
+    chain's segments) with its Floquet multipliers and their events (:func:`_mults`, :func:`_events`: as for
+    every other signature), and the ends and grazing points the paper's dense admissibility check found."""
     out = []
     for b in paper_branches:
         o = b.orbits
         X = np.concatenate([o.eta0, o.v0, np.c_[o.T1, o.T2, o.phi]], axis=1)
         orbs = tuple(orbit_at(prob, PAPER, float(o.T[i]), X[i]) for i in range(len(b)))
-        ev = [{"kind": e["kind"], "index": int(e["index"]), "T": float(e["T"])} for e in b.events]
-        out.append(Branch(b.id, PAPER, orbs, np.asarray(b.stable, bool), np.asarray(b.max_abs_multiplier, float),
-                          ev, tuple(b.ends), np.asarray(b.grazing, bool)))
+        mus = _mults(prob, list(orbs))
+        mx = np.array([np.abs(mu).max() if mu.size else 0.0 for mu in mus])
+        ev = _events(orbs, mus) + [{"kind": GRAZING, "index": int(e["index"]), "T": float(e["T"])}
+                                   for e in b.events if e["kind"] == GRAZING]
+        out.append(Branch(b.id, PAPER, orbs, mx < 1 - STABLE_TOL, mx, sorted(ev, key=lambda e: e["index"]),
+                          tuple(b.ends), np.asarray(b.grazing, bool)))
     return out
 
 

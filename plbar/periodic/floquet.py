@@ -2,11 +2,11 @@
 
 The stroboscopic map over ``m`` forcing periods, taken in state I modal
 coordinates just after the last impact, is linearised exactly
-(FORMULATION §7, generalising :func:`plbar.response.monodromy_modal`):
+(FORMULATION §7; the one Floquet of plbar, the paper's class included):
 
 ``Phi = prod_i  S_imp,i  Phi_II(tau^II_i)  S_open,i  Phi_I(tau^I_i)``
 
-* ``Phi_I``, ``Phi_II``: the closed-form modal flows;
+* ``Phi_I``, ``Phi_II``: the closed-form modal flows (the load does not enter the linearisation);
 * ``S_open = E + (f_II(E z) - E f_I(z)) dh^T / hdot`` at an opening after a positive dwell
   (``h = -R``, time dependent through the load);
 * ``S_imp = Dg + (f^+(g(y)) - Dg f_II(y)) e^T / v_c`` at an impact (``h = x_c``, reset ``g``):

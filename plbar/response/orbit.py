@@ -21,7 +21,7 @@ from ..util.reprs import build, rng
 from .flow import flow_matrix, segment
 from .onemap import coefficients, states
 
-__all__ = ["Orbits", "orbits"]
+__all__ = ["Orbits", "orbits", "periodic_state"]
 
 
 @dataclass(frozen=True)
@@ -272,3 +272,9 @@ def orbits(prob: Problem, T1, T2, phi, co=None) -> Orbits:
     e, v = segment(s.w1, prob.f1, W[:, None], 0.0, T1[:, None], eta0, v0,
                    np.cos(phi)[:, None], np.sin(phi)[:, None], s.zeta[0])
     return Orbits(prob, T1, T2, phi, eta0, v0, e @ s.P12.T, v @ s.P12.T)
+
+
+def periodic_state(orbits: Orbits) -> tuple[np.ndarray, np.ndarray]:
+    """Physical state I start ``(x_r, v_r)`` of each orbit at ``t = 0+``: (P, n-1) each."""
+    V1 = orbits.prob.system.V1
+    return orbits.eta0 @ V1.T, orbits.v0 @ V1.T

