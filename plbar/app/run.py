@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import threading
 
 import time
 import warnings
@@ -14,7 +15,7 @@ import numpy as np
 from ..errors import CoarseGridWarning, InputError
 from ..model import Problem, Structure
 from ..paths import Domain, Paths, find_paths
-from ..periodic import canonical, find_branches, from_paths, prepare
+from ..periodic import canonical, find_branches, from_paths, prepare, warm
 from ..util.check import MIN_BRANCH_POINTS, show
 from ..util.check import grid as check_grid
 from ..util.files import check_finite, write_csv, write_json
@@ -150,9 +151,12 @@ def solve(case: Case | Structure | None = None, progress: bool = False) -> Resul
     with contextlib.ExitStack() as stack:        # the other signatures begin beside the paper's class
         search = None if case.signatures == "paper" else stack.enter_context(
             Search(prob, domain, case.signatures, progress))
+        loading = _beside(warm, bool(prob.system.damped)) if search is None else None
         t_paper = time.perf_counter()
         paths = _no_paths(prob, domain, case) if case.restitution else \
             find_paths(prob, domain, case.grid, method=case.method, progress=progress)
+        if loading is not None:
+            loading.join()
         paper = from_paths(prob, paths.branches)
         t_search = time.perf_counter()
         if search is not None:
@@ -162,20 +166,38 @@ def solve(case: Case | Structure | None = None, progress: bool = False) -> Resul
                                        m_max=M_MAX[case.signatures],
                                        progress=None if search is None else search.curve))
         t_end = time.perf_counter()
-    short = [b.id for b in branches[:len(paper)] if len(b) < MIN_BRANCH_POINTS]    # the scan's: they come first
+    _warn_coarse(case, domain, branches, len(paper))
+    return Result(case, paths, branches, time.perf_counter() - t0, t_search - t_paper, t_end - t_search)
+
+
+def _warn_coarse(case: Case, domain: Domain, branches, n_paper: int) -> None:
+    """The :class:`CoarseGridWarning` of a solve: short branches of the paper's class (the scan's: they come
+    first), or nothing found."""
+    short = [b.id for b in branches[:n_paper] if len(b) < MIN_BRANCH_POINTS]
     if short:
         ids = ", ".join(str(i) for i in short[:8]) + (f" and {len(short) - 8} more" if len(short) > 8 else "")
         many = len(short) != 1
         warnings.warn(f"{len(short)} branch{'es' if many else ''} ({ids}) of the paper's class "
                       f"{'have' if many else 'has'} fewer than {MIN_BRANCH_POINTS} points on grid = "
                       f"{case.grid}; refine the grid (or narrow T1/T2) to resolve them", CoarseGridWarning,
-                      stacklevel=2)
+                      stacklevel=3)
     if not branches:
         warnings.warn(f"no admissible periodic response in T1 = {_interval(domain.T1)}, T2 = {_interval(domain.T2)} "
                       f"(forcing periods T in {_interval((domain.T1[0] + domain.T2[0], domain.T1[1] + domain.T2[1]))})"
                       f" on grid = {case.grid}; widen T1/T2 (default (0, T0/2] each) or refine the grid",
-                      CoarseGridWarning, stacklevel=2)
-    return Result(case, paths, branches, time.perf_counter() - t0, t_search - t_paper, t_end - t_search)
+                      CoarseGridWarning, stacklevel=3)
+
+
+def _beside(fn, *args) -> threading.Thread:
+    """``fn(*args)`` in a daemon thread (it never holds up an exit or a Ctrl-C); a failure there is left for the
+    main thread to meet again."""
+    def run():
+        with contextlib.suppress(Exception):
+            fn(*args)
+
+    t = threading.Thread(target=run, name="plbar-kernel", daemon=True)
+    t.start()
+    return t
 
 
 def _no_paths(prob, domain, case: Case) -> Paths:
