@@ -130,9 +130,9 @@ def _cmd_refine(a) -> int:
     if kind == "local" and len(cases) * len(a.family or ["T0_II/2"]) == 1:
         kind = "serial"          # one task: in this process, with its progress per mesh and the thread pool
     with get_executor(kind, a.scheduler, a.workers) as ex:
-        r = run_refine(cases, a.sizes, a.family or ["T0_II/2"], st, a.out, ex, progress=progress(a),
-                       overwrite=a.overwrite, plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None,
-                       rates_always=a.rates_always)
+        r = run_refine(cases, a.sizes, a.family or ["T0_II/2"], st, a.out, a.rates_always, executor=ex,
+                       progress=progress(a), overwrite=a.overwrite,
+                       plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
     note = _no_continuum_row(cases[0])
     lines = _refine_lines(r, a.rates_always) + ([note] if note else []) + [
         f"done in {r.time:.1f} s; wrote " + ", ".join(

@@ -160,8 +160,8 @@ def _cmd_survey(a) -> int:
     kind = "dask" if a.scheduler else a.executor
     modes = ("rest",) + tuple(dict.fromkeys(a.cont or ()))
     with get_executor(kind, a.scheduler, a.workers) as ex:
-        s = run_survey(case, T, a.periods, a.record, out, modes, ex, progress=progress(a), overwrite=a.overwrite,
-                       plot=plot, chunks=a.chunks, paths=paths)
+        s = run_survey(case, T, a.periods, a.record, out, modes, a.chunks, paths, executor=ex, progress=progress(a),
+                       overwrite=a.overwrite, plot=plot)
     report(a, s.summary, s.files, "\n".join(_lines(s, T, case.rayleigh is not None)))
     return 0
 
@@ -175,8 +175,9 @@ def _loads(a, case, T, out) -> int:
     kind = "dask" if a.scheduler else a.executor
     sizes = sorted(set(a.sizes)) if a.sizes and len(a.sizes) > 1 else None
     with get_executor(kind, a.scheduler, a.workers) as ex:
-        r = run_survey_loads(case, T, a.positions, a.per_element, sizes, a.periods, a.record, out, ex, progress(a),
-                             a.overwrite, plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
+        r = run_survey_loads(case, T, a.positions, a.per_element, sizes, a.periods, a.record, out, executor=ex,
+                             progress=progress(a), overwrite=a.overwrite,
+                             plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
     lines = [f"plbar survey over load positions: {r.positions.size} positions x {r.T.size} forcing periods"
              + (f" x N = {', '.join(str(n) for n in r.sizes)}" if r.sizes.size > 1 else "")
              + f", {r.summary['periods']} periods each, {r.summary['seconds']:.1f} s"]
@@ -206,9 +207,9 @@ def _refine(a, case, T, out, no_continuum: str = "") -> int:
 
     kind = "dask" if a.scheduler else a.executor
     with get_executor(kind, a.scheduler, a.workers) as ex:
-        r = run_survey_refine(case, a.sizes, T, a.periods, a.record, out, ex, progress(a), a.overwrite,
-                              plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None,
-                              no_continuum=no_continuum)
+        r = run_survey_refine(case, a.sizes, T, a.periods, a.record, out, no_continuum, executor=ex,
+                              progress=progress(a), overwrite=a.overwrite,
+                              plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
     text = "\n".join(_refine_lines(r.rates, a.sizes, 0 in r.surveys, r.files, case.bar().transit))
     report(a, r.summary, r.files, text, rates=r.rates)
     return 0

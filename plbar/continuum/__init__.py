@@ -13,10 +13,10 @@ state (:mod:`.modal`).
 
 from .bar import ContinuumBar, from_case, natural_periods
 from .harmonic import Harmonic, held_closed, held_open
-from .modal import ModalRun, simulate_modal
+from .modal import ModalOptions, ModalRun, simulate_modal
 from .series import ContinuumSeries
 from .simulate import ContinuumRun, simulate
 from .stepper import Start
 
 __all__ = ["ContinuumBar", "from_case", "natural_periods", "simulate", "ContinuumRun", "ContinuumSeries", "Start",
-           "Harmonic", "held_closed", "held_open", "simulate_modal", "ModalRun"]
+           "Harmonic", "held_closed", "held_open", "simulate_modal", "ModalRun", "ModalOptions"]

@@ -38,11 +38,12 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import InputError
+from ..util.options import collect
 from ..util.record import Record, events
 from .bar import ContinuumBar
 from .modes import Segment, closed_modes, energy, open_modes, overlap, state
 
-__all__ = ["ModalRun", "simulate_modal", "OPENING", "IMPACT"]
+__all__ = ["ModalRun", "ModalOptions", "simulate_modal", "OPENING", "IMPACT"]
 
 OPENING, IMPACT = 1, 2
 
@@ -290,9 +291,33 @@ def _checked(T, periods, rayleigh, modes) -> tuple[float, float]:
     return a, b
 
 
+@dataclass(frozen=True)
+class ModalOptions:
+    """How :func:`simulate_modal` looks for the switches and what it keeps (its keyword options).
+
+    Attributes
+    ----------
+    steps_per_period, chunk : int
+        The grid on which switches are looked for (sign changes and local extrema of the switch function), and
+        how many of its points are evaluated at once.
+    max_events : int
+        Largest number of switches of one kind in one period (an accumulation is refused).
+    keep : int
+        Periods whose segments :meth:`ModalRun.contact` keeps.
+    record, grid : int
+        The last periods whose boundary states are kept (default ``min(periods, 10)``), on ``grid`` steps of the bar.
+    """
+
+    steps_per_period: int = 400
+    keep: int = 20
+    chunk: int = 128
+    max_events: int = 1000
+    record: int | None = None
+    grid: int = 32
+
+
 def simulate_modal(bar: ContinuumBar, T: float, periods: int = 20, rayleigh=(0.0, 0.0), modes: int = 1024,
-                   phi: float = 0.0, steps_per_period: int = 400, keep: int = 20, chunk: int = 128,
-                   max_events: int = 1000, record: int | None = None, grid: int = 32) -> ModalRun:
+                   phi: float = 0.0, **options) -> ModalRun:
     """March the bar from rest against the wall under ``q cos(2 pi t / T - phi)`` by modal superposition.
 
     Parameters
@@ -304,25 +329,25 @@ def simulate_modal(bar: ContinuumBar, T: float, periods: int = 20, rayleigh=(0.0
         ``(alpha, beta)`` of ``C = alpha M + beta K`` (``plbar.rayleigh_from_ratio``).
     modes : int
         Modes ``K`` kept in each contact state (1,024: the first 20 periods agree with 2,048 to 2e-4 in ``u(L)``).
-    steps_per_period, chunk : int
-        The grid on which switches are looked for (sign changes and local extrema of the switch function), and
-        how many of its points are evaluated at once.
-    keep, max_events, record, grid : int
-        Periods whose segments :meth:`ModalRun.contact` keeps; largest number of switches of one kind in one period
-        (an accumulation is refused); the last periods whose boundary states are kept on ``grid`` steps of the bar
-        (default ``min(periods, 10)``).
+
+    Other Parameters
+    ----------------
+    steps_per_period, keep, chunk, max_events, record, grid
+        The keyword options (:class:`ModalOptions`): the search for the switches, and what the run keeps.
 
     Returns
     -------
     ModalRun
     """
+    opts = collect(ModalOptions, options, "simulate_modal")
+    steps_per_period, keep, chunk, record = opts.steps_per_period, opts.keep, opts.chunk, opts.record
     a, b = _checked(T, periods, rayleigh, modes)
     t_start = time.perf_counter()
     omega = 2 * math.pi / T
     mc, mo = closed_modes(bar, modes, (a, b)), open_modes(bar, modes, (a, b))
     P = overlap(bar, mc, mo)
     states = {True: state(bar, mc, omega, (a, b)), False: state(bar, mo, omega, (a, b))}
-    books = _Books(periods, bar, max_events, min(periods, 10) if record is None else int(record), grid)
+    books = _Books(periods, bar, opts.max_events, min(periods, 10) if record is None else int(record), opts.grid)
     closed, fresh, p, dt = True, True, 0, T / steps_per_period
     sg = Segment(states[True], 0.0, np.zeros(modes), np.zeros(modes), omega, phi)
     kept = [sg]

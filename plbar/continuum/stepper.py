@@ -18,6 +18,7 @@ from ..errors import InputError
 from .bar import ContinuumBar
 from .kernel import IMPACT, MAX_EVENTS_PER_STEP, OPENING
 from .kernel import march as _kernel
+from .kernel.records import MarchBar, MarchLoad, MarchStart
 
 __all__ = ["Start", "Marched", "march", "OPENING", "IMPACT", "MAX_EVENTS_PER_STEP"]
 
@@ -56,9 +57,10 @@ def march(bar: ContinuumBar, T: float, periods: int, n: int, phi: float, hold: s
     st = start or Start()
     omega = 2 * math.pi / T
     rec, ev, strobes, amp, status, t_err = _kernel(
-        float(bar.L), bar.c, bar.Z, float(bar.end_mass), float(bar.s), float(bar.q), omega, float(phi), int(n),
-        _HOLD[hold], start is None, float(st.u), float(st.v), bool(st.stuck), float(st.C), float(st.D), float(T),
-        int(periods), bool(merge))
+        MarchBar(float(bar.L), float(bar.c), float(bar.Z), float(bar.end_mass), float(bar.s)),
+        MarchLoad(float(bar.q), omega, float(phi), start is None),
+        MarchStart(float(st.u), float(st.v), bool(st.stuck), float(st.C), float(st.D)), float(T), int(periods),
+        int(n), _HOLD[hold], bool(merge))
     if status:
         raise RuntimeError(f"chatter: more than {MAX_EVENTS_PER_STEP} switches in the step at t = {t_err:.6g}")
     dt = bar.L / (bar.c * n)

@@ -10,6 +10,7 @@ the files hold exactly the solver's response.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -208,7 +209,7 @@ def response_data(orbit, info: dict | None = None, periods: int = 1, steps: int 
         full = {"T1": float(orb.T1[0]), "T2": float(orb.T2[0]), "phi": float(np.mod(orb.phi[0], 2 * np.pi)), "T": T}
     full.update(info or {})
     full.update({"periods": periods, "steps": steps})
-    return _sampled(orb.prob, t_abs, t_abs, t_loc, x, v, state, margin, ek, ep, full)
+    return _sampled(orb.prob, t_abs, _Samples(t_abs, t_loc, x, v, state, margin, ek, ep), full)
 
 
 def _nodal_kinetic(prob, v) -> np.ndarray:
@@ -219,9 +220,23 @@ def _nodal_kinetic(prob, v) -> np.ndarray:
     return np.concatenate([np.zeros((v.shape[0], 1)), 0.5 * v * Mv], axis=1)
 
 
-def _sampled(prob, times, t_abs, t_loc, x, v, state, margin, ek, ep, info, extra=None) -> ResponseData:
-    """The fields of states ``x, v`` (K, n) sampled at absolute times ``t_abs`` (``t_loc`` in the period or window;
-    ``times`` the series' own)."""
+class _Samples(NamedTuple):
+    """The states sampled: at absolute times ``t_abs`` (``t_loc`` in the period or window), ``x, v`` (K, n), the
+    contact ``state``, the wall's reaction ``margin`` and the kinetic and potential energies ``ek, ep`` (K,)."""
+
+    t_abs: np.ndarray
+    t_loc: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    state: np.ndarray
+    margin: np.ndarray
+    ek: np.ndarray
+    ep: np.ndarray
+
+
+def _sampled(prob, times, sm: _Samples, info, extra=None) -> ResponseData:
+    """The fields of the sampled states ``sm`` on the mesh of ``prob`` (``times`` the series' own)."""
+    t_abs, t_loc, x, v, state, margin, ek, ep = sm
     pts, cells, ctype, EA, rA = _mesh(prob)
     K = t_loc.size
     u = np.concatenate([np.zeros((K, 1)), x], axis=1)
@@ -289,5 +304,5 @@ def motion_data(series, steps: int = 40, info: dict | None = None) -> ResponseDa
             "impacts": int(np.sum(kind >= 2)), "openings": int(np.sum((kind == 1) | (kind == 3))),
             "impact_loss": float(loss.sum()), "motion": True}
     full.update(info or {})
-    return _sampled(series.prob, t_abs - t0, t_abs, t_abs - t0, x, v, state, margin, ek, ep, full,
+    return _sampled(series.prob, t_abs - t0, _Samples(t_abs, t_abs - t0, x, v, state, margin, ek, ep), full,
                     extra={"event": kind, "impact_loss": loss})

@@ -10,12 +10,12 @@
 """
 
 from .branches import FOLD_MU, FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING, Branch, Domain, Paths, default_domain
-from .continuation import Trace, trace, trace_many
+from .continuation import Seed, Trace, trace, trace_many
 from .evaluate import Evaluated, evaluate
 from .follow import Band, correct_onto, follow, follow_one
 from .find import find_paths
 from .scan import Scan, scan, scan_field
 
 __all__ = ["FOLD_MU", "FOLD_T", "GRAZING", "NEIMARK_SACKER", "PERIOD_DOUBLING", "Branch", "Domain", "Paths",
-           "default_domain", "Trace", "trace", "trace_many", "Evaluated", "evaluate", "Band", "correct_onto", "follow",
-           "follow_one", "find_paths", "Scan", "scan", "scan_field"]
+           "default_domain", "Seed", "Trace", "trace", "trace_many", "Evaluated", "evaluate", "Band", "correct_onto",
+           "follow", "follow_one", "find_paths", "Scan", "scan", "scan_field"]

@@ -21,6 +21,7 @@ passed through seeds a new trace.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -32,7 +33,7 @@ from ..util.reprs import build, rng
 from ..util.roots import bracketed
 from .contour import link
 
-__all__ = ["G", "Trace", "trace", "trace_many", "curves"]
+__all__ = ["G", "Seed", "Trace", "trace", "trace_many", "curves"]
 
 EPS = np.finfo(float).eps
 SPECULATE = 64   #: traces run in lockstep (at most one speculative seed per marching-squares chain)
@@ -51,6 +52,14 @@ class Trace:
         P = np.asarray(self.P, float).reshape(-1, 2)
         return build("Trace", {"points": P.shape[0], "T1": rng(P[:, 0]), "T2": rng(P[:, 1]),
                                "grid_edges": len(self.edges), "ends": self.ends, "nevals": self.nevals})
+
+
+class Seed(NamedTuple):
+    """Where a trace starts: an exact zero ``point`` ``(T1, T2)`` of :func:`G` and the grid ``edge`` it lies on
+    (None: none; a closed loop then stops when it returns to its first crossed edge)."""
+
+    point: np.ndarray
+    edge: int | None = None
 
 
 class _Tracer:
@@ -250,13 +259,13 @@ def trace(prob: Problem, t1: np.ndarray, t2: np.ndarray, seed: np.ndarray, hmax:
         scan found no admissible response there: the branch ends within
         that grid cell).
     """
-    return trace_many(prob, t1, t2, [seed], hmax, max_steps, crossings, [seed_edge], stop)[0]
+    return trace_many(prob, t1, t2, [Seed(seed, seed_edge)], hmax, max_steps, crossings, stop)[0]
 
 
 def trace_many(prob: Problem, t1: np.ndarray, t2: np.ndarray, seeds, hmax: float | None = None,
-               max_steps: int = 20000, crossings: dict | None = None, seed_edges=None,
-               stop: set | None = None, drop_crossed: bool = False) -> list[Trace | None]:
-    """:func:`trace` from several seeds, the walkers in lockstep.
+               max_steps: int = 20000, crossings: dict | None = None, stop: set | None = None,
+               drop_crossed: bool = False) -> list[Trace | None]:
+    """:func:`trace` from several seeds (:class:`Seed`, or plain points: no seed edge), the walkers in lockstep.
 
     Each round evaluates the pending points of every walker in one batched
     :func:`G` call; every walker does exactly what :func:`trace` does, so the
@@ -265,10 +274,12 @@ def trace_many(prob: Problem, t1: np.ndarray, t2: np.ndarray, seeds, hmax: float
     edge an earlier walker (in the order of ``seeds``) has crossed is dropped
     (its entry is None): it would trace the same curve.
     """
-    seed_edges = [None] * len(seeds) if seed_edges is None else [None if e is None else int(e) for e in seed_edges]
+    seeds = [sd if isinstance(sd, Seed) else Seed(sd) for sd in seeds]
+    seed_edges = [None if sd.edge is None else int(sd.edge) for sd in seeds]
     tracers = [_Tracer(prob, t1, t2, hmax, crossings, stop) for _ in seeds]
     seen = [set() for _ in seeds]
-    gens = [_trace(tr, sd, max_steps, crossings, e, sn) for tr, sd, e, sn in zip(tracers, seeds, seed_edges, seen)]
+    gens = [_trace(tr, sd.point, max_steps, crossings, e, sn)
+            for tr, sd, e, sn in zip(tracers, seeds, seed_edges, seen)]
     out: list = [None] * len(gens)
     pending = {}
 
@@ -378,8 +389,8 @@ def curves(prob: Problem, sc, zero: np.ndarray, good: np.ndarray, progress: bool
                 if stretch[e2] not in used and e2 not in visited and cache.get(e2) is None:
                     used.add(stretch[e2])
                     batch.append(e2)
-            trs = trace_many(prob, sc.t1, sc.t2, [crossings[b] for b in batch], crossings=crossings,
-                             seed_edges=batch, stop=stop, drop_crossed=True)
+            trs = trace_many(prob, sc.t1, sc.t2, [Seed(crossings[b], b) for b in batch], crossings=crossings,
+                             stop=stop, drop_crossed=True)
             cache.update(zip(batch, trs))
         tr = cache.pop(e)
         bar.update(len((set(tr.edges) - visited) & seeds))

@@ -38,6 +38,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .records import Forcing, Modes
+
 __all__ = ["roots", "flow_matrix", "kernels", "psi_closed_form", "phi1", "rate"]
 
 _SERIES = 20        #: terms of the phi_1 and kernel series (|x| < 1: error below 1e-19)
@@ -191,14 +193,16 @@ def _F(m, tau):
     return tau * phi1(m * tau)
 
 
-def velocity_terms(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
-    """The damped modal velocity over a segment as exponentials: ``v(u) = A1 e^{y u} + A2 e^{z u} + B e^{iWu} + cc``.
+def velocity_terms(modes: Modes, forcing: Forcing, ts, tau, eta0, v0):
+    """The damped modal velocity over a segment as exponentials: ``v(u) = A1 e^{y u} + A2 e^{z u} + B e^{iWu} + cc``
+    (``modes.zeta`` given; the arguments of :func:`plbar.response.flow.psi_closed_form`).
 
     Returns ``(w, W, tau, y, z, A1, A2, B, th, sing)`` broadcast: the roots ``y, z`` (:func:`roots`), their
     amplitudes, the steady part's ``B``, ``th = e^{i (W ts - phi)}`` (the load is ``Re(th e^{iWu})``) and where
     the form is singular (exact resonance without damping, a double root).
     """
-    args = np.broadcast_arrays(*(np.asarray(v, float) for v in (w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta)))
+    args = np.broadcast_arrays(*(np.asarray(v, float) for v in (modes.w, modes.f, forcing.W, ts, tau, eta0, v0,
+                                                                 forcing.cphi, forcing.sphi, modes.zeta)))
     w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta = args
     y, z, a, _ = roots(w, zeta)
     den = w * w - W * W + 2j * a * W              # 1 / H
@@ -216,11 +220,11 @@ def velocity_terms(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
     return w, W, tau, y, z, A1, A2, B, th, sing
 
 
-def work_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
+def work_closed_form(modes: Modes, forcing: Forcing, ts, tau, eta0, v0):
     """The work of the load ``f int_0^tau cos(W (ts + u) - phi) eta'(u) du`` of damped modes in closed form, and its
     cancellation factor (``inf`` where singular; quadrature takes over where it is large)."""
-    f = np.asarray(f, float)
-    w, W, tau, y, z, A1, A2, B, th, sing = velocity_terms(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta)
+    f = np.asarray(modes.f, float)
+    w, W, tau, y, z, A1, A2, B, th, sing = velocity_terms(modes, forcing, ts, tau, eta0, v0)
     iW = 1j * W
     terms = [th * A1 * _F(y + iW, tau), th * A2 * _F(z + iW, tau), th * B * _F(2 * iW, tau), th * B.conj() * tau,
              th.conj() * A1 * _F(y - iW, tau), th.conj() * A2 * _F(z - iW, tau), th.conj() * B * tau,
@@ -232,10 +236,10 @@ def work_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
     return np.where(sing, 0.0, work), np.where(sing, np.inf, cancel)
 
 
-def psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
+def psi_closed_form(modes: Modes, forcing: Forcing, ts, tau, eta0, v0):
     """``Psi = int_0^tau eta'^2`` of damped modes in closed form, and its cancellation factor.
 
-    Same arguments as :func:`plbar.response.flow.psi_closed_form`, plus ``zeta``.
+    Same arguments as :func:`plbar.response.flow.psi_closed_form`, ``modes.zeta`` given.
 
     Returns
     -------
@@ -245,7 +249,7 @@ def psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
         closed form singular); :func:`plbar.response.flow.psi` takes quadrature
         where it is large.
     """
-    w, W, tau, y, z, A1, A2, B, _, sing = velocity_terms(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta)
+    w, W, tau, y, z, A1, A2, B, _, sing = velocity_terms(modes, forcing, ts, tau, eta0, v0)
     iW = 1j * W
     terms = [A1 * A1 * _F(2 * y, tau), 2 * A1 * A2 * _F(y + z, tau), A2 * A2 * _F(2 * z, tau),
              2 * A1 * B * _F(y + iW, tau), 2 * A1 * B.conj() * _F(y - iW, tau),

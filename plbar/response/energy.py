@@ -29,6 +29,7 @@ from ..util.reprs import build, count, rng
 
 from .flow import gauss, psi
 from .orbit import Orbits
+from .records import Forcing, Modes
 
 __all__ = ["Damping", "damping", "impact_loss", "kinetic_energy_loss", "work_quadrature", "psi_sums", "psi_modes"]
 
@@ -117,8 +118,9 @@ def psi_modes(orb: Orbits) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     z1, z2 = s.zeta
     W = orb.W[:, None]
     c, sn = np.cos(orb.phi)[:, None], np.sin(orb.phi)[:, None]
-    psi1, ok1 = psi(s.w1[None], p.f1[None], W, 0.0, orb.T1[:, None], orb.eta0, orb.v0, c, sn, z1)
-    psi2, ok2 = psi(s.w2[None], p.f2[None], W, orb.T1[:, None], orb.T2[:, None], orb.eta_s, orb.v_s, c, sn, z2)
+    fc = Forcing(W, c, sn)
+    psi1, ok1 = psi(Modes(s.w1[None], p.f1[None], z1), fc, 0.0, orb.T1[:, None], orb.eta0, orb.v0)
+    psi2, ok2 = psi(Modes(s.w2[None], p.f2[None], z2), fc, orb.T1[:, None], orb.T2[:, None], orb.eta_s, orb.v_s)
     return psi1, psi2, ok1.all(axis=1) & ok2.all(axis=1)
 
 

@@ -15,8 +15,11 @@ after subtracting the particular solution, here folded into ``C`` and ``S``.
 
 All functions broadcast over leading axes.
 
+``Psi`` (:func:`psi` and its closed form and quadrature) takes the modes and the forcing as two records,
+:class:`~.records.Modes` ``(w, f, zeta)`` and :class:`~.records.Forcing` ``(W, cos phi, sin phi)``.
+
 **Damping** (FORMULATION §8).  Every function takes an optional per-mode damping
-ratio ``zeta`` (broadcast like ``w``): with it each mode is the damped oscillator
+ratio ``zeta`` (broadcast like ``w``; ``Modes.zeta``): with it each mode is the damped oscillator
 ``eta'' + 2 zeta w eta' + w^2 eta = f cos(W t - phi)``, in closed form for the
 under-, critically and over-damped modes alike (:mod:`plbar.response.damped`).
 ``zeta=None`` (the default) is the undamped code path, unchanged bit for bit;
@@ -30,6 +33,7 @@ from functools import lru_cache
 import numpy as np
 
 from . import damped as _damped
+from .records import Forcing, Modes, broadcast
 
 __all__ = ["free_flow", "flow_matrix", "kernels", "forced_coeffs", "segment", "psi", "psi_closed_form",
            "psi_quadrature", "sinc", "gauss", "CANCEL_LIMIT"]
@@ -151,8 +155,9 @@ def segment(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta=None):
     return eta, v
 
 
-def psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta=None):
-    """Closed-form ``Psi = int_0^tau etadot^2`` (Eq. (20), Appendix 2).
+def psi_closed_form(modes: Modes, forcing: Forcing, ts, tau, eta0, v0):
+    """Closed-form ``Psi = int_0^tau etadot^2`` (Eq. (20), Appendix 2) of the ``modes`` under ``forcing``, over
+    the segment ``[ts, ts + tau]`` from the modal state ``eta0, v0``.
 
     The velocity is written as ``A cos w u + B sin w u + Cc cos W u + Cs sin W u``
     (Eqs. (15)-(17)) and the products are integrated exactly (Eqs. (28)-(33),
@@ -165,10 +170,11 @@ def psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta=None):
         Cancellation factor ``(|A|+|B|+|Cc|+|Cs|)^2 tau / psi``; large near
         resonance, where :func:`psi` switches to quadrature.
 
-    With ``zeta``: the damped closed form of :func:`plbar.response.damped.psi_closed_form`.
+    With ``modes.zeta``: the damped closed form of :func:`plbar.response.damped.psi_closed_form`.
     """
-    if zeta is not None:
-        return _damped.psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta)
+    if modes.zeta is not None:
+        return _damped.psi_closed_form(modes, forcing, ts, tau, eta0, v0)
+    w, f, W, cphi, sphi = modes.w, modes.f, forcing.W, forcing.cphi, forcing.sphi
     cw, sw = np.cos(W * ts), np.sin(W * ts)
     th_c = cw * cphi + sw * sphi     # cos(W ts - phi)
     th_s = sw * cphi - cw * sphi     # sin(W ts - phi)
@@ -217,13 +223,13 @@ def gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
     return x, w
 
 
-def psi_quadrature(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None, zeta=None):
-    """``int_0^tau etadot^2`` by Gauss-Legendre on the exact velocity.
+def psi_quadrature(modes: Modes, forcing: Forcing, ts, tau, eta0, v0, n=None):
+    """``int_0^tau etadot^2`` by Gauss-Legendre on the exact velocity (the arguments of :func:`psi_closed_form`).
 
     Undamped, the integrand is a trigonometric polynomial of frequency at most
     ``2 max(w, W)``; ``n`` nodes are chosen so the rule is exact to round-off.
 
-    With ``zeta`` the integrand is a sum of exponentials ``e^{m u}`` with
+    With ``modes.zeta`` the integrand is a sum of exponentials ``e^{m u}`` with
     ``|m| <= 2 max(|lambda|, W)`` (``|lambda| = w`` under-damped, the fast root of an
     over-damped mode).  The interval is cut into ``p`` equal pieces with
     ``k = 2 max(|lambda|, W) tau / p <= 100``; mapped to ``[-1, 1]`` each exponential
@@ -232,9 +238,10 @@ def psi_quadrature(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None, zeta=None):
     times the integrand's size on the piece: with ``n >= 0.6 k + 40`` that is below
     ``0.57^{80}`` (exact to round-off), and no piece needs more than 100 nodes.
     """
-    w, f, W, ts, tau, eta0, v0, cphi, sphi = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi)
-    if zeta is not None:
-        return _psi_pieces(w, f, W, ts, tau, eta0, v0, cphi, sphi, np.broadcast_to(zeta, w.shape))
+    modes, forcing, (ts, tau, eta0, v0) = broadcast(modes, forcing, ts, tau, eta0, v0)
+    if modes.zeta is not None:
+        return _psi_pieces(modes, forcing, ts, tau, eta0, v0)
+    w, f, W, cphi, sphi = modes.w, modes.f, forcing.W, forcing.cphi, forcing.sphi
     if n is None:
         k = float(np.max(2 * np.maximum(w, W) * tau)) if w.size else 0.0
         n = int(np.ceil(0.6 * k)) + 40
@@ -246,8 +253,10 @@ def psi_quadrature(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None, zeta=None):
     return 0.5 * tau * np.sum(wt * v * v, axis=-1)
 
 
-def _psi_pieces(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
-    """Composite Gauss-Legendre of the damped ``int_0^tau etadot^2`` (see :func:`psi_quadrature`)."""
+def _psi_pieces(modes: Modes, forcing: Forcing, ts, tau, eta0, v0):
+    """Composite Gauss-Legendre of the damped ``int_0^tau etadot^2`` (see :func:`psi_quadrature`; the arguments
+    broadcast to one shape)."""
+    w, f, zeta, W, cphi, sphi = modes.w, modes.f, modes.zeta, forcing.W, forcing.cphi, forcing.sphi
     k = float(np.max(2 * np.maximum(_damped.rate(w, zeta), W) * tau)) if w.size else 0.0
     p = max(1, int(np.ceil(k / 100.0)))
     n = 20 * int(np.ceil((int(np.ceil(0.6 * k / p)) + 40) / 20))
@@ -261,10 +270,12 @@ def _psi_pieces(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta):
 CANCEL_LIMIT = 1e4   #: cancellation factor above which Psi is taken by quadrature (here and in .scalar)
 
 
-def psi(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta=None):
+def psi(modes: Modes, forcing: Forcing, ts, tau, eta0, v0):
     """``Psi`` of Eq. (20): closed form, or quadrature where it would cancel.
 
-    With ``zeta`` (damped modes) the closed form cancels near resonance with
+    ``modes`` (:class:`~.records.Modes`: ``w, f, zeta``) under ``forcing`` (:class:`~.records.Forcing`: ``W`` and
+    the phase's ``cos, sin``), over the segment ``[ts, ts + tau]`` from the modal state ``eta0, v0``; every array
+    broadcasts.  With ``modes.zeta`` (damped modes) the closed form cancels near resonance with
     little damping and near critical damping; quadrature (exact to round-off, see
     :func:`psi_quadrature`) takes over there.
 
@@ -274,11 +285,11 @@ def psi(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta=None):
     closed : ndarray of bool
         True where the closed form was used (False near resonance).
     """
-    p, cancel = psi_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta)
+    p, cancel = psi_closed_form(modes, forcing, ts, tau, eta0, v0)
     bad = ~(cancel < CANCEL_LIMIT)
     if np.any(bad):
-        b = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi, *(() if zeta is None else (zeta,)))
-        q = psi_quadrature(*[a[bad] for a in b[:9]], zeta=None if zeta is None else b[9][bad])
+        md, fc, rest = broadcast(modes, forcing, ts, tau, eta0, v0)
+        q = psi_quadrature(md.take(bad), fc.take(bad), *(a[bad] for a in rest))
         p = np.array(p, copy=True)
         p[bad] = q
     return p, ~bad

@@ -20,6 +20,7 @@ import numpy as np
 
 from . import damped as _damped
 from .flow import CANCEL_LIMIT, gauss, segment, sinc
+from .records import Forcing, Modes, broadcast
 
 __all__ = ["work_closed_form", "work_quadrature_segment", "segment_work"]
 
@@ -30,21 +31,20 @@ def _h(x, tau):
     return 0.5 * x * tau * tau * s * s
 
 
-def work_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi):
+def work_closed_form(modes: Modes, forcing: Forcing, ts, tau, eta0, v0):
     """Closed-form work of the load on each mode over ``[ts, ts + tau]``.
 
     Parameters
     ----------
-    w, f : array_like
-        Natural circular frequencies and modal load amplitudes.
-    W : array_like
-        Forcing circular frequency.
+    modes : Modes
+        Natural circular frequencies ``w`` and modal load amplitudes ``f`` (array_like); with ``zeta``, the damped
+        closed form of :func:`plbar.response.damped.work_closed_form`.
+    forcing : Forcing
+        Forcing circular frequency ``W`` and ``cphi, sphi``, the ``cos(phi), sin(phi)`` of the forcing phase.
     ts, tau : array_like
         Segment start (absolute) and length.
     eta0, v0 : array_like
         Modal state at ``ts``.
-    cphi, sphi : array_like
-        ``cos(phi), sin(phi)`` of the forcing phase.
 
     Returns
     -------
@@ -53,6 +53,9 @@ def work_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi):
     cancel : ndarray
         Cancellation factor ``(|A|+|B|+|Cc|+|Cs|) / (|(w eta0, v0)| + |f| tau)``; large near resonance.
     """
+    if modes.zeta is not None:
+        return _damped.work_closed_form(modes, forcing, ts, tau, eta0, v0)
+    w, f, W, cphi, sphi = modes.w, modes.f, forcing.W, forcing.cphi, forcing.sphi
     cw, sw = np.cos(W * ts), np.sin(W * ts)
     th_c = cw * cphi + sw * sphi     # cos(W ts - phi)
     th_s = sw * cphi - cw * sphi     # sin(W ts - phi)
@@ -79,15 +82,15 @@ def work_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi):
     return work, cancel
 
 
-def work_quadrature_segment(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None, zeta=None):
+def work_quadrature_segment(modes: Modes, forcing: Forcing, ts, tau, eta0, v0, n=None):
     """The work of :func:`work_closed_form` by Gauss-Legendre on the exact velocity (any frequencies; damped
-    modes with ``zeta``).
+    modes with ``modes.zeta``).
 
     The integrand is a sum of products of ``cos(W u)``, ``sin(W u)`` and the modal exponentials; pieces of at
     most two periods of the fastest frequency with ``n`` nodes each (at least 40) integrate it to round-off.
     """
-    arrays = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi, 0.0 if zeta is None else zeta)
-    w, f, W, ts, tau, eta0, v0, cphi, sphi, z = arrays
+    modes, forcing, (ts, tau, eta0, v0) = broadcast(modes, forcing, ts, tau, eta0, v0)
+    w, f, zeta, W, cphi, sphi = modes.w, modes.f, modes.zeta, forcing.W, forcing.cphi, forcing.sphi
     span = float(np.max((np.maximum(w, W) + W) * np.abs(tau))) if w.size else 0.0
     pieces = max(1, int(np.ceil(span / (4 * np.pi))))
     n = n or 40
@@ -97,22 +100,20 @@ def work_quadrature_segment(w, f, W, ts, tau, eta0, v0, cphi, sphi, n=None, zeta
     wts = (0.5 * np.diff(edges)[:, None] * wt).ravel()
     t = tau[..., None] * u
     _, v = segment(w[..., None], f[..., None], W[..., None], ts[..., None], t, eta0[..., None], v0[..., None],
-                   cphi[..., None], sphi[..., None], zeta=None if zeta is None else z[..., None])
+                   cphi[..., None], sphi[..., None], zeta=None if zeta is None else zeta[..., None])
     force = cphi[..., None] * np.cos(W[..., None] * (ts[..., None] + t)) + \
         sphi[..., None] * np.sin(W[..., None] * (ts[..., None] + t))
     return tau * np.sum(wts * f[..., None] * force * v, axis=-1)
 
 
-def segment_work(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta=None):
-    """Work per mode over ``[ts, ts + tau]``: closed form, or quadrature where it would cancel (damped modes with
-    ``zeta``: the exponential form of :func:`plbar.response.damped.work_closed_form`)."""
-    if zeta is None:
-        p, cancel = work_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi)
-    else:
-        p, cancel = _damped.work_closed_form(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta)
+def segment_work(modes: Modes, forcing: Forcing, ts, tau, eta0, v0):
+    """Work per mode over ``[ts, ts + tau]`` (the arguments of :func:`work_closed_form`): closed form, or
+    quadrature where it would cancel (damped modes with ``modes.zeta``: the exponential form of
+    :func:`plbar.response.damped.work_closed_form`)."""
+    p, cancel = work_closed_form(modes, forcing, ts, tau, eta0, v0)
     bad = ~(cancel < CANCEL_LIMIT)
     if np.any(bad):
-        b = np.broadcast_arrays(w, f, W, ts, tau, eta0, v0, cphi, sphi, 0.0 if zeta is None else zeta)
+        md, fc, rest = broadcast(modes, forcing, ts, tau, eta0, v0)
         p = np.array(p, copy=True)
-        p[bad] = work_quadrature_segment(*[a[bad] for a in b[:9]], zeta=None if zeta is None else b[9][bad])
+        p[bad] = work_quadrature_segment(md.take(bad), fc.take(bad), *(a[bad] for a in rest))
     return p

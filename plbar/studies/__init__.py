@@ -18,16 +18,16 @@ Every study result is a frozen dataclass with ``files``, ``summary`` and its tab
 """
 
 from .damping import RATIOS, DampedRun, ratio_table, with_rayleigh
-from .execution import KINDS, SerialExecutor, Study, StudyError, get_executor, load_results, run_study, solve_task, \
-    task_key
+from .execution import (KINDS, RunOptions, SerialExecutor, Study, StudyError, get_executor, load_results, run_study,
+                        solve_task, task_key)
 from .loads import (FAMILIES, OTHER, LoadForms, LoadStudy, assign_families, default_positions, load_forms,
                     load_sweep_study, node_pairs, sweep_loads, sweep_tables, write_sweep_tables, xi_along_mesh)
 from .paper import FIGURES, make_all
 from .refine import Convergence, RefineStudy, TrackSettings, converge, refine_study, run_refine, truncation_check
 from .survey import Survey, SurveyRefinement, default_periods, run_survey, run_survey_refine
 
-__all__ = ["KINDS", "SerialExecutor", "get_executor", "Study", "StudyError", "load_results", "run_study", "task_key",
-           "solve_task", "FAMILIES", "OTHER", "assign_families", "sweep_loads", "LoadStudy", "load_forms",
+__all__ = ["KINDS", "RunOptions", "SerialExecutor", "get_executor", "Study", "StudyError", "load_results", "run_study",
+           "task_key", "solve_task", "FAMILIES", "OTHER", "assign_families", "sweep_loads", "LoadStudy", "load_forms",
            "LoadForms", "default_positions", "load_sweep_study", "node_pairs", "sweep_tables", "write_sweep_tables",
            "xi_along_mesh", "run_refine", "RefineStudy", "refine_study", "TrackSettings", "converge", "Convergence",
            "truncation_check", "RATIOS", "DampedRun", "ratio_table", "with_rayleigh", "run_survey",

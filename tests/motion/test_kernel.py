@@ -18,7 +18,7 @@ from plbar.motion.kernel.certify import ZERO, bracket, decide_step, polynomial_s
 from plbar.motion.kernel.locate import locate
 from plbar.motion.kernel.loop import work_space
 from plbar.motion.kernel.split import particular, split_step
-from plbar.response import psi, segment, segment_work
+from plbar.response import Forcing, Modes, psi, segment, segment_work
 
 RNG = np.random.default_rng(20261125)
 
@@ -46,8 +46,8 @@ def test_flow_psi_and_work_equal_the_numpy_closed_forms(zeta):
         c0, s0, cp, sp = cos(W * ts), sin(W * ts), cos(phi), sin(phi)
         cW, sW, sWu = closed.half(W, u)
         ref_e, ref_v = segment(w, f, W, ts, u, e0, v0, cp, sp, zeta=zeta)
-        ref_p = psi(w, f, W, ts, u, e0, v0, cp, sp, zeta=zeta)[0]
-        ref_w = segment_work(w, f, W, ts, u, e0, v0, cp, sp, zeta=zeta)
+        ref_p = psi(Modes(w, f, zeta), Forcing(W, cp, sp), ts, u, e0, v0)[0]
+        ref_w = segment_work(Modes(w, f, zeta), Forcing(W, cp, sp), ts, u, e0, v0)
         for j in range(5):
             e, v = closed.mode_flow(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, cW, sW, sWu, damping)
             size = abs(e0[j]) + abs(v0[j]) / w[j] + abs(f[j]) * (1 + u * u)

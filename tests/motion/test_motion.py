@@ -5,7 +5,7 @@ import pytest
 
 import plbar
 from plbar.motion import CHATTER, FREE, STUCK, padded, periodicity, run, steady
-from plbar.response import segment, work_closed_form
+from plbar.response import Forcing, Modes, segment, work_closed_form
 from plbar.response.power import work_quadrature_segment
 
 RNG = np.random.default_rng(20261124)
@@ -93,12 +93,12 @@ def test_work_closed_form_equals_quadrature_and_energy():
     w, f = np.array([0.4, 1.0, 2.3]), RNG.normal(size=3)
     e0, v0 = RNG.normal(size=3), RNG.normal(size=3)
     for W in (0.7, 1.3, 2.29):
-        a, c = work_closed_form(w, f, W, 1.7, 5.3, e0, v0, np.cos(0.4), np.sin(0.4))
-        b = work_quadrature_segment(w, f, W, 1.7, 5.3, e0, v0, np.cos(0.4), np.sin(0.4), n=400)
+        a, c = work_closed_form(Modes(w, f), Forcing.at(W, 0.4), 1.7, 5.3, e0, v0)
+        b = work_quadrature_segment(Modes(w, f), Forcing.at(W, 0.4), 1.7, 5.3, e0, v0, n=400)
         e1, v1 = segment(w, f, W, 1.7, 5.3, e0, v0, np.cos(0.4), np.sin(0.4))
         dE = 0.5 * (v1 ** 2 + (w * e1) ** 2) - 0.5 * (v0 ** 2 + (w * e0) ** 2)
         assert np.allclose(a, b, rtol=0, atol=1e-11) and np.allclose(b, dE, rtol=0, atol=1e-11)
-    _, c = work_closed_form(w, f, 1.0, 1.7, 5.3, e0, v0, 1.0, 0.0)
+    _, c = work_closed_form(Modes(w, f), Forcing(1.0, 1.0, 0.0), 1.7, 5.3, e0, v0)
     assert not c[1] < 1e4                   # exact resonance: flagged for quadrature, never a silent nan
 
 
@@ -185,8 +185,8 @@ def test_damped_work_closed_form(zeta):
     w, f = np.array([0.5, 1.3, 4.0]), RNG.normal(size=3)
     e0, v0 = RNG.normal(size=3), RNG.normal(size=3)
     for W in (0.7, 1.3, 4.0):
-        a = segment_work(w, f, W, 1.1, 3.7, e0, v0, np.cos(0.3), np.sin(0.3), zeta=zeta)
-        b = work_quadrature_segment(w, f, W, 1.1, 3.7, e0, v0, np.cos(0.3), np.sin(0.3), n=200, zeta=zeta)
+        a = segment_work(Modes(w, f, zeta), Forcing.at(W, 0.3), 1.1, 3.7, e0, v0)
+        b = work_quadrature_segment(Modes(w, f, zeta), Forcing.at(W, 0.3), 1.1, 3.7, e0, v0, n=200)
         assert np.allclose(a, b, rtol=0, atol=1e-10 * np.abs(b).max())
 
 

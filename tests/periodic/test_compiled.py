@@ -12,7 +12,7 @@ from plbar.periodic.chain import layout, state_data, switch_maps
 from plbar.periodic.follow import correct, scale_of
 from plbar.model import rayleigh_from_ratio
 from plbar.motion import run, steady
-from plbar.response import psi, segment
+from plbar.response import Forcing, Modes, psi, segment
 
 SIGNATURES = ["1P", "1Z", "1PZ", "2PZ", "2PZZ", "3PPZZ"]
 
@@ -136,7 +136,7 @@ def test_energy_against_the_numpy_integrals(prob):
         for seg in o.chain.segments:
             w, f, _, _, zeta, _ = state_data(prob, seg.state)
             m = w.size
-            p, _ = psi(w, f, W, seg.t0, seg.tau, seg.z0[:m], seg.z0[m:], np.cos(o.phi), np.sin(o.phi), zeta=zeta)
+            p, _ = psi(Modes(w, f, zeta), Forcing.at(W, o.phi), seg.t0, seg.tau, seg.z0[:m], seg.z0[m:])
             den, kin = den + p @ w, kin + p.sum()
             visc += 0.0 if zeta is None else p @ (2 * zeta * w)
             if seg.state == 2:

@@ -12,7 +12,7 @@ from scipy.integrate import quad, solve_ivp
 
 import plbar
 from plbar.model import chain, node, point, problem, uniform_bar
-from plbar.response import flow
+from plbar.response import Forcing, Modes, flow
 from plbar.response.damped import kernels as dkernels
 
 ODE = dict(method="DOP853", rtol=1e-12, atol=1e-15)
@@ -64,8 +64,8 @@ def test_zeta_zero_reproduces_the_undamped_flows():
     assert np.abs(v1 - v0).max() < 1e-12 * np.abs(v0).max()
     for a, b in zip(flow.flow_matrix(w, tau), flow.flow_matrix(w, tau, np.zeros_like(w))):
         assert np.abs(a - b).max() < 1e-13 * np.abs(a).max()
-    p0, _ = flow.psi(w, F, 0.9, TS, 7.3, E0, V0, np.cos(PHI), np.sin(PHI))
-    p1, _ = flow.psi(w, F, 0.9, TS, 7.3, E0, V0, np.cos(PHI), np.sin(PHI), zeta=np.zeros_like(w))
+    p0, _ = flow.psi(Modes(w, F), Forcing.at(0.9, PHI), TS, 7.3, E0, V0)
+    p1, _ = flow.psi(Modes(w, F, np.zeros_like(w)), Forcing.at(0.9, PHI), TS, 7.3, E0, V0)
     assert np.allclose(p1, p0, rtol=1e-12, atol=0)
 
 
@@ -80,7 +80,7 @@ def test_psi_against_adaptive_quadrature(w, z, W):
 
     pts = [0, 1e-4, 1e-3, 1e-2, 0.05, 0.1, 0.5, 1, 2, 4, tau]
     ref = sum(quad(v2, a, b, epsabs=0, epsrel=1e-13, limit=400)[0] for a, b in zip(pts[:-1], pts[1:]))
-    p, closed = flow.psi(w, F, W, TS, tau, E0, V0, np.cos(PHI), np.sin(PHI), zeta=z)
+    p, closed = flow.psi(Modes(w, F, z), Forcing.at(W, PHI), TS, tau, E0, V0)
     assert abs(float(p) - ref) < 1e-12 * ref
     if z == 1.0 or abs(z - 1) < 1e-8 or z < 1e-5 and W == w:
         assert not closed            # the closed form cancels there: quadrature took over
@@ -165,5 +165,5 @@ def test_no_nan_or_overflow_for_extreme_damping():
         assert all(np.all(np.isfinite(x)) for x in p)
         C, S, Cp = flow.kernels(w, 0.7, np.array([[0.0], [3.0], [1e4]]), zeta=z * np.ones(4))
         assert np.all(np.isfinite(C)) and np.all(np.isfinite(S)) and np.all(np.isfinite(Cp))
-        ps, _ = flow.psi(w, 1.0, 0.7, 0.0, 50.0, 0.1, 0.2, 1.0, 0.0, zeta=z * np.ones(4))
+        ps, _ = flow.psi(Modes(w, 1.0, z * np.ones(4)), Forcing(0.7, 1.0, 0.0), 0.0, 50.0, 0.1, 0.2)
         assert np.all(np.isfinite(ps)) and np.all(ps >= 0)

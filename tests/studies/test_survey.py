@@ -88,7 +88,7 @@ def test_same_command_twice_and_dask_give_identical_files(tmp_path):
     out = {}
     for kind in ("local", "local2", "dask"):
         with get_executor("dask" if kind == "dask" else "local", workers=2) as ex:
-            run_survey(plbar.Case(), T, 120, 20, tmp_path / kind, ("rest", "up"), ex, plot=False)
+            run_survey(plbar.Case(), T, 120, 20, tmp_path / kind, ("rest", "up"), executor=ex, plot=False)
         out[kind] = _table_bytes(tmp_path / kind)
     assert out["local"] == out["local2"] == out["dask"]
     s = json.loads((tmp_path / "local" / "summary.json").read_text())

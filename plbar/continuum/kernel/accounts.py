@@ -42,7 +42,7 @@ def _space_into(stamp):
             xs[4 * m + 4], xs[4 * m + 5] = 0.0, L
             xs = np.sort(xs)
             ct, st = math.cos(omega * t), math.sin(omega * t)
-            i, k = lo, hi - 1
+            walk = (lo, hi - 1)
             tot = 0.0
             prev = 0.0
             for e in range(xs.size):
@@ -55,7 +55,7 @@ def _space_into(stamp):
                 for g in range(_X.size):
                     x = mid + h * _X[g]
                     wd = omega * (L - x) / c
-                    wp, wm, i, k = point(pc, kc, x, t, ct, st, math.cos(wd), math.sin(wd), i, k)
+                    wp, wm, walk = point(pc, kc, x, t, ct, st, math.cos(wd), math.sin(wd), walk)
                     acc += _W[g] * (0.25 * (wp * wp + wm * wm) if kind == 0 else 0.25 * (wp + wm) ** 2)
                 tot += h * acc
                 prev = b
@@ -76,7 +76,7 @@ def _work_into(stamp):
         periods = out.size
         d = (L - s) / c
         cd, sd = math.cos(omega * d), math.sin(omega * d)
-        i = k = 0
+        walk = (0, 0)
         for e in range(edges.size - 1):
             a, b = edges[e], edges[e + 1]
             h, mid = 0.5 * (b - a), 0.5 * (a + b)
@@ -85,7 +85,7 @@ def _work_into(stamp):
             for g in range(_X.size):
                 t = mid + h * _X[g]
                 ct, st = math.cos(omega * t), math.sin(omega * t)
-                wp, wm, i, k = point(pc, kc, s, t, ct, st, cd, sd, i, k)
+                wp, wm, walk = point(pc, kc, s, t, ct, st, cd, sd, walk)
                 F = 0.0 if from_rest and t < 0 else q * (ct * cphi + st * sphi)
                 acc += _W[g] * F * 0.5 * (wp + wm)
             out[p] += h * acc

@@ -43,9 +43,11 @@ def energy_scale(B, Cq, dE):
 
 
 @jit
-def free(ta, u0, v0, l0, l1, C, D, w, Z, m):
-    """The free end from ``(u0, v0)`` at ``ta`` under ``g = Z (l0 + l1 tau) + Z (C cos + D sin)`` (``F_L`` folded
-    into ``C, D``): ``(ta, w, l0p, l1p, a, b, K, lam, u0)``; no homogeneous part at ``m = 0``."""
+def free(gp, u0, v0, m):
+    """The free end of mass ``m`` from ``(u0, v0)`` at ``ta`` under the compression of ``gp = (ta, w, l0, l1, C, D,
+    Z, 0, 0)`` (:func:`fval` 0), ``g = Z (l0 + l1 tau) + Z (C cos + D sin)`` (``F_L`` folded into ``C, D``):
+    ``(ta, w, l0p, l1p, a, b, K, lam, u0)``; no homogeneous part at ``m = 0``."""
+    ta, w, l0, l1, C, D, Z = gp[0], gp[1], gp[2], gp[3], gp[4], gp[5], gp[6]
     p0, p1 = Z * l0, Z * l1
     l0p, l1p = p0 / Z - p1 * m / Z ** 2, p1 / Z
     A, B = Z * C, Z * D

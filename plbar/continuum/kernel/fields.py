@@ -108,12 +108,13 @@ def force_at(tau, cw, sw, cphi, sphi, q, from_rest):
 
 
 @inline
-def point(pc, kc, x, t, ct, st, cd, sd, i, k):
+def point(pc, kc, x, t, ct, st, cd, sd, walk):
     """``(w+, w-)`` of the line ``pc`` at ``(x, t)`` given ``ct, st = cos, sin(omega t)`` and ``cd, sd`` of
     ``omega d``, ``d = (L-x)/c``: every other harmonic by rotation (:class:`.records.Constants` ``kc``: ``cP, sP``
-    of ``omega P``; ``c1, s1``, ``c2, s2`` of ``omega (L -+ s)/c``), two sines per point at most.  ``i, k``: the
-    pieces last found for ``w-`` and ``w+`` (walks), returned updated after ``(w+, w-)``."""
+    of ``omega P``; ``c1, s1``, ``c2, s2`` of ``omega (L -+ s)/c``), two sines per point at most.  ``walk = (i,
+    k)``: the pieces last found for ``w-`` and ``w+``, returned updated after ``(w+, w-)``."""
     t0, t1, a0, a1, C, D = pc.t0, pc.t1, pc.a0, pc.a1, pc.C, pc.D
+    i, k = walk
     L, c, Z, s, P, cP, sP, c1, s1, c2, s2, phi, cphi, sphi, q, from_rest = kc
     d = (L - x) / c
     tm, tp = t - d, t + d - P
@@ -135,4 +136,4 @@ def point(pc, kc, x, t, ct, st, cd, sd, i, k):
             ce, se = cm * c1 - sm * s1, sm * c1 + cm * s1
             wm += force_at(t - d + (L - s) / c, ce, se, cphi, sphi, q, from_rest) / Z
             wp -= Fa / Z
-    return wp, wm, i, k
+    return wp, wm, (i, k)

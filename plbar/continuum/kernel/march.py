@@ -6,8 +6,8 @@ whether ``w_out`` jumps at the piece's start.  Stuck, ``w_out = -w_in``; free, `
 transient is stored by :func:`~.end.stored_line`.  Step ``k`` reads the pieces of step ``k - 2n`` (the delay
 ``2L/c``), splits them at the load's delay points and the period cuts, marches the end over each part
 (:func:`end_over`), and merges its own pieces between jumps (:mod:`.merge`).  The arrays grow by doubling.
-The state between calls: ``st`` = ``u, v, stuck, pending jump``; ``ix`` = ``pieces, events, strobes, amp
-entries, switches in this step``.
+The state between calls is a :class:`.records.MarchState`: ``st`` = ``u, v, stuck, pending jump``; ``ix`` =
+``pieces, events, strobes, amp entries, switches in this step``.
 """
 
 from __future__ import annotations
@@ -17,9 +17,9 @@ import math
 import numpy as np
 
 from .end import SAMPLES, free, fval, impact, lowest, opening, pu, pv, stored_line
-from .jit import cached, jit
+from .jit import cached, inline, jit
 from .merge import merge_step
-from .records import MarchConstants, MarchScratch
+from .records import Incoming, MarchConstants, MarchScratch, MarchState
 
 __all__ = ["OPENING", "IMPACT", "MAX_EVENTS_PER_STEP", "march"]
 
@@ -49,10 +49,12 @@ def forcing(t, at_end, d1, d2, omega, phi, q, Z, from_rest):
 
 
 @jit
-def add_piece(rec, ix, st, k, x, xe, b0, b1, C, D):
-    """Store the piece ``[x, xe]`` of step ``k`` (none if empty); the record, grown if it was full."""
+def add_piece(rec, sv, k, x, xe, b0, b1, C, D):
+    """Store the piece ``[x, xe]`` of step ``k`` (none if empty; ``sv`` the :class:`.records.MarchState`); the
+    record, grown if it was full."""
     if xe <= x:
         return rec
+    ix, st = sv.ix, sv.st
     n = ix[0]
     if n >= rec.shape[1]:
         big = np.empty((8, 2 * rec.shape[1]))
@@ -77,24 +79,28 @@ def add_event(ev, ix, t, kind, v, loss):
     return ev
 
 
-@jit
-def end_over(rec, ev, ix, st, amp, k, tk, x, sb, l0, l1, Ci, Di, LC, LD, prm, ws):
-    """March the end over ``[x, sb]`` of step ``k`` (local times) under ``w_in = l0 + l1 tau + Ci cos + Di sin``
-    (and ``LC, LD`` of the load on the end), switching where the closed form says; ``(rec, ev, chatter)``."""
+@inline
+def end_over(rec, ev, sv, k, x, sb, wi, prm, ws):
+    """March the end over ``[x, sb]`` of step ``k`` (local times) under the incoming invariant ``wi``
+    (:class:`.records.Incoming`: ``w_in = l0 + l1 tau + C cos + D sin``, and ``LC, LD`` of the load on the end),
+    switching where the closed form says; ``(rec, ev, chatter)``."""
     hold, Z, m, omega, taus, vals = prm.hold, prm.Z, prm.m, prm.omega, ws.taus, ws.vals
+    ix, st, amp = sv.ix, sv.st, sv.amp
+    tk = k * prm.dt
+    l0, l1, Ci, Di, LC, LD = wi
     while sb > x:
         h = sb - x
         gp = (tk + x, omega, l0, l1, Ci + LC, Di + LD, Z, 0.0, 0.0)
         if st[2] != 0:
             tau = -1.0 if hold == 1 else opening(gp, h, taus, vals)
             te = h if tau < 0 else tau
-            rec = add_piece(rec, ix, st, k, x, sb if tau < 0 else x + te, -l0, -(l0 + l1 * te), -Ci, -Di)
+            rec = add_piece(rec, sv, k, x, sb if tau < 0 else x + te, -l0, -(l0 + l1 * te), -Ci, -Di)
         else:
-            p = free(tk + x, st[0], st[1], l0, l1, Ci + LC, Di + LD, omega, Z, m)
+            p = free(gp, st[0], st[1], m)
             tau = -1.0 if hold == 2 else impact(p, h, taus, vals)
             te = h if tau < 0 else tau
             b0, b1 = stored_line(p, te, l0, l1, Ci, Di)
-            rec = add_piece(rec, ix, st, k, x, sb if tau < 0 else x + te, b0, b1, 2 * p[4] - Ci, 2 * p[5] - Di)
+            rec = add_piece(rec, sv, k, x, sb if tau < 0 else x + te, b0, b1, 2 * p[4] - Ci, 2 * p[5] - Di)
             amp[ix[3] - 1] = max(amp[ix[3] - 1], -lowest(p, te))
             st[0], st[1] = pu(p, te), pv(p, te)
         if tau < 0:
@@ -119,9 +125,11 @@ def end_over(rec, ev, ix, st, amp, k, tk, x, sb, l0, l1, Ci, Di, LC, LD, prm, ws
 
 
 @jit
-def breakpoints(tk, dt, cutv, nc, at_end, d1, d2, from_rest, pts, pjump, pcut):
-    """The step's breakpoints, sorted: the load's delay points (jumps from rest) and the period cuts ``cutv[:nc]``
-    (flagged in ``pcut``); their number."""
+def breakpoints(tk, nc, prm, ws):
+    """The breakpoints of the step at ``tk``, sorted into ``ws.pts``: the load's delay points (jumps from rest,
+    flagged in ``ws.pjump``) and the period cuts ``ws.cutv[:nc]`` (flagged in ``ws.pcut``); their number."""
+    dt, at_end, d1, d2, from_rest = prm.dt, prm.at_end, prm.d1, prm.d2, prm.from_rest
+    cutv, pts, pjump, pcut = ws.cutv, ws.pts, ws.pjump, ws.pcut
     npt = 0
     if not at_end:
         for d in (d1, d2):
@@ -147,8 +155,9 @@ def breakpoints(tk, dt, cutv, nc, at_end, d1, d2, from_rest, pts, pjump, pcut):
 
 
 @jit
-def strobe(st, ix, strobes, amp):
-    """The end at a period boundary, and a new period's amplitude."""
+def strobe(sv):
+    """The end at a period boundary, and a new period's amplitude (in the :class:`.records.MarchState` ``sv``)."""
+    st, ix, strobes, amp = sv.st, sv.ix, sv.strobes, sv.amp
     if ix[2] < strobes.shape[1]:
         strobes[0, ix[2]], strobes[1, ix[2]], strobes[2, ix[2]] = st[0], st[1], st[2]
         ix[2] += 1
@@ -158,13 +167,14 @@ def strobe(st, ix, strobes, amp):
 
 
 @jit
-def step(rec, ev, ix, st, amp, strobes, first, k, nc, prm, ws):
-    """Grid step ``k``: the pieces of step ``k - 2n`` (record rows ``first[k] .. first[k + 1]``), rotated by the
-    delay and split at the breakpoints (``ws.cutv[:nc]`` the period cuts in it); ``(rec, ev, chatter)``."""
+def step(rec, ev, sv, k, nc, prm, ws):
+    """Grid step ``k``: the pieces of step ``k - 2n`` (record rows ``sv.first[k] .. sv.first[k + 1]``), rotated by
+    the delay and split at the breakpoints (``ws.cutv[:nc]`` the period cuts in it); ``(rec, ev, chatter)``."""
     Z, q, omega, phi, dt, cr, sr, d1, d2 = prm.Z, prm.q, prm.omega, prm.phi, prm.dt, prm.cr, prm.sr, prm.d1, prm.d2
     from_rest, at_end, cutv, pts, pjump, pcut = prm.from_rest, prm.at_end, ws.cutv, ws.pts, ws.pjump, ws.pcut
+    ix, st, first = sv.ix, sv.st, sv.first
     tk = k * dt
-    npt = breakpoints(tk, dt, cutv, nc, at_end, d1, d2, from_rest, pts, pjump, pcut)
+    npt = breakpoints(tk, nc, prm, ws)
     ix[4] = 0
     st[3] = 0.0
     for i in range(first[k], first[k + 1]):
@@ -186,25 +196,30 @@ def step(rec, ev, ix, st, amp, strobes, first, k, nc, prm, ws):
                     iscut = iscut or cutv[j] == t1
             Cf, Df = forcing(tk + 0.5 * (sa + sb), at_end, d1, d2, omega, phi, q, Z, from_rest)
             Ci, Di, LC, LD = (-Cw, -Dw, Cf, Df) if at_end else (Cf - Cw, Df - Dw, 0.0, 0.0)
-            rec, ev, bad = end_over(rec, ev, ix, st, amp, k, tk, sa, sb, -(a0 + slope * (sa - t0)), -slope, Ci, Di,
-                                    LC, LD, prm, ws)
+            rec, ev, bad = end_over(rec, ev, sv, k, sa, sb, Incoming(-(a0 + slope * (sa - t0)), -slope, Ci, Di, LC,
+                                                                     LD), prm, ws)
             if bad:
                 return rec, ev, True
             if iscut:
-                strobe(st, ix, strobes, amp)
+                strobe(sv)
             sa = sb
             st[3] = max(st[3], jump)
     return rec, ev, False
 
 
 def _march(stamp):
-    def march(L, c, Z, m, s, q, omega, phi, n, hold, from_rest, su, sv, sstuck, sC, sD, T, periods, merge):
-        """The whole march from ``t = 0`` for ``periods`` of ``T`` on the grid ``dt = L / (c n)``; ``hold`` 0 none, 1
-        closed, 2 open.  Returns ``(rec, ev, strobes, amp, status, t_err)``: the record; ``ev`` (4, events) rows
-        ``time, kind, v, loss``; ``strobes`` (3, periods) ``u, v, stuck`` at the period boundaries; ``amp`` (periods +
-        1) the largest ``-u`` per period; ``status`` 0, or 1 for chatter in the step at ``t_err``."""
+    def march(bar, load, start, T, periods, n, hold, merge):
+        """The whole march of ``bar`` under ``load`` from ``start`` at ``t = 0`` (:class:`.records.MarchBar`,
+        :class:`.records.MarchLoad`, :class:`.records.MarchStart`) for ``periods`` of ``T`` on the grid
+        ``dt = L / (c n)``; ``hold`` 0 none, 1 closed, 2 open.  Returns ``(rec, ev, strobes, amp, status, t_err)``:
+        the record; ``ev`` (4, events) rows ``time, kind, v, loss``; ``strobes`` (3, periods) ``u, v, stuck`` at the
+        period boundaries; ``amp`` (periods + 1) the largest ``-u`` per period; ``status`` 0, or 1 for chatter in the
+        step at ``t_err``."""
         if stamp < 0:
             raise ValueError("never")  # never: the stamp keys the on-disk cache (:mod:`.jit`)
+        L, c, Z, m, s = bar
+        q, omega, phi, from_rest = load
+        su, sv, sstuck, sC, sD = start
         dt, off = L / (c * n), 2 * n
         nsteps = int(math.ceil(periods * T / dt - 1e-12))
         prm = MarchConstants(L, c, Z, m, s, q, omega, phi, dt, math.cos(omega * 2 * L / c),
@@ -218,6 +233,7 @@ def _march(stamp):
         ix = np.array([off, 0, 0, 1, 0], np.int64)
         st = np.array([su, sv, 1.0 if sstuck else 0.0, 0.0])
         amp[0] = -su
+        state = MarchState(ix, st, amp, strobes, first)
         ncut = int(dt / T) + 3
         ws = MarchScratch(np.empty(ncut), np.empty(ncut + 2), np.empty(ncut + 2), np.empty(ncut + 2),
                           np.empty(SAMPLES + 1), np.empty(SAMPLES + 1))
@@ -229,12 +245,11 @@ def _march(stamp):
                 cutv[nc] = min(pnext * T - k * dt, dt)
                 nc, pnext = nc + 1, pnext + 1
             first[k + off] = ix[0]
-            rec, ev, bad = step(rec, ev, ix, st, amp, strobes, first, k, nc, prm, ws)
+            rec, ev, bad = step(rec, ev, state, k, nc, prm, ws)
             if bad:
                 return rec[:, :ix[0]], ev[:, :ix[1]], strobes, amp, 1, k * dt
             if merge:
-                ix[0] = merge_step(rec[0], rec[1], rec[2], rec[3], rec[4], rec[5], rec[6], rec[7], first[k + off],
-                                   ix[0], k * dt, omega)
+                ix[0] = merge_step(rec, first[k + off], ix[0], k * dt, omega)
         return rec[:, :ix[0]], ev[:, :ix[1]], strobes, amp, 0, 0.0
 
 

@@ -16,6 +16,7 @@ import numpy as np
 
 from .end import energy_scale
 from .jit import jit
+from .records import Pieces
 
 __all__ = ["merge_run", "merge_step"]
 
@@ -23,9 +24,11 @@ _GX, _GW = np.polynomial.legendre.leggauss(8)
 
 
 @jit
-def merge_run(hk, t0, t1, a0, a1, C, D, i0, i1, dtk, w):
-    """Pieces ``i0 .. i1 - 1`` (a jump-free run of one step, times local to ``dtk = k dt``) as one piece
-    ``(a0, a1, C, D)``; ``ok`` False where no energy-keeping piece exists (then they stay as they are)."""
+def merge_run(pc, i0, i1, dtk):
+    """Pieces ``i0 .. i1 - 1`` of ``pc`` (:class:`.records.Pieces`: a jump-free run of one step, times local to
+    ``dtk = k dt``) as one piece ``(a0, a1, C, D)``; ``ok`` False where no energy-keeping piece exists (then they
+    stay as they are)."""
+    t0, t1, a0, a1, C, D, w = pc
     S0, S1 = t0[i0], t1[i1 - 1]
     H = S1 - S0
     same = True
@@ -70,8 +73,12 @@ def merge_run(hk, t0, t1, a0, a1, C, D, i0, i1, dtk, w):
 
 
 @jit
-def merge_step(hk, t0, t1, a0, a1, C, D, jp, first, count, dtk, w):
-    """Merge the jump-free runs of the step's pieces ``first .. count - 1`` in place; the new count."""
+def merge_step(rec, first, count, dtk, omega):
+    """Merge the jump-free runs of the step's pieces ``first .. count - 1`` of the march's record ``rec`` (rows
+    ``k, tau0, tau1, a0, a1, C, D, jump``, :mod:`.march`) in place; the new count."""
+    hk, jp = rec[0], rec[7]
+    pc = Pieces(rec[1], rec[2], rec[3], rec[4], rec[5], rec[6], omega)
+    t0, t1, a0, a1, C, D = pc.t0, pc.t1, pc.a0, pc.a1, pc.C, pc.D
     out = first
     i = first
     while i < count:
@@ -80,7 +87,7 @@ def merge_step(hk, t0, t1, a0, a1, C, D, jp, first, count, dtk, w):
             j += 1
         ok = j > i + 1
         if ok:
-            ok, b0, b1, Cm, Dm = merge_run(hk, t0, t1, a0, a1, C, D, i, j, dtk, w)
+            ok, b0, b1, Cm, Dm = merge_run(pc, i, j, dtk)
         if ok:
             hk[out], t0[out], t1[out], jp[out] = hk[i], t0[i], t1[j - 1], jp[i]
             a0[out], a1[out], C[out], D[out] = b0, b1, Cm, Dm

@@ -3,8 +3,10 @@
 :class:`Pieces` is the stored ``w_out`` (a piece ``i``: linear from ``a0[i]`` at ``t0[i]`` to ``a1[i]`` at
 ``t1[i]``, plus ``C[i] cos(omega t) + D[i] sin(omega t)``); :class:`Constants` the bar, the load and the rotations
 that the point evaluation (:func:`.fields.point`) takes, computed once per line
-(:func:`plbar.continuum.fields.constants`).  :class:`MarchConstants` and :class:`MarchScratch` are what every grid
-step of the march (:func:`.march.step`) takes, made by :func:`.march.march`.
+(:func:`plbar.continuum.fields.constants`).  The march (:func:`.march.march`) is given the bar, the load and the
+start (:class:`MarchBar`, :class:`MarchLoad`, :class:`MarchStart`); :class:`MarchConstants`, :class:`MarchScratch`
+and :class:`MarchState` are what every grid step of it (:func:`.march.step`) takes, made by :func:`.march.march`;
+:class:`Incoming` is the incoming invariant over a part of a step (:func:`.march.end_over`).
 """
 
 from __future__ import annotations
@@ -13,12 +15,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["Constants", "MarchConstants", "MarchScratch", "Pieces"]
+__all__ = ["Constants", "Incoming", "MarchBar", "MarchConstants", "MarchLoad", "MarchScratch", "MarchStart",
+           "MarchState", "Pieces"]
 
 
 class Pieces(NamedTuple):
     """The stored delay line: the pieces' ends ``t0, t1``, linear parts ``a0, a1``, harmonic parts ``C, D`` (all
-    shape ``(pieces,)``) at the load's frequency ``omega``."""
+    shape ``(pieces,)``) at the load's frequency ``omega`` (the merge's: rows of the march's record, the times local
+    to their grid step)."""
 
     t0: np.ndarray
     t1: np.ndarray
@@ -86,3 +90,58 @@ class MarchScratch(NamedTuple):
     pcut: np.ndarray
     taus: np.ndarray
     vals: np.ndarray
+
+
+class MarchBar(NamedTuple):
+    """The bar of a march: length ``L``, wave speed ``c``, impedance ``Z``, the end mass ``m`` and the load's
+    position ``s``."""
+
+    L: float
+    c: float
+    Z: float
+    m: float
+    s: float
+
+
+class MarchLoad(NamedTuple):
+    """The load ``q cos(omega t - phi)`` of a march, zero before ``t = 0`` if ``from_rest``."""
+
+    q: float
+    omega: float
+    phi: float
+    from_rest: bool
+
+
+class MarchStart(NamedTuple):
+    """The start of a march: the end's ``u, v`` and contact ``stuck``, and the past ``w_out = C cos + D sin``."""
+
+    u: float
+    v: float
+    stuck: bool
+    C: float
+    D: float
+
+
+class MarchState(NamedTuple):
+    """What the march carries from step to step, written in place: ``ix`` = pieces, events, strobes, amp entries,
+    switches in this step; ``st`` = the end's ``u, v``, stuck and a pending jump; ``amp`` the largest ``-u`` per
+    period; ``strobes`` (3, periods) the end at the period boundaries; ``first`` the record's first piece of every
+    step."""
+
+    ix: np.ndarray
+    st: np.ndarray
+    amp: np.ndarray
+    strobes: np.ndarray
+    first: np.ndarray
+
+
+class Incoming(NamedTuple):
+    """The incoming invariant over a part of a step, ``w_in = l0 + l1 tau + C cos(omega t) + D sin(omega t)``, and
+    ``LC, LD`` of the load on the end (zero unless it acts there)."""
+
+    l0: float
+    l1: float
+    C: float
+    D: float
+    LC: float
+    LD: float

@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
-from ...response import Orbits, damping
+from ...response import Forcing, Modes, Orbits, damping
 from ...response.flow import gauss, psi
 from ...util.blas import single_thread_blas
 from .damped import DampedLoadForms, damped_forms
@@ -77,12 +77,12 @@ def _m_vectors(orb: Orbits, state: int) -> np.ndarray:
     c, sn = np.cos(ph), np.sin(ph)
     th = W * ts[:, None] - ph
     fu, eu, vu = w ** 2 - W ** 2, np.cos(th), -W * np.sin(th)
-    args = (W, ts[:, None], span[:, None])
-    p0, _ = psi(w[None], f[None], *args, e0, v0, c, sn)
+    fc, seg = Forcing(W, c, sn), (ts[:, None], span[:, None])
+    p0, _ = psi(Modes(w[None], f[None]), fc, *seg, e0, v0)
     sig = _sigma(W, ph, ts[:, None], ts[:, None] + span[:, None])
     e = np.sqrt(np.divide(p0, sig, out=np.ones_like(p0), where=(sig > 0) & (p0 > 0)))
-    pp, _ = psi(w[None], f[None] + e * fu, *args, e0 + e * eu, v0 + e * vu, c, sn)
-    pm, _ = psi(w[None], f[None] - e * fu, *args, e0 - e * eu, v0 - e * vu, c, sn)
+    pp, _ = psi(Modes(w[None], f[None] + e * fu), fc, *seg, e0 + e * eu, v0 + e * vu)
+    pm, _ = psi(Modes(w[None], f[None] - e * fu), fc, *seg, e0 - e * eu, v0 - e * vu)
     return (pp - pm) / (4 * e) * w
 
 

@@ -45,6 +45,7 @@ from ...errors import InputError
 from ...util.outputs import check_folder, clear_owned
 from ...util.reprs import build, rng
 from ...util.version import __version__
+from ..execution import run_options
 from .families import FAMILIES, OTHER, assign_families
 from .forms import HZERO_TOL, LoadForms, load_forms
 from .write import PAIRS_HEADER, POSITIONS_HEADER, WARN_BYTES, WORST_HEADER, tidy_positions, write_all
@@ -250,9 +251,8 @@ def _summary(lf, fam, wcols, pairs_rows, positions, no_path, times) -> dict:
                      "(a phase scan, docs/load_structure.md section 9); loads with h(q) = 0 have no periodic path")}
 
 
-def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pairs: bool = True,
-                progress: bool = False, loads=(), plot: bool = True, positions_csv: bool = False,
-                overwrite: bool = False) -> LoadStudy:
+def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pairs: bool = True, loads=(),
+                positions_csv: bool = False, **options) -> LoadStudy:
     """One path solve, then every load position, the node pairs and the worst load.
 
     Parameters
@@ -270,10 +270,14 @@ def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pair
         Also the Fig. 9 table (:func:`vertex_loads`).
     loads : sequence of sequences of (s, a)
         Extra load combinations for the pair table (e.g. ones with ``h(q) = 0``).
-    plot : bool
-        Write ``xi_T_s.png`` (needs matplotlib).
     positions_csv : bool
         Also write the positions table as the tidy ``xi_positions.csv``.
+
+    Other Parameters
+    ----------------
+    progress, overwrite, plot : bool
+        The run options (:class:`plbar.studies.RunOptions`; one solve in this process: no executor): the
+        solve's progress on stderr, ``overwrite`` as above, and ``xi_T_s.png`` (needs matplotlib).
 
     Returns
     -------
@@ -283,6 +287,7 @@ def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pair
     """
     from ...app import Case, case_fingerprint, solve
 
+    opts = run_options(options, "sweep_loads", executor=False)
     case = Case() if case is None else case
     if case.restitution:
         raise InputError(f"restitution = {case.restitution:g}: sweep-loads is the paper's class (one plastic impact "
@@ -290,16 +295,16 @@ def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pair
                          "position with rebounds: plbar survey --positions S ... --restitution E")
     check_positions(case, positions, per_element)
     claim = None if out is None else \
-        check_folder(out, "sweep-loads", case_fingerprint(case), SWEEP_OWNED, overwrite)   # before the solve
+        check_folder(out, "sweep-loads", case_fingerprint(case), SWEEP_OWNED, opts.overwrite)   # before the solve
     files = {}
     with claim or contextlib.nullcontext():
         t0 = time.perf_counter()
-        res = solve(replace(case, signatures="paper"), progress=progress)    # the study is of the paper's class
+        res = solve(replace(case, signatures="paper"), progress=opts.progress)   # the study is of the paper's class
         r = _study(res, positions, per_element, pairs, loads, {"solve": time.perf_counter() - t0})
         if claim is not None:
             claim.take()
             clear_owned(claim.folder, SWEEP_OWNED)
-            files = write_all(claim.folder, r, res, plot, positions_csv)
+            files = write_all(claim.folder, r, res, opts.plot, positions_csv)
     return LoadStudy(case, res, **r, files=files)
 
 

@@ -12,6 +12,7 @@ Pure numpy; nothing divides by zero or takes ``log(0)`` (masked first), and resu
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
+from typing import Callable
 
 import numpy as np
 
@@ -319,20 +320,32 @@ def caution(h, q, noise: float = 0.0) -> str:
     return ""
 
 
-def _study(name, h, q, n, need: int, rater, extrapolate, expected, noise: float, method: str) -> Convergence:
+@dataclass(frozen=True)
+class _Method:
+    """How :func:`_study` rates a quantity: ``rater(hu, qu) -> (rates, reasons)`` from groups of ``need`` sizes,
+    ``extrapolate(hu, qu, rate) -> (limit, error)``, and the method's ``name`` (recorded)."""
+
+    need: int
+    rater: Callable
+    extrapolate: Callable
+    name: str
+
+
+def _study(name, h, q, n, method: _Method, expected, noise: float) -> Convergence:
     """Shared by :func:`converge` and :func:`known_limit`: drop missing sizes, rate, limit, fit, reason."""
     h, q, labels = _prepare(h, q, n)
     fin = np.isfinite(q)
     hu, qu = h[fin], q[fin]
-    p, reasons = rater(hu, qu)
+    p, reasons = method.rater(hu, qu)
     rate = _num(p[-1]) if p.size else None
+    need = method.need
     why = _why(hu.size, need, reasons[-1] if reasons else "", [lab for lab, f in zip(labels, fin) if f],
                [lab for lab, f in zip(labels, fin) if not f], "triple" if need == 3 else "pair")
-    limit, error = extrapolate(hu, qu, rate)
+    limit, error = method.extrapolate(hu, qu, rate)
     fitted = _slope(hu, qu - limit, _floor(qu, limit, noise)) if limit is not None else None
     return Convergence(str(name), tuple(map(float, hu)), tuple(map(float, qu)), tuple(map(_num, p)),
                        tuple(reasons), rate, fitted, limit, error, why, _num(expected), tuple(map(float, h[~fin])),
-                       method, int(hu.size), caution(hu, qu, noise))
+                       method.name, int(hu.size), caution(hu, qu, noise))
 
 
 def converge(name: str, h, q, expected: float | None = None, *, n=None, noise: float = 0.0) -> Convergence:
@@ -347,8 +360,8 @@ def converge(name: str, h, q, expected: float | None = None, *, n=None, noise: f
     def extrapolate(hu, qu, rate):
         return (None, None) if rate is None else richardson(hu, qu, rate, noise=noise)
 
-    return _study(name, h, q, n, 3, lambda hu, qu: triple_rates(hu, qu, noise=noise), extrapolate, expected,
-                  noise, "richardson")
+    return _study(name, h, q, n, _Method(3, lambda hu, qu: triple_rates(hu, qu, noise=noise), extrapolate,
+                                         "richardson"), expected, noise)
 
 
 def known_limit(name: str, h, q, limit: float, expected: float | None = None, *, n=None,
@@ -360,5 +373,5 @@ def known_limit(name: str, h, q, limit: float, expected: float | None = None, *,
     """
     if not np.isfinite(limit):
         raise InputError(f"the known limit must be finite, got {limit}")
-    return _study(name, h, q, n, 2, lambda hu, qu: pair_rates(hu, qu, limit, noise=noise),
-                  lambda hu, qu, rate: (float(limit), 0.0), expected, noise, "known limit")
+    return _study(name, h, q, n, _Method(2, lambda hu, qu: pair_rates(hu, qu, limit, noise=noise),
+                                         lambda hu, qu, rate: (float(limit), 0.0), "known limit"), expected, noise)

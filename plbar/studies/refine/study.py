@@ -30,7 +30,7 @@ from ...util.reprs import build
 from ...util.version import __version__, code_hash
 from .anchors import family_label, family_title, parse_anchor, slug
 from .tables import convergence_of, decay_of, refine_rows, write_refine
-from ..execution import SerialExecutor, Study, run_study
+from ..execution import SerialExecutor, Study, run_options, run_study
 from .track import TrackSettings, carry_level, mark_merges, seed_levels
 
 __all__ = ["RefineStudy", "parse_series", "series_name", "refine_study", "refine_task", "track_family", "run_refine",
@@ -269,15 +269,16 @@ def refine_fingerprint(study: Study) -> str:
 
 
 def run_refine(cases, ns, families=("T0_II/2",), settings: TrackSettings | None = None, out="plbar-refine",
-               executor=None, progress: bool = False, overwrite: bool = False, plot: bool = True,
-               rates_always: bool = False) -> RefineStudy:
+               rates_always: bool = False, **options) -> RefineStudy:
     """Run (or resume, or extend with more sizes) a refinement study into ``out`` and write its tables and plots.
 
     The folder is claimed for ``refine`` (:func:`plbar.util.outputs.claim_folder`) with
     :func:`refine_fingerprint`: the same series and settings with other sizes or families extend the study
     (finished meshes are reused); another study or command is refused unless ``overwrite``.  A study that fails
     before any mesh is finished leaves nothing behind.  ``rates_always``: the plot states every rate, also
-    those with a caution (:func:`plbar.studies.refine.convergence.caution`).
+    those with a caution (:func:`plbar.studies.refine.convergence.caution`).  ``cases, ns, families, settings``
+    as :func:`refine_study`; the keyword options ``executor, progress, overwrite, plot`` are the study's run options
+    (:class:`plbar.studies.RunOptions`).
 
     Returns
     -------
@@ -285,10 +286,12 @@ def run_refine(cases, ns, families=("T0_II/2",), settings: TrackSettings | None 
         ``rows`` (one per series, family and N), ``rates`` (per series and family:
         quantity -> :meth:`Convergence.as_dict`, plus ``xi_decay``), ``summary``, ``files`` and ``time``.
     """
+    opts = run_options(options, "run_refine")
+    executor, progress = opts.executor, opts.progress
     t0 = time.perf_counter()
     folder = Path(out)
     study = refine_study(cases, ns, families, settings, checkpoints=folder / "levels")   # checks every input
-    claim = claim_folder(folder, "refine", refine_fingerprint(study), REFINE_OWNED, overwrite)
+    claim = claim_folder(folder, "refine", refine_fingerprint(study), REFINE_OWNED, opts.overwrite)
     token = _SHOW.set(progress and (executor is None or isinstance(executor, SerialExecutor)))
     try:
         results = run_study(folder, study, executor, progress=progress, overwrite=True)
@@ -307,7 +310,7 @@ def run_refine(cases, ns, families=("T0_II/2",), settings: TrackSettings | None 
         rates.setdefault(key[0], {})[key[1]] = {**{q: c.as_dict() for q, c in conv[key].items()},
                                                 "xi_decay": decay_of(fam)}
     files = write_refine(folder, rows, rates)
-    if plot:
+    if opts.plot:
         files.update(_plots(folder, results, conv, rates_always))
     summary = {**study.params, "rows": len(rows), "seconds": time.perf_counter() - t0, "plbar_version": __version__}
     return RefineStudy(rows, rates, summary, files)

@@ -32,7 +32,7 @@ from ...util.files import write_csv, write_json
 from ...util.outputs import claim_folder, fingerprint
 from ...util.progress import message
 from ...util.reprs import build, rng
-from ..execution import SerialExecutor, Study, run_study
+from ..execution import SerialExecutor, Study, run_options, run_study
 from ..loads import check_positions
 from .points import COLUMNS
 from .study import (INT_COLUMNS, TEXT_COLUMNS, case_title, check_forcing_periods, columns_of, default_periods,
@@ -243,19 +243,23 @@ def survey_loads(case: Case | None = None, T=None, positions=None, per_element: 
 
 
 def run_survey_loads(case: Case, T=None, positions=None, per_element: int | None = None, sizes=None,
-                     periods: int = 1000, record: int | None = None, out="plbar-survey-loads", executor=None,
-                     progress: bool = False, overwrite: bool = False, plot: bool = True) -> SurveyLoads:
+                     periods: int = 1000, record: int | None = None, out="plbar-survey-loads",
+                     **options) -> SurveyLoads:
     """Run (or resume) a load study into ``out``: ``survey_loads.csv``, ``summary.json`` and the map (PNG + PDF).
 
     A task per (size, position) is written as it finishes (``tasks/``), so a killed study resumes; the same
     study resumes in its folder, another is refused unless ``overwrite`` (:func:`plbar.util.outputs.claim_folder`).
+    ``case, T, positions, per_element, sizes, periods, record`` as :func:`survey_loads`; the keyword options
+    ``executor, progress, overwrite, plot`` are the study's run options (:class:`plbar.studies.RunOptions`).
     """
+    opts = run_options(options, "run_survey_loads")
+    executor, progress = opts.executor, opts.progress
     t0 = time.perf_counter()
     folder = Path(out)
     T, positions = _defaults(case, T, positions, per_element)
     study = survey_loads_study(case, T, positions, sizes, periods, record)
     claim = claim_folder(folder, "survey-loads", fingerprint(list(study.tasks)), SURVEY_LOADS_OWNED,
-                         overwrite)
+                         opts.overwrite)
     try:
         if progress and not compiled(case.problem()):
             message(f"plbar: {COMPILE_NOTE}")
@@ -268,7 +272,7 @@ def run_survey_loads(case: Case, T=None, positions=None, per_element: int | None
     table = _table(results)
     summary = _summary(case, table, study, time.perf_counter() - t0)
     files = _write(folder, table, summary)
-    if plot:
+    if opts.plot:
         from ...visuals import survey_loads_plot
         from ...visuals.style import unit_note
 

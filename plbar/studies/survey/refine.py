@@ -27,9 +27,11 @@ import numpy as np
 from ...app import Case
 from ...errors import InputError
 from ...util.files import write_csv, write_json
+from ...util.options import keywords
 from ...util.outputs import claim_folder, fingerprint
 from ...util.reprs import build
 from ...util.version import __version__
+from ..execution import run_options
 from ..refine import MIN_MESHES, converge, known_limit
 from .study import default_record, run_survey
 
@@ -105,14 +107,16 @@ def continuum_case(case: Case, steps: int | None = None) -> tuple[Case | None, s
 
 
 def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | None = None,
-                      out="plbar-survey-refine", executor=None, progress: bool = False, overwrite: bool = False,
-                      plot: bool = True, no_continuum: str = "") -> SurveyRefinement:
+                      out="plbar-survey-refine", no_continuum: str = "", **options) -> SurveyRefinement:
     """Surveys of ``case`` at every size in ``sizes`` and the convergence of their means, with the continuum's
     survey as the N = infinity row where the case has a continuum (:func:`continuum_case`) and ``no_continuum``
     gives no reason to leave it out (the command line's: its cost).
 
-    ``T`` are forcing periods of ``case`` (its own ``N``); for the chain they scale with ``N / N0``.
+    ``T`` are forcing periods of ``case`` (its own ``N``); for the chain they scale with ``N / N0``.  The keyword
+    options ``executor, progress, overwrite, plot`` are the run options (:class:`plbar.studies.RunOptions`)
+    of this study and of every survey it runs.
     """
+    opts = run_options(options, "run_survey_refine")
     t0 = time.perf_counter()
     record = default_record(periods) if record is None else record
     sizes = sorted({int(n) for n in sizes})
@@ -122,14 +126,13 @@ def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | N
     T = np.atleast_1d(np.asarray(T, float))
     what = {"case": {k: v for k, v in case.to_dict().items() if k != "n"}, "T": T.tolist(), "periods": periods,
             "record": record}                      # not the sizes: more sizes extend the same study
-    claim_folder(folder, "survey-refine", fingerprint(what), REFINE_OWNED, overwrite)
+    claim_folder(folder, "survey-refine", fingerprint(what), REFINE_OWNED, opts.overwrite)
     tau0 = case.bar().transit                   # T_L, the T/L= keys: T c / L (plbar.model.Bar.transit)
     rows, surveys = [], {}
     for n in sizes:
         c = _case_at(case, n)
         scale = n / case.n_eff if case.model == "chain" else 1.0
-        s = run_survey(c, T * scale, periods, record, folder / f"N{n:05d}", executor=executor, progress=progress,
-                       overwrite=overwrite, plot=plot)
+        s = run_survey(c, T * scale, periods, record, folder / f"N{n:05d}", **keywords(opts))
         surveys[n] = s
         t = s.rows("rest")
         tau, L = c.bar().transit, c.bar().length
@@ -140,8 +143,7 @@ def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | N
                             for k in REFINE_COLUMNS[4:]}})
     cont, why = continuum_case(case) if not no_continuum else (None, no_continuum)
     if cont is not None:
-        s = run_survey(cont, T, periods, record, folder / "continuum", executor=executor, progress=progress,
-                       overwrite=overwrite, plot=plot)
+        s = run_survey(cont, T, periods, record, folder / "continuum", **keywords(opts))
         surveys[0] = s
         t = s.rows("rest")
         for i in range(t["T"].size):
@@ -150,7 +152,7 @@ def run_survey_refine(case: Case, sizes, T, periods: int = 1000, record: int | N
                             for k in REFINE_COLUMNS[4:]}})
     rates = _rates(rows, T / tau0, record, why, tau0)
     files = _write(folder, rows, rates)
-    if plot:
+    if opts.plot:
         files["figure"] = _plot(folder, rates)
     summary = {**what, "sizes": sizes, "seconds": time.perf_counter() - t0, "plbar_version": __version__}
     return SurveyRefinement(case, rows, rates, surveys, summary, files)

@@ -15,7 +15,7 @@ from ...util.files import write_csv, write_json
 from ...util.outputs import claim_folder, fingerprint
 from ...util.progress import message
 from ...util.reprs import build, rng
-from ..execution import SerialExecutor, Study, run_study
+from ..execution import SerialExecutor, Study, run_options, run_study
 from .points import COLUMNS
 from .tasks import MODES, case_fields, make_tasks, survey_task, task_units
 
@@ -208,17 +208,33 @@ def _claim(folder: Path, study: Study, overwrite: bool):
 
 
 def run_survey(case: Case, T, periods: int = 1000, record: int | None = None, out="plbar-survey", modes=("rest",),
-               executor=None, progress: bool = False, overwrite: bool = False, plot: bool = True, chunks=None,
-               paths=None) -> Survey:
+               chunks=None, paths=None, **options) -> Survey:
     """Run (or resume) a survey into ``out``: ``survey.csv``, ``summary.json`` and the figure (PNG + PDF).
 
-    ``paths`` (the branches of the paper's class, :attr:`plbar.Result.paper`, optional) are drawn under the
-    survey: the exact periodic responses of the paper's class, stable and unstable.
+    Parameters
+    ----------
+    case, T, periods, record, modes
+        As :func:`survey`.
+    chunks : int, optional
+        Tasks the from-rest periods are split into (default :func:`plbar.studies.survey.tasks.default_chunks`).
+    out : path
+        The study folder (a killed survey resumes there).
+    paths : plbar.Paths, optional
+        The branches of the paper's class (:attr:`plbar.Result.paper`), drawn under the survey: the exact
+        periodic responses of the paper's class, stable and unstable.
+
+    Other Parameters
+    ----------------
+    executor, progress, overwrite, plot
+        The study's run options (:class:`plbar.studies.RunOptions`): where the tasks run (default
+        serial), the progress on stderr, whether another study's folder may be replaced, the figure.
     """
+    opts = run_options(options, "run_survey")
+    executor, progress = opts.executor, opts.progress
     t0 = time.perf_counter()
     folder = Path(out)
     study = survey_study(case, T, periods, record, modes, chunks, checkpoints=folder / "sweeps")
-    claim = _claim(folder, study, overwrite)
+    claim = _claim(folder, study, opts.overwrite)
     try:
         if progress and case.model != "continuum" and not compiled(case.problem()):   # built once (Case.problem)
             message(f"plbar: {COMPILE_NOTE}")
@@ -232,7 +248,7 @@ def run_survey(case: Case, T, periods: int = 1000, record: int | None = None, ou
     table = _table(results)
     summary = _summary(case, table, study, time.perf_counter() - t0)
     files = write_survey(folder, table, summary)
-    if plot:
+    if opts.plot:
         from ...visuals import survey_plot
         from ...visuals.style import unit_note
 
