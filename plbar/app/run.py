@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import contextlib
-import threading
 
 import time
 import warnings
@@ -15,7 +14,7 @@ import numpy as np
 from ..errors import CoarseGridWarning, InputError
 from ..model import Problem, Structure
 from ..paths import Domain, Paths, find_paths
-from ..periodic import canonical, find_branches, from_paths, prepare, warm
+from ..periodic import canonical, find_branches, from_paths, prepare
 from ..util.check import MIN_BRANCH_POINTS, show
 from ..util.check import grid as check_grid
 from ..util.files import check_finite, write_csv, write_json
@@ -151,12 +150,9 @@ def solve(case: Case | Structure | None = None, progress: bool = False) -> Resul
     with contextlib.ExitStack() as stack:        # the other signatures begin beside the paper's class
         search = None if case.signatures == "paper" else stack.enter_context(
             Search(prob, domain, case.signatures, progress))
-        loading = _beside(warm, bool(prob.system.damped)) if search is None else None
         t_paper = time.perf_counter()
         paths = _no_paths(prob, domain, case) if case.restitution else \
             find_paths(prob, domain, case.grid, method=case.method, progress=progress)
-        if loading is not None:
-            loading.join()
         paper = from_paths(prob, paths.branches)
         t_search = time.perf_counter()
         if search is not None:
@@ -186,18 +182,6 @@ def _warn_coarse(case: Case, domain: Domain, branches, n_paper: int) -> None:
                       f"(forcing periods T in {_interval((domain.T1[0] + domain.T2[0], domain.T1[1] + domain.T2[1]))})"
                       f" on grid = {case.grid}; widen T1/T2 (default (0, T0/2] each) or refine the grid",
                       CoarseGridWarning, stacklevel=3)
-
-
-def _beside(fn, *args) -> threading.Thread:
-    """``fn(*args)`` in a daemon thread (it never holds up an exit or a Ctrl-C); a failure there is left for the
-    main thread to meet again."""
-    def run():
-        with contextlib.suppress(Exception):
-            fn(*args)
-
-    t = threading.Thread(target=run, name="plbar-kernel", daemon=True)
-    t.start()
-    return t
 
 
 def _no_paths(prob, domain, case: Case) -> Paths:

@@ -16,7 +16,7 @@ from .branches import KINDS, Branch, find_branches, from_paths
 from .chain import Chain, evaluate
 from .floquet import monodromy, multipliers
 from .follow import FollowSettings, follow
-from .prepare import compiled, prepare, warm
+from .prepare import compiled, prepare
 from .seeds import doubled, from_motion, zero_dwell
 from .series import canonical, from_row, orbit_series
 from .signature import ONE_REBOUND, PAPER, ZERO_DWELL, Signature, signature
@@ -28,4 +28,4 @@ __all__ = ["KINDS", "Branch", "find_branches", "from_paths",
            "follow", "doubled", "from_motion", "zero_dwell", "PAPER", "ZERO_DWELL", "ONE_REBOUND", "Signature",
            "signature",
            "orbit_series", "canonical", "from_row", "Orbit", "NotConverged", "orbit_at", "polish", "admissible",
-           "expected_events", "compiled", "prepare", "warm"]
+           "expected_events", "compiled", "prepare"]

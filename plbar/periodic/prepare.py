@@ -19,7 +19,7 @@ from .follow import FollowSettings, follow
 from .signature import PAPER
 from .solve import NotConverged, Orbit, orbit_at, polish
 
-__all__ = ["compiled", "prepare", "warm"]
+__all__ = ["compiled", "prepare"]
 
 
 def _kind(prob: Problem) -> str:
@@ -55,17 +55,3 @@ def prepare(prob: Problem, seed: Orbit | None) -> None:
         pass
     jit.mark_compiled(kernel().step, _kind(prob), STAMP)
 
-
-def warm(damped: bool) -> None:
-    """Load what the paper's class needs of the chain's kernel (the chain, the energy sums, the monodromy) on a
-    chain of two masses, undamped or damped as the case is: numba's first dispatch in a process sets up its
-    compiler's target (about 0.4 s) and loads the functions from the cache, which a caller can let run beside
-    other work (:func:`plbar.solve` beside the paper's scan, with ``signatures = "paper"``)."""
-    from ..model import chain, node, problem
-
-    prob = problem(chain(2), node(1), rayleigh=(1e-3, 1e-3) if damped else None)
-    m1 = prob.system.w1.size
-    T = 3.0 * np.pi / prob.system.w2[0]
-    orb = orbit_at(prob, PAPER, T, np.r_[np.zeros(2 * m1), 0.5 * T, 0.5 * T, 0.0])
-    _ = orb.xi, orb.amplitude
-    monodromy(prob, PAPER, T, orb.phi, orb.chain)
