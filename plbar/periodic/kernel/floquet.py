@@ -15,6 +15,7 @@ from math import cos, sin
 import numpy as np
 
 from ...motion.kernel.closed import half, matvec, mode_flow
+from ...motion.kernel.data import Forcing, Mode, ModeState
 from ..packed import CV, LOAD, ZETA, C, W
 from .stamp import cached, jit
 
@@ -36,11 +37,12 @@ def _field(tab, Om, t, phi, z, out):
 def _free(tab, damping, Om, tau, P, Pn):
     """``Pn = Phi(tau) P``: the free flow of every mode (its 2 x 2 block) on the rows of ``P``."""
     m = tab.shape[1]
-    cW, sW, sWu = half(Om, tau)
+    hf = half(Om, tau)
+    free = Forcing(Om, 1.0, 0.0, 0.0, 0.0)      # no load
     for j in range(m):
-        w, f, zeta = tab[W, j], tab[LOAD, j], tab[ZETA, j]
-        p11, p21 = mode_flow(w, zeta, f, Om, 1.0, 0.0, tau, 1.0, 0.0, 0.0, 0.0, cW, sW, sWu, damping)
-        p12, p22 = mode_flow(w, zeta, f, Om, 1.0, 0.0, tau, 0.0, 1.0, 0.0, 0.0, cW, sW, sWu, damping)
+        mode = Mode(tab[W, j], tab[LOAD, j], tab[ZETA, j])
+        p11, p21 = mode_flow(mode, free, tau, ModeState(1.0, 0.0), hf, damping)
+        p12, p22 = mode_flow(mode, free, tau, ModeState(0.0, 1.0), hf, damping)
         for k in range(P.shape[1]):
             a, b = P[j, k], P[m + j, k]
             Pn[j, k], Pn[m + j, k] = p11 * a + p12 * b, p21 * a + p22 * b

@@ -25,6 +25,7 @@ from math import cos, pi, sin
 import numpy as np
 
 from ...motion.kernel.closed import half, matvec, mode_flow
+from ...motion.kernel.data import Forcing, Mode, ModeState, Segment
 from ..packed import CV, LOAD, ZETA, C, W, Walk
 from .stamp import cached, jit
 
@@ -32,32 +33,35 @@ __all__ = ["chain", "segments", "copy", "relative", "start_size", "walk_space"]
 
 
 @jit
-def _flow(tab, damping, Om, t, tau, cphi, sphi, z, z1):
-    """``z1``: the state at the end of a segment of ``tau`` from ``z`` at ``t``."""
+def _flow(tab, damping, ld, tau, z, z1):
+    """``z1``: the state at the end of a segment of ``tau`` and forcing ``ld`` from ``z``."""
     m = tab.shape[1]
-    c0, s0 = cos(Om * t), sin(Om * t)
-    cW, sW, sWu = half(Om, tau)
+    hf = half(ld.W, tau)
     for j in range(m):
-        z1[j], z1[m + j] = mode_flow(tab[W, j], tab[ZETA, j], tab[LOAD, j], Om, c0, s0, tau, z[j], z[m + j], cphi, sphi,
-                                     cW, sW, sWu, damping)
+        z1[j], z1[m + j] = mode_flow(Mode(tab[W, j], tab[LOAD, j], tab[ZETA, j]), ld, tau, ModeState(z[j], z[m + j]),
+                                     hf, damping)
 
 
 @jit
-def _flow_jac(tab, damping, Om, t, tau, phi, z, z1, D, Dn, tcol, dcol):
-    """:func:`_flow` and ``Dn = dz1/dX`` from ``D = dz/dX``: the free flow (unit initial states, no load), the phase
-    (the forced part at ``(-sin phi, cos phi)``), a later start (``-Om d/dphi`` of the forced part) and the segment's
-    own duration (column ``dcol``: the vector field at the end)."""
+def _flow_jac(tab, damping, seg, tau, z, z1, D, Dn, tcol, dcol):
+    """:func:`_flow` over the segment ``seg`` (a :class:`plbar.motion.kernel.data.Segment`) and ``Dn = dz1/dX`` from
+    ``D = dz/dX``: the free flow (unit initial states, no load), the phase (the forced part at
+    ``(-sin phi, cos phi)``), a later start (``-Om d/dphi`` of the forced part) and the segment's own duration
+    (column ``dcol``: the vector field at the end)."""
     m, nX = tab.shape[1], D.shape[1]
-    cphi, sphi = cos(phi), sin(phi)
-    c0, s0 = cos(Om * t), sin(Om * t)
-    cW, sW, sWu = half(Om, tau)
-    load = cos(Om * (t + tau) - phi)
+    ld = seg.ld
+    Om, cphi, sphi = ld.W, ld.cphi, ld.sphi
+    free = Forcing(Om, ld.c0, ld.s0, 0.0, 0.0)          # no load
+    phase = Forcing(Om, ld.c0, ld.s0, -sphi, cphi)      # d/dphi of the forced part
+    hf = half(Om, tau)
+    load = cos(Om * (seg.ts + tau) - seg.phi)
     for j in range(m):
         w, f, zeta = tab[W, j], tab[LOAD, j], tab[ZETA, j]
-        e, v = mode_flow(w, zeta, f, Om, c0, s0, tau, z[j], z[m + j], cphi, sphi, cW, sW, sWu, damping)
-        p11, p21 = mode_flow(w, zeta, f, Om, c0, s0, tau, 1.0, 0.0, 0.0, 0.0, cW, sW, sWu, damping)
-        p12, p22 = mode_flow(w, zeta, f, Om, c0, s0, tau, 0.0, 1.0, 0.0, 0.0, cW, sW, sWu, damping)
-        de, dv = mode_flow(w, zeta, f, Om, c0, s0, tau, 0.0, 0.0, -sphi, cphi, cW, sW, sWu, damping)
+        mode = Mode(w, f, zeta)
+        e, v = mode_flow(mode, ld, tau, ModeState(z[j], z[m + j]), hf, damping)
+        p11, p21 = mode_flow(mode, free, tau, ModeState(1.0, 0.0), hf, damping)
+        p12, p22 = mode_flow(mode, free, tau, ModeState(0.0, 1.0), hf, damping)
+        de, dv = mode_flow(mode, phase, tau, ModeState(0.0, 0.0), hf, damping)
         z1[j], z1[m + j] = e, v
         for k in range(nX):
             a, b = D[j, k], D[m + j, k]
@@ -202,12 +206,14 @@ def _chain(stamp):
                     nzero += 1
                 else:
                     tau = X[nz + col]
+                    ld = Forcing(Om, cos(Om * t), sin(Om * t), cphi, sphi)
                     if jac:
-                        _flow_jac(tab, damping, Om, t, tau, phi, Z[a], Z[1 - a], DD[a], DD[1 - a], tcol, nz + col)
+                        _flow_jac(tab, damping, Segment(ld, t, phi), tau, Z[a], Z[1 - a], DD[a], DD[1 - a], tcol,
+                                  nz + col)
                         tcol[nz + col] = 1.0
                         _gradient(tab, rq, Om, t + tau, phi, DD[1 - a], tcol, J[col])
                     else:
-                        _flow(tab, damping, Om, t, tau, cphi, sphi, Z[a], Z[1 - a])
+                        _flow(tab, damping, ld, tau, Z[a], Z[1 - a])
                     F[col], scale[col] = _margin(tab, rq, Om, t + tau, phi, Z[1 - a])
                     times[col, 0], times[col, 1] = t, tau
                     copy(Z[a], zs[col, 0])
