@@ -14,7 +14,7 @@ its first compile short); the fields and the column names below are the only way
   block of periods done, or no room to record an event: ``NEED``) and the next one goes on;
 * :class:`Records` (``rc``): per recorded period ``rc.per[b, r, IMPACTS | OPENINGS | LOSS]``, the recorded events
   ``rc.ev[b, i, TIME | KIND | LOSS]`` (``ti[b, EVENTS]`` of them), the modal states at the recorded boundaries
-  ``rc.sx, rc.sv`` and their states ``rc.ss``;
+  ``rc.sx, rc.sv`` and their states ``rc.ss``, from the forcing period ``rc.first`` on;
 * accounts: None (a replay of the switches: no accounting code is compiled) or ``acc[b, r, D_EQ | D_W |
   WORK_REC | STUCK_T | AMP | VISC_REC]``;
 * inside the kernel, :class:`Current` (one trajectory's working copies of its rows) and :class:`Work` (the work
@@ -93,13 +93,15 @@ class Trajectories(NamedTuple):
 
 class Records(NamedTuple):
     """What is recorded (:func:`records`): per period ``per[b, r, IMPACTS | OPENINGS | LOSS]``, the events
-    ``ev[b, i, TIME | KIND | LOSS]``, the boundary states ``sx, sv`` (``(B, R + 1, m)``) and their states ``ss``."""
+    ``ev[b, i, TIME | KIND | LOSS]``, the boundary states ``sx, sv`` (``(B, R + 1, m)``) and their states ``ss``,
+    from the forcing period ``first`` on (``r = 0`` is that period)."""
 
     per: np.ndarray
     ev: np.ndarray
     sx: np.ndarray
     sv: np.ndarray
     ss: np.ndarray
+    first: int
 
 
 class Current(NamedTuple):
@@ -263,10 +265,11 @@ def trajectories(T, phi, state, eta, vel) -> Trajectories:
                         np.zeros((B, 3)))
 
 
-def records(B: int, m: int, R: int, capacity: int) -> Records:
-    """Empty records for ``B`` trajectories, ``R`` periods recorded, room for ``capacity`` events each."""
+def records(B: int, m: int, R: int, capacity: int, first: int) -> Records:
+    """Empty records for ``B`` trajectories, ``R`` periods recorded from period ``first`` on, room for ``capacity``
+    events each."""
     return Records(np.zeros((B, R, 3)), np.zeros((B, capacity, 3)), np.zeros((B, R + 1, m)),
-                   np.zeros((B, R + 1, m)), np.zeros((B, R + 1), np.int64))
+                   np.zeros((B, R + 1, m)), np.zeros((B, R + 1), np.int64), int(first))
 
 
 def accounts(B: int, R: int, on: bool):

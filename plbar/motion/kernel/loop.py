@@ -348,10 +348,11 @@ def work_space(m):
 
 
 def _advance(stamp):
-    def advance(md, tr, rc, acc, first, idx, stop, large, damping, halt):
+    def advance(md, tr, rc, acc, idx, stop, large, damping, halt):
         """Advance the trajectories ``idx`` to the start of forcing period ``stop`` (or until each stops, or has no
         room left to record an event: ``NEED``, or until ``halt[0]`` is set, an int64 array of one element that
-        another thread may set: the state reached is kept, a later call goes on from it).
+        another thread may set: the state reached is kept, a later call goes on from it), recording from period
+        ``rc.first`` on.
 
         Each trajectory runs on copies of its state (no two threads write near each other) written back at the
         end.  All work space is allocated here: the functions below are compiled without reference counting
@@ -370,7 +371,7 @@ def _advance(stamp):
             _set(t3, tot[b])
             _set(z0[0], z[b, 0])
             _set(z0[1], z[b, 1])
-            _run(md, D.Current(b, first, f, s, z0, t3), rc, acc, stop, wk, large, damping, halt)
+            _run(md, D.Current(b, rc.first, f, s, z0, t3), rc, acc, stop, wk, large, damping, halt)
             _set(tf[b], f)
             _set(ti[b], s)
             _set(tot[b], t3)
