@@ -21,10 +21,10 @@ __all__ = ["energy", "PSI", "AMPLITUDE"]
 
 
 def _energy(stamp):
-    def energy(md, damping, dwell, T, phi, times, zs, what, samples):
+    def energy(md, dwell, T, phi, times, zs, what, samples):
         """With ``what`` :data:`PSI`: ``(sum w Psi, sum Psi, sum 2 zeta w Psi)`` over every segment; with
         :data:`AMPLITUDE`: ``(max |x_c|, 0, 0)`` over ``samples`` equally spaced points of every free phase."""
-        Om, cphi, sphi = 2.0 * pi / T, cos(phi), sin(phi)
+        Om, cphi, sphi, damping = 2.0 * pi / T, cos(phi), sin(phi), md.damping
         a, b, c, col = 0.0, 0.0, 0.0, 0
         for i in range(dwell.size if stamp >= 0 else 0):       # (the stamp keys the on-disk cache)
             for s in range(2 if dwell[i] == 1 else 1):

@@ -64,8 +64,9 @@ def _salt(M, u, v, s, P, Pn):
 
 
 @jit
-def _opening(tab1, tab2, E, rq1, Om, t, phi, z, P, Pn):
+def _opening(md, Om, t, phi, z, P, Pn):
     """The saltation of the opening at ``t`` from the state I ``z`` (``h = -R``, its gradient ``(c, cv)``)."""
+    tab1, tab2, E, rq1 = md.tab1, md.tab2, md.E, md.rq1
     m1, n2 = tab1.shape[1], E.shape[0]
     fI, ez, f2, jump, dh = np.empty(2 * m1), np.empty(n2), np.empty(n2), np.empty(n2), np.empty(2 * m1)
     _field(tab1, Om, t, phi, z, fI)
@@ -101,9 +102,10 @@ def _impact(tabp, R, tab2, Om, t, phi, z, P, Pn):
 
 
 def _monodromy(stamp):
-    def monodromy(md, damping, dwell, T, phi, times, zs, M):
-        """``M``: the Jacobian of the ``m``-period map of the chain whose segments are ``times``, ``zs``."""
-        tab1, tab2, E, G, rq1, B = md.tab1, md.tab2, md.E, md.G, md.rq1, md.B
+    def monodromy(md, dwell, T, phi, times, zs, M):
+        """``M``: the Jacobian of the ``m``-period map of the chain of ``dwell`` whose segments are ``times``,
+        ``zs``."""
+        tab1, tab2, E, G, B, damping = md.tab1, md.tab2, md.E, md.G, md.B, md.damping
         n0, mm = M.shape[0], 2 * max(tab1.shape[1], tab2.shape[1])
         EG = np.zeros((E.shape[0], G.shape[1]))
         for i in range(E.shape[0]):
@@ -120,7 +122,7 @@ def _monodromy(stamp):
                 t = times[col, 0] + times[col, 1]
                 _free(tab1 if stuck else tab2, damping, Om, times[col, 1], P, Pn)
                 if stuck:
-                    _opening(tab1, tab2, E, rq1, Om, t, phi, zs[col, 1], Pn, P)
+                    _opening(md, Om, t, phi, zs[col, 1], Pn, P)
                 elif dwell[(i + 1) % k] == 1:
                     _impact(tab1, G, tab2, Om, t, phi, zs[col, 1], Pn, P)
                 elif dwell[(i + 1) % k] == 2:      # a rebound: Newton's law, the free phase goes on
