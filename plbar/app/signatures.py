@@ -46,30 +46,24 @@ def _seeding(prob: Problem, window, kinds: str, progress=None, pad=None, halt=No
                halt=halt)
 
 
-def _seeds(prob: Problem, r, kinds: str, progress: bool = False) -> list:
+def _seeds(prob: Problem, r, progress: bool = False) -> list:
     """Orbits polished (:func:`plbar.periodic.from_motion`) from the periodic motions of the seeding simulation
     ``r``."""
-    _, periods, record = SEED_PERIODS[kinds]
     s = steady(r, tol=1e-4)
     periodic = np.flatnonzero(s.kind == 0)
     out = []
     with progress_bar(periodic.size, progress, "signatures: polishing the periodic motions", "motion") as bar:
         for b in periodic:
-            out += _seed(prob, r, int(b), int(s.m[b]), periods - record)
+            out += _seed(prob, r, int(b), int(s.m[b]))
             bar.update(1)
     return out
 
 
-def _seed(prob: Problem, r, b: int, m: int, first: int) -> list:
-    """The orbit of ``m`` periods polished from motion ``b`` of ``r``, its periods from ``first`` on (none where
-    Newton fails)."""
-    T = float(r.T[b])
-    sel = r.events["traj"] == b
-    te, ke = r.events["time"][sel], r.events["kind"][sel]
-    after = te >= first * T
+def _seed(prob: Problem, r, b: int, m: int) -> list:
+    """The orbit of ``m`` periods polished from motion ``b`` of ``r``, its recorded periods (none where Newton
+    fails)."""
     try:
-        return [from_motion(prob, T, m, first * T, r.strobe_x[b, 0], r.strobe_v[b, 0], int(r.strobe_state[b, 0]),
-                            te[after], ke[after])]
+        return [from_motion(prob, r, b, m)]
     except (NotConverged, ValueError, np.linalg.LinAlgError):
         return []
 
@@ -122,7 +116,7 @@ class Search:
     def seeds(self) -> list:
         """The orbits polished from the periodic motions of the seeding simulation (:func:`_seeds`)."""
         try:
-            return _seeds(self.prob, self._simulation(), self.kinds, self.progress)
+            return _seeds(self.prob, self._simulation(), self.progress)
         finally:
             self.cancel()
 

@@ -193,15 +193,14 @@ def run(prob: Problem | Padded, T, phi=0.0, periods: int = 1000, record: int = 1
     s0 = start or rest(pad, T.size)
     B = T.size
     tr = D.trajectories(T, phi, s0.state, s0.eta, s0.vel)
-    rc = D.records(B, pad.m, record, 4 * record + 16)
+    rc = D.records(B, pad.m, record, 4 * record + 16, periods - record)
     acc = D.accounts(B, record, accounts)
     _, ti, z, tot = tr
     if record == periods:                         # the boundary at t = 0 is recorded too
         rc[2][:, 0], rc[3][:, 0], rc[4][:, 0] = z[:, 0], z[:, 1], ti[:, D.STATE]
     e0 = energy(pad, ti[:, D.STATE], z[:, 0], z[:, 1])
     halt = halt_flag() if halt is None else halt
-    step = partial(advance, D.model(pad), tr, first=periods - record, damping=D.damping(pad), acc=acc,
-                   large=D.large(pad), halt=halt)
+    step = partial(advance, D.model(pad), tr, damping=D.damping(pad), acc=acc, large=D.large(pad), halt=halt)
     rc = _drive(step, ti, rc, periods, progress, halt)
     jit.mark_compiled(advance, kind(pad, accounts))
     return _collect(pad, T, phi, periods, record, tr, rc, acc, e0)
@@ -221,7 +220,7 @@ def _collect(pad: Padded, T, phi, periods, record, tr, rc, acc, e0) -> Run:
     """The :class:`Run` of a finished simulation (events per trajectory in order, boundary states physical)."""
     from .kernel import data as D
 
-    per, ev, sx, sv, ss = rc
+    per, ev, sx, sv, ss = rc.per, rc.ev, rc.sx, rc.sv, rc.ss
     _, ti, z, tot = tr
     B = T.size
     state = ti[:, D.STATE].copy()

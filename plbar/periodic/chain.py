@@ -34,10 +34,11 @@ import numpy as np
 
 from ..errors import InputError
 from ..model import Problem
-from .packed import ChainModel, Walk
+from .packed import ChainModel, Pairs, Walk
 from .signature import Signature
 
-__all__ = ["Chain", "Segment", "evaluate", "layout", "switch_maps", "state_data", "model", "dwell_of", "compiled"]
+__all__ = ["Chain", "Segment", "evaluate", "layout", "switch_maps", "state_data", "model", "dwell_of", "pairs_of",
+           "compiled"]
 
 
 @dataclass(frozen=True)
@@ -144,11 +145,10 @@ def _build_switch_maps(prob: Problem):
     return E, G
 
 
-def model(prob: Problem) -> tuple[ChainModel, np.ndarray | None]:
-    """``(md, damping)``: the compiled chain's view of the problem (:class:`plbar.periodic.packed.ChainModel`;
-    cached).
+def model(prob: Problem) -> ChainModel:
+    """The compiled chain's view of the problem (:class:`plbar.periodic.packed.ChainModel`; cached).
 
-    ``damping`` is None undamped (the undamped flows are compiled), else a marker array (the damped ones)."""
+    Its ``damping`` is None undamped (the undamped flows are compiled), else a marker array (the damped ones)."""
     return prob.cached("hybrid_kernel_model", _build_model)
 
 
@@ -162,7 +162,7 @@ def _build_model(prob: Problem):
     E, G = switch_maps(prob)
     damping = np.ones(1) if getattr(prob.system, "damped", False) else None
     return ChainModel(tabs[0], tabs[1], np.ascontiguousarray(E, float), np.ascontiguousarray(G, float),
-                      float(state_data(prob, 1)[3]), np.ascontiguousarray(rebound_map(prob), float)), damping
+                      float(state_data(prob, 1)[3]), np.ascontiguousarray(rebound_map(prob), float), damping)
 
 
 ZERO, POSITIVE, REBOUND = 0, 1, 2     #: pair kinds of the compiled chain (:func:`dwell_of`)
@@ -177,6 +177,12 @@ def dwell_of(sig: Signature) -> np.ndarray:
     return out
 
 
+@lru_cache(maxsize=256)
+def pairs_of(sig: Signature) -> Pairs:
+    """The signature as the compiled chain takes it (:class:`plbar.periodic.packed.Pairs`)."""
+    return Pairs(dwell_of(sig), int(sig.m))
+
+
 @lru_cache(maxsize=None)
 def compiled():
     """The compiled kernel, :mod:`plbar.periodic.kernel` (numba: imported on first use, not with plbar)."""
@@ -187,22 +193,23 @@ def compiled():
 
 @lru_cache(maxsize=256)
 def _plan(sig: Signature) -> tuple:
-    """``(dwell, segment states, zero dwells, unknown durations, segments)`` of a signature."""
+    """``(pairs, segment states, zero dwells, unknown durations, segments)`` of a signature (``pairs``:
+    :func:`pairs_of`)."""
     states = tuple(s for positive in sig.dwell for s in ((1, 2) if positive else (2,)))
-    return dwell_of(sig), states, sig.zero - sig.rebounds, sig.durations, len(states)
+    return pairs_of(sig), states, sig.zero - sig.rebounds, sig.durations, len(states)
 
 
 def evaluate(prob: Problem, sig: Signature, T: float, X, jac: bool = True) -> Chain:
     """Residuals ``F(X)`` (and the exact Jacobian) of the orbit of signature ``sig`` at period ``T`` (compiled:
     :func:`plbar.periodic.kernel.walk.chain`)."""
-    md, damping = model(prob)
-    dwell, states, zeros, q, nseg = _plan(sig)
+    md = model(prob)
+    pairs, states, zeros, q, nseg = _plan(sig)
     m1, m2 = md.tab1.shape[1], md.tab2.shape[1]
     nX = layout(prob, sig)[2]
     X = np.ascontiguousarray(X, dtype=float)
     if X.shape != (nX,):
         raise ValueError(f"X has shape {X.shape}, the chain of {sig} takes {nX} unknowns")
     w = Walk(np.empty(nX), np.empty((nX, nX) if jac else (0, 0)), np.empty((nseg, 2)),
-             np.zeros((nseg, 2, 2 * max(m1, m2))), np.empty(zeros), np.empty(q), np.empty(dwell.size))
-    res = compiled().chain(md, damping, dwell, sig.m, float(T), X, w)
+             np.zeros((nseg, 2, 2 * max(m1, m2))), np.empty(zeros), np.empty(q), np.empty(pairs.dwell.size))
+    res = compiled().chain(md, pairs, float(T), X, w)
     return Chain(w.F, w.J if jac else None, w.zero, w.scale, res, w.vimp, w.times, w.zs, states, (2 * m1, 2 * m2))

@@ -38,10 +38,10 @@ def monodromy(prob: Problem, sig: Signature, T: float, phi: float, ch: Chain) ->
     inherent damping the vector
     fields take the damper and the opening's event function its share of the reaction.
     """
-    md, damping = model(prob)
+    md = model(prob)
     n = 2 * (md.tab1 if sig.dwell[0] else md.tab2).shape[1]        # a first rebound: state II too
     M = np.empty((n, n))
-    compiled().monodromy(md, damping, dwell_of(sig), float(T), float(phi), ch.times, ch.states, M)
+    compiled().monodromy(md, dwell_of(sig), float(T), float(phi), ch.times, ch.states, M)
     return M
 
 

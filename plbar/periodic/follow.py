@@ -19,7 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import Problem
-from .chain import compiled, dwell_of, layout, model
+from .chain import compiled, layout, model, pairs_of
+from .packed import Control
 from .signature import Signature
 from .solve import ACCEPT, ROUNDOFF, Orbit, NotConverged, orbit_at, polish
 
@@ -59,15 +60,15 @@ def scale_of(prob: Problem, sig: Signature, X: np.ndarray, T: float) -> np.ndarr
 
 
 def _kernel(prob, sig):
-    """The compiled step (:func:`plbar.periodic.kernel.newton.step`) bound to a problem and a signature."""
+    """The compiled step (:func:`plbar.periodic.kernel.newton.step`) bound to a problem and a signature: ``run(Y, S,
+    c, Ja, ctl, t, Ynew)``, ``ctl`` a :class:`plbar.periodic.packed.Control`."""
     step = compiled().step
-    md, damping = model(prob)
-    dwell = dwell_of(sig)
+    md, pairs = model(prob), pairs_of(sig)
 
-    def run(Y, S, c, Ja, h, h_min, newton, mode, t, Ynew):
+    def run(Y, S, c, Ja, ctl, t, Ynew):
         f64 = lambda a: np.ascontiguousarray(a, dtype=float)  # noqa: E731
-        return step(md, damping, dwell, sig.m, f64(Y), f64(S), f64(c), f64(Ja), float(h), float(h_min), int(newton),
-                    mode, t, Ynew)
+        ctl = Control(float(ctl.h), float(ctl.h_min), int(ctl.newton), int(ctl.mode))
+        return step(md, pairs, f64(Y), f64(S), f64(c), f64(Ja), ctl, t, Ynew)
 
     return run
 
@@ -81,8 +82,8 @@ def correct(prob, sig, Yp, t, S, newton: int = 8, Ja: np.ndarray | None = None):
     """
     K = compiled()
     Y = np.empty(Yp.size)
-    out, _ = _kernel(prob, sig)(Yp, S, t, np.zeros((1, 1)) if Ja is None else Ja, 0.0, 0.0, newton,
-                                K.NEWTON if Ja is None else K.CHORD, np.empty(Yp.size), Y)
+    ctl = Control(0.0, 0.0, newton, K.NEWTON if Ja is None else K.CHORD)
+    out, _ = _kernel(prob, sig)(Yp, S, t, np.zeros((1, 1)) if Ja is None else Ja, ctl, np.empty(Yp.size), Y)
     return None if out == K.FAILED else _final(prob, sig, orbit_at(prob, sig, Y[-1], Y[:-1]))
 
 
@@ -125,7 +126,7 @@ def follow(prob: Problem, sig: Signature, start: Orbit, window: tuple[float, flo
         S = scale_of(prob, sig, Y[:-1], Y[-1])
         orb = None
         while h >= st.h_min:
-            res, h = run(Y, S, c, none, h, st.h_min, st.newton, K.FOLLOW, t, Yn)
+            res, h = run(Y, S, c, none, Control(h, st.h_min, st.newton, K.FOLLOW), t, Yn)
             if res == K.FAILED:
                 break
             Yp = Y + h * t * S

@@ -1,7 +1,10 @@
 """What the chain's compiled kernel takes and returns, named, here so that reading it needs no numba.
 
 * :class:`ChainModel` -- the problem as the kernel walks it (built by :func:`plbar.periodic.chain.model`);
-* :class:`Walk` -- what one walk of the chain fills (:func:`plbar.periodic.kernel.walk.chain`);
+* :class:`Pairs` -- the signature as the kernel walks it (its pairs' kinds, its periods);
+* :class:`Walk` -- what one walk of the chain fills (:func:`plbar.periodic.kernel.walk.chain`), and :class:`Jet`,
+  the state it carries with its derivative;
+* :class:`Control` -- one call of the continuation's step (:func:`plbar.periodic.kernel.newton.step`);
 * the codes: the corrector's outcomes and the step's modes (:mod:`plbar.periodic.kernel.newton`), what the energy
   kernel computes (:mod:`plbar.periodic.kernel.energy`).
 """
@@ -12,8 +15,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["ChainModel", "Walk", "W", "LOAD", "C", "ZETA", "CV", "FAILED", "CONVERGED", "DONE", "SINGULAR", "ENDED",
-           "FOLLOW", "CHORD", "NEWTON", "PSI", "AMPLITUDE"]
+__all__ = ["ChainModel", "Control", "Jet", "Pairs", "Walk", "W", "LOAD", "C", "ZETA", "CV", "FAILED", "CONVERGED",
+           "DONE", "SINGULAR", "ENDED", "FOLLOW", "CHORD", "NEWTON", "PSI", "AMPLITUDE"]
 
 W, LOAD, C, ZETA, CV = 0, 1, 2, 3, 4  #: rows of a state's table (:class:`ChainModel`)
 FAILED, CONVERGED, DONE = 0, 1, 2     #: corrector outcomes (converged at its last point, or its last step taken)
@@ -40,6 +43,8 @@ class ChainModel(NamedTuple):
         The margin's load term in state I (``-r_q``).
     B : ndarray, shape (2 m2, 2 m2)
         The rebound (Newton's law with the coefficient of restitution).
+    damping : ndarray or None
+        None undamped (the undamped flows are compiled), else a marker array (the damped ones).
     """
 
     tab1: np.ndarray
@@ -48,6 +53,34 @@ class ChainModel(NamedTuple):
     G: np.ndarray
     rq1: float
     B: np.ndarray
+    damping: np.ndarray | None
+
+
+class Pairs(NamedTuple):
+    """A signature as the compiled chain walks it: its pairs' kinds ``dwell`` (int64:
+    :func:`plbar.periodic.chain.dwell_of`) and its forcing periods ``m``."""
+
+    dwell: np.ndarray
+    m: int
+
+
+class Control(NamedTuple):
+    """One call of the continuation's step (:func:`plbar.periodic.kernel.newton.step`): the step ``h`` (scaled
+    arclength), the smallest ``h_min`` it may be halved to, Newton's iterations ``newton`` and the ``mode``
+    (:data:`FOLLOW`, :data:`CHORD`, :data:`NEWTON`)."""
+
+    h: float
+    h_min: float
+    newton: int
+    mode: int
+
+
+class Jet(NamedTuple):
+    """A state the walk carries and its derivative in the unknowns: ``z`` (``2 m`` modal coordinates, padded) and
+    ``D = dz/dX`` (``(2 m, nX)``; a dummy where no Jacobian is computed)."""
+
+    z: np.ndarray
+    D: np.ndarray
 
 
 class Walk(NamedTuple):

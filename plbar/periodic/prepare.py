@@ -23,7 +23,7 @@ __all__ = ["compiled", "prepare"]
 
 
 def _kind(prob: Problem) -> str:
-    return "chain-undamped" if model(prob)[1] is None else "chain-damped"
+    return "chain-undamped" if model(prob).damping is None else "chain-damped"
 
 
 def compiled(prob: Problem) -> bool:

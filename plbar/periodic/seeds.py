@@ -90,21 +90,27 @@ def doubled(prob: Problem, orb: Orbit, steps=(1e-3, 3e-3, 1e-2, 3e-2)) -> list[O
     return out
 
 
-def from_motion(prob: Problem, T: float, m: int, t_b: float, x_b, v_b, state_b: int, times, kinds,
-                phi: float = 0.0) -> Orbit:
+def from_motion(prob: Problem, r, b: int, m: int, k: int = 0) -> Orbit:
     """Polish a periodic motion of a simulation into an exact orbit.
 
-    ``x_b, v_b`` (physical, contact DOF last) and ``state_b`` (0 stuck, 1 free) are the state at ``t_b``
-    (a period boundary); ``times, kinds`` the switches after it (1 opening, 2 impact, 3 rebound, 4 the impact
-    that ends a chattering sequence: the simulator's kinds), covering the first
-    impact after ``t_b`` and ``m`` periods beyond.  The state is carried by the exact flows to that
-    impact, the orbit's ``t = 0``; the switches of the next ``m`` periods give the signature and the
-    durations; Newton polishes (:func:`polish`).  Raises :class:`NotConverged` or ``ValueError``.
+    The motion is trajectory ``b`` of the run ``r`` (a :class:`plbar.motion.Run` of ``prob``) from its recorded
+    period boundary ``k`` on (``t_b = (r.periods - r.record + k) T``), an orbit of ``m`` forcing periods: its state
+    at ``t_b`` (``r.strobe_x, r.strobe_v``, physical, contact DOF last; ``r.strobe_state``: 0 stuck, 1 free) and its
+    switches after it (``r.events``: 1 opening, 2 impact, 3 rebound, 4 the impact that ends a chattering sequence:
+    the simulator's kinds), which must cover the first impact after ``t_b`` and ``m`` periods beyond.  The state is
+    carried by the exact flows to that impact, the orbit's ``t = 0``; the switches of the next ``m`` periods give
+    the signature and the durations; Newton polishes (:func:`polish`).  Raises :class:`NotConverged` or
+    ``ValueError``.
     """
+    T, phi = float(r.T[b]), float(r.phi[b])
+    t_b = (r.periods - r.record + k) * T
+    x_b, v_b, state_b = r.strobe_x[b, k], r.strobe_v[b, k], int(r.strobe_state[b, k])
+    ev = r.events[r.events["traj"] == b]
+    ev = ev[ev["time"] >= t_b]                       # the switches after t_b
+    times, kinds = np.asarray(ev["time"], float), np.asarray(ev["kind"], int)
     sy = prob.system
     M = np.asarray(sy.M, float)
     W = 2 * np.pi / T
-    times, kinds = np.asarray(times, float), np.asarray(kinds, int)
     if state_b == 0:
         z = np.concatenate([sy.V1.T @ M[:-1, :-1] @ x_b[:-1], sy.V1.T @ M[:-1, :-1] @ v_b[:-1]])
     else:

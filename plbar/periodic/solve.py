@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import PlbarError
 from ..model import Problem
 from ..util.reprs import build
-from .chain import Chain, compiled, dwell_of, evaluate, layout, model
+from .chain import Chain, compiled, dwell_of, evaluate, layout, model, pairs_of
 from .signature import Signature
 
 __all__ = ["Orbit", "NotConverged", "polish", "orbit_at", "ACCEPT", "ROUNDOFF"]
@@ -193,8 +193,7 @@ def _energy(prob: Problem, sig: Signature, ch: Chain, T: float, phi: float, what
     """``sum_j w_j Psi_j``, ``sum_j Psi_j`` and the viscous loss ``sum_j 2 zeta_j w_j Psi_j`` over every segment of an
     evaluated chain (Eqs. (20)-(21); damped velocities with inherent damping), or ``(max |x_c|, 0, 0)`` over
     :data:`AMPLITUDE_SAMPLES` samples of every free phase (compiled: :mod:`plbar.periodic.kernel.energy`)."""
-    md, damping = model(prob)
-    return compiled().energy(md, damping, dwell_of(sig), float(T), float(phi), ch.times, ch.states, what,
+    return compiled().energy(model(prob), dwell_of(sig), float(T), float(phi), ch.times, ch.states, what,
                              AMPLITUDE_SAMPLES)
 
 
@@ -220,10 +219,9 @@ def polish(prob: Problem, sig: Signature, T: float, X0, maxit: int = 30) -> Orbi
     X = np.array(X0, float)
     nz, q, nX = layout(prob, sig)
     T = float(T)
-    md, damping = model(prob)
     if X.shape != (nX,):
         raise ValueError(f"X0 has shape {X.shape}, the chain of {sig} takes {nX} unknowns")
-    if K.polish(md, damping, dwell_of(sig), sig.m, T, X, int(maxit), ROUNDOFF) == K.SINGULAR:
+    if K.polish(model(prob), pairs_of(sig), T, X, int(maxit), ROUNDOFF) == K.SINGULAR:
         raise NotConverged(f"singular Jacobian for {sig} at T = {T:.12g}")
     orb = orbit_at(prob, sig, T, X)
     if not orb.residual <= 10 * ROUNDOFF or np.any(X[nz:nz + q] <= 0):

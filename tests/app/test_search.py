@@ -27,7 +27,7 @@ def test_the_seeds_begun_beside_the_paper_solve_are_those_simulated_after_it():
     after = _seeding(prob, search_window(prob, dom), "default")
     np.testing.assert_array_equal(beside.T, after.T)
     np.testing.assert_array_equal(beside.events["time"], after.events["time"])
-    a, b = _seeds(prob, beside, "default"), _seeds(prob, after, "default")
+    a, b = _seeds(prob, beside), _seeds(prob, after)
     assert len(a) == len(b) > 0
     assert [str(o.sig) for o in a] == [str(o.sig) for o in b]
     np.testing.assert_allclose([o.loss_per_T for o in a], [o.loss_per_T for o in b], rtol=1e-12)

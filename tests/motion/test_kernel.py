@@ -44,18 +44,18 @@ def test_flow_psi_and_work_equal_the_numpy_closed_forms(zeta):
     for W, ts, u, phi in ((0.7, 1.3, 2.9, 0.4), (1.0, 0.0, 5.0, 2.0), (2.5 + 1e-9, 0.2, 1e-7, 5.0),
                           (0.45, 3.0, 0.0, 1.0)):
         c0, s0, cp, sp = cos(W * ts), sin(W * ts), cos(phi), sin(phi)
-        cW, sW, sWu = closed.half(W, u)
+        ld, hf = data.Forcing(W, c0, s0, cp, sp), closed.half(W, u)
         ref_e, ref_v = segment(w, f, W, ts, u, e0, v0, cp, sp, zeta=zeta)
         ref_p = psi(Modes(w, f, zeta), Forcing(W, cp, sp), ts, u, e0, v0)[0]
         ref_w = segment_work(Modes(w, f, zeta), Forcing(W, cp, sp), ts, u, e0, v0)
         for j in range(5):
-            e, v = closed.mode_flow(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, cW, sW, sWu, damping)
+            mode, at = data.Mode(w[j], f[j], z), data.ModeState(e0[j], v0[j])
+            e, v = closed.mode_flow(mode, ld, u, at, hf, damping)
             size = abs(e0[j]) + abs(v0[j]) / w[j] + abs(f[j]) * (1 + u * u)
             assert e == pytest.approx(ref_e[j], abs=1e-13 * size)
             assert v == pytest.approx(ref_v[j], abs=1e-13 * size * w[j])
-            cb, sb = cos(0.5 * W * u), sin(0.5 * W * u)
-            p = integrals.psi(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, damping, cb, sb)
-            wk = integrals.work(w[j], z, f[j], W, c0, s0, u, e0[j], v0[j], cp, sp, damping, cb, sb)
+            p = integrals.psi(mode, ld, u, at, damping, hf)
+            wk = integrals.work(mode, ld, u, at, damping, hf)
             assert p == pytest.approx(ref_p[j], rel=1e-11, abs=1e-13)
             assert wk == pytest.approx(ref_w[j], rel=1e-10, abs=1e-12 * size * size * w[j])
 
@@ -63,12 +63,12 @@ def test_flow_psi_and_work_equal_the_numpy_closed_forms(zeta):
 def test_exact_resonance_is_finite_and_right():
     """W = w exactly: the flow keeps its limit (t sin), Psi and the work fall back to quadrature, no nan."""
     w, f, W, u = 0.8, 1.3, 0.8, 7.0
-    cW, sW, sWu = closed.half(W, u)
-    e, v = closed.mode_flow(w, 0.0, f, W, 1.0, 0.0, u, 0.0, 0.0, 1.0, 0.0, cW, sW, sWu, None)
+    mode, ld, rest = data.Mode(w, f, 0.0), data.Forcing(W, 1.0, 0.0, 1.0, 0.0), data.ModeState(0.0, 0.0)
+    hf = closed.half(W, u)
+    e, v = closed.mode_flow(mode, ld, u, rest, hf, None)
     assert e == pytest.approx(f * u * np.sin(w * u) / (2 * w), rel=1e-13)
-    cb, sb = cos(0.5 * W * u), sin(0.5 * W * u)
-    p = integrals.psi(w, 0.0, f, W, 1.0, 0.0, u, 0.0, 0.0, 1.0, 0.0, None, cb, sb)
-    wk = integrals.work(w, 0.0, f, W, 1.0, 0.0, u, 0.0, 0.0, 1.0, 0.0, None, cb, sb)
+    p = integrals.psi(mode, ld, u, rest, None, hf)
+    wk = integrals.work(mode, ld, u, rest, None, hf)
     assert np.isfinite(p) and np.isfinite(wk)
     assert wk == pytest.approx(0.5 * (v * v + (w * e) ** 2), rel=1e-12)          # work = energy gained
 
@@ -91,10 +91,18 @@ def _margin(pad, s, eta, vel, W, t, phi, u):
 
 def _certified(pad, s, eta, vel, W, t, phi, cap, K=8):
     d, scale, work = np.zeros(44), np.zeros(44), np.zeros(90)
-    rem, Om = taylor(pad.c[s], pad.rq[s], 0.0, pad.w[s], pad.f[s], eta, vel, W, cos(W * t - phi), sin(W * t - phi),
-                     cap, K, d, scale, None, None)
+    rem, Om = taylor(_modes(pad, s), None, eta, vel, _load(pad, s, W, t, phi), cap, K, d, scale)
     event, v, found = decide_step(d, rem, scale, K, Om * cap, pad.size[s], work)
     return event, v / Om, found, scale[0]
+
+
+def _modes(pad, s):
+    return data.Modes(pad.w[s], pad.f[s], pad.c[s])
+
+
+def _load(pad, s, W, t, phi):
+    """The margin's load term at ``t`` (:class:`plbar.motion.kernel.data.LoadTerm`)."""
+    return data.LoadTerm(W, cos(W * t - phi), sin(W * t - phi), pad.rq[s], 0.0)
 
 
 @settings(max_examples=60, deadline=None)
@@ -161,8 +169,7 @@ def test_a_certified_bracket_holds_the_first_crossing_and_locate_finds_it(seed):
     if _margin(pad, s, eta, vel, W, t, phi, np.array([0.0]))[0] < 0:
         eta, vel = -eta, -vel
     d, scale, work = np.zeros(44), np.zeros(44), np.zeros(90)
-    rem, Om = taylor(pad.c[s], pad.rq[s], 0.0, pad.w[s], pad.f[s], eta, vel, W, cos(W * t - phi), sin(W * t - phi),
-                     cap, 8, d, scale, None, None)
+    rem, Om = taylor(_modes(pad, s), None, eta, vel, _load(pad, s, W, t, phi), cap, 8, d, scale)
     event, v, found = decide_step(d, rem, scale, 8, Om * cap, pad.size[s], work)
     if event or not found or not (0 < v < Om * cap) or not d[0] > ZERO * max(scale[0], pad.size[s]):
         return
@@ -181,8 +188,10 @@ def test_a_certified_bracket_holds_the_first_crossing_and_locate_finds_it(seed):
     assert changes == 1 or (changes == 0 and abs(inside[0]) <= level and (not signs.size or signs[0] < 0))
     assert np.all(np.diff(inside) <= 1e-2 * level)     # decreasing through it (to the round-off of its terms)
     z0 = np.stack([eta, vel])
-    e, vv = np.zeros(pad.m), np.zeros(pad.m)
-    x = locate(md, s, W, cos(W * t), sin(W * t), t, lo, hi, guess, z0, phi, e, vv, None)
+    wk = work_space(pad.m)
+    seg = data.Segment(data.Forcing(W, cos(W * t), sin(W * t), cos(phi), sin(phi)), t, phi)
+    x = locate(md, s, seg, lo, hi, guess, z0, wk, None)
+    e = wk.e
     if changes == 0:                                   # no sign to bracket: locate stays inside, on round-off
         assert lo <= x <= hi and abs(_margin(pad, s, eta, vel, W, t, phi, np.array([x]))[0]) <= 2 * level
         return

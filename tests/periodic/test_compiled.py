@@ -107,11 +107,8 @@ def test_polished_orbits_have_residuals_at_round_off(prob):
     Ts = [8.4, 10.0]
     r = run(prob, Ts, periods=800, record=60)
     st = steady(r)
-    first = r.periods - r.record
     for b in np.flatnonzero(st.kind == 0):
-        sel = (r.events["traj"] == b) & (r.events["time"] >= first * Ts[b])
-        orbs.append(from_motion(prob, Ts[b], int(st.m[b]), first * Ts[b], r.strobe_x[b, 0], r.strobe_v[b, 0],
-                                r.strobe_state[b, 0], r.events["time"][sel], r.events["kind"][sel]))
+        orbs.append(from_motion(prob, r, int(b), int(st.m[b])))
     assert len(orbs) >= 7 and any(o.sig.dwell[0] for o in orbs)
     for o in orbs:
         o = polish(prob, o.sig, o.T, o.X)
@@ -215,11 +212,7 @@ def test_damped_monodromy_against_the_map_by_central_differences(T, text):
     map's continuation.)"""
     prob = plbar.Case(rayleigh=rayleigh_from_ratio(0.05, 6.0, 14.0)).problem()
     r = run(prob, [T], periods=800, record=60)
-    first = r.periods - r.record
-    te, ke = r.events["time"], r.events["kind"]
-    after = te >= first * T
-    o = from_motion(prob, T, len(text) - 1, first * T, r.strobe_x[0, 0], r.strobe_v[0, 0], r.strobe_state[0, 0],
-                    te[after], ke[after])
+    o = from_motion(prob, r, 0, len(text) - 1)
     assert str(o.sig) == text
     assert np.allclose(chain_map(prob, o, o.z0), o.z0, rtol=0, atol=1e-12 * np.abs(o.z0).max())
     M = monodromy(prob, o.sig, o.T, o.phi, o.chain)

@@ -140,11 +140,7 @@ def test_survey_motion_polished(prob):
     r = run(prob, [T], periods=800, record=60)
     s = steady(r)
     assert s.kind_names[0] == "periodic" and s.m[0] == 2
-    first = r.periods - r.record
-    te, ke = r.events["time"], r.events["kind"]
-    after = te >= first * T
-    o = from_motion(prob, T, 2, first * T, r.strobe_x[0, 0], r.strobe_v[0, 0], r.strobe_state[0, 0], te[after],
-                    ke[after])
+    o = from_motion(prob, r, 0, 2)
     assert str(o.sig.canonical()) == "2PZ"
     assert o.loss_per_T == pytest.approx(s.loss_per_T[0], rel=1e-9)
     check_by_simulation(o)
@@ -156,11 +152,7 @@ def test_floquet_multipliers_against_the_simulated_map(prob):
     """The m-period map's Jacobian by finite differences of the independent simulator (a 2PZ orbit)."""
     T = 8.4
     r = run(prob, [T], periods=800, record=60)
-    first = r.periods - r.record
-    te, ke = r.events["time"], r.events["kind"]
-    after = te >= first * T
-    o = from_motion(prob, T, 2, first * T, r.strobe_x[0, 0], r.strobe_v[0, 0], r.strobe_state[0, 0], te[after],
-                    ke[after])
+    o = from_motion(prob, r, 0, 2)
     M = monodromy(prob, o.sig, o.T, o.phi, o.chain)
     s = prob.system
     m = s.w1.size

@@ -36,13 +36,8 @@ def branches(prob):
     s = steady(r, tol=1e-4)
     seeds = []
     for b in np.flatnonzero(s.kind == 0):
-        sel = r.events["traj"] == b
-        te, ke = r.events["time"][sel], r.events["kind"][sel]
-        first = 460
-        after = te >= first * T[b]
         try:
-            seeds.append(from_motion(prob, float(T[b]), int(s.m[b]), first * T[b], r.strobe_x[b, 0],
-                                     r.strobe_v[b, 0], int(r.strobe_state[b, 0]), te[after], ke[after]))
+            seeds.append(from_motion(prob, r, int(b), int(s.m[b])))
         except (plbar.periodic.NotConverged, ValueError):
             pass
     assert len(seeds) >= 5

@@ -45,6 +45,7 @@ from __future__ import annotations
 
 from math import exp, log, sqrt
 
+from .data import Scaled
 from .jit import jit
 from .orders import INV_FACT, KMAX, REAL, real_order, within
 
@@ -77,18 +78,20 @@ def _cyc(c, s, i):
 
 
 @jit
-def taylor(c, rq, rs, w, f, eta, vel, W, ca, sa, s, K, d, scale, zeta, cv):
+def taylor(modes, damp, eta, vel, load, s, K, d, scale):
     """Scaled derivatives ``g^(k) / Om^k`` (``k = 0 .. K``) into ``d`` and their sizes into ``scale``.
 
-    The margin is ``c . eta + cv . eta' + rq cos(W t - phi) + rs sin(W t - phi)`` (``rs = 0`` but for the low
-    part of a split model, :mod:`.split`); ``ca, sa`` are ``cos, sin(W t - phi)`` at the point.  Returns
-    ``(rem, Om)``: the bound of ``|g^(K+1)| / Om^(K+1)`` over a
-    step of length ``s``, and ``Om``.  ``scale[k]`` is the size of the terms that make ``g^(k)`` (through the
-    recursion, so that a derivative that cancels to round-off is seen as such; the load's terms by their
-    amplitude: at a zero of ``cos(W t - phi)`` its value is the round-off of the phase, not a size).  ``zeta, cv``: the
-    damping
-    ratios and the margin's weights on the velocities, or None (undamped; that code is then not compiled).
+    The margin is ``c . eta + cv . eta' + rq cos(W t - phi) + rs sin(W t - phi)`` at the point whose modal state
+    is ``eta, vel``: ``modes`` (:class:`.data.Modes`) its modes and weights ``c``, ``damp`` (:class:`.data.Damping`)
+    their damping ratios and the weights ``cv`` on the velocities, or None (undamped; that code is then not
+    compiled), ``load`` (:class:`.data.LoadTerm`) its load term (``rs = 0`` but for the low part of a split model,
+    :mod:`.split`).  Returns ``(rem, Om)``: the bound of ``|g^(K+1)| / Om^(K+1)`` over a step of length ``s``, and
+    ``Om``.  ``scale[k]`` is the size of the terms that make ``g^(k)`` (through the recursion, so that a derivative
+    that cancels to round-off is seen as such; the load's terms by their amplitude: at a zero of ``cos(W t - phi)``
+    its value is the round-off of the phase, not a size).
     """
+    c, w, f = modes.c, modes.w, modes.f
+    W, ca, sa, rq, rs = load
     m = w.size
     Om = W
     for j in range(m):
@@ -102,22 +105,25 @@ def taylor(c, rq, rs, w, f, eta, vel, W, ca, sa, s, K, d, scale, zeta, cv):
     rem = (abs(rq) + abs(rs)) * wk
     for j in range(m):
         amp = sqrt((w[j] * eta[j]) ** 2 + vel[j] ** 2) + abs(f[j]) * s
-        if zeta is None:
-            rem += _mode(c[j], 0.0, w[j] / Om, f[j] / (Om * Om), 0.0, eta[j], vel[j] / Om, amp, w[j], Om, Wr, ca,
-                         sa, K, False, d, scale)
+        if damp is None:
+            sm = Scaled(c[j], 0.0, w[j] / Om, f[j] / (Om * Om), 0.0, eta[j], vel[j] / Om, amp / w[j], amp / Om)
+            rem += _mode(sm, Wr, ca, sa, K, False, d, scale)
         else:
-            rem += _mode(c[j], cv[j] * Om, w[j] / Om, f[j] / (Om * Om), 2.0 * zeta[j] * w[j] / Om, eta[j],
-                         vel[j] / Om, amp, w[j], Om, Wr, ca, sa, K, True, d, scale)
+            sm = Scaled(c[j], damp.cv[j] * Om, w[j] / Om, f[j] / (Om * Om), 2.0 * damp.zeta[j] * w[j] / Om, eta[j],
+                        vel[j] / Om, amp / w[j], amp / Om)
+            rem += _mode(sm, Wr, ca, sa, K, True, d, scale)
     return rem, Om
 
 
 @jit
-def _mode(cj, cvs, wr, load, damp, e0, e1, amp, wj, Om, Wr, ca, sa, K, damped, d, scale):
-    """Add one mode's terms to ``d`` and ``scale``; return its share of the remainder bound."""
+def _mode(sm, Wr, ca, sa, K, damped, d, scale):
+    """Add the terms of one mode (:class:`.data.Scaled`) to ``d`` and ``scale``; return its share of the remainder
+    bound (``Wr = W / Om``, ``ca, sa = cos, sin(W t - phi)``)."""
+    cj, cvs, wr, load, damp, e0, e1 = sm.c, sm.cv, sm.w, sm.f, sm.damp, sm.eta, sm.v
     top = K + 2 if damped else K + 1
     ep, e = e0, e1                         # e[k-2], e[k-1]
     mp, mg = abs(e0), abs(e1)
-    bp, b = amp / wj, amp / Om
+    bp, b = sm.b0, sm.b1
     wr2 = wr * wr
     d[0] += cj * e0
     scale[0] += abs(cj) * mp

@@ -12,7 +12,9 @@ periodic solver uses), one mode at a time; the tests hold the two to round-off. 
 undamped kernels take their sines and cosines from the half angles ``w u / 2`` and
 ``W u / 2`` (two calls a mode instead of six; ``sin((w - W) u / 2)`` directly where it is
 small, so the ``sinc`` keeps its relative accuracy).  ``c0, s0`` are ``cos W ts, sin W ts``
-(once per segment), ``cphi, sphi`` those of the forcing phase.
+(once per segment), ``cphi, sphi`` those of the forcing phase: a :class:`.data.Forcing` ``ld``; a mode is a
+:class:`.data.Mode`, its state at the segment's start a :class:`.data.ModeState`, the forcing's half angle at a
+point a :class:`.data.Half`.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from __future__ import annotations
 import cmath
 from math import cos, cosh, exp, sin, sinh, sqrt
 
+from .data import Half
 from .jit import jit
 
 __all__ = [
@@ -47,25 +50,27 @@ def sinc(x):
 
 @jit
 def half(W, u):
-    """``cos, sin`` of ``W u / 2`` and ``sin W u``: the forcing's share of :func:`kernels` (once per point)."""
+    """The :class:`.data.Half` at ``u``: ``cos, sin`` of ``W u / 2`` and ``sin W u``, the forcing's share of
+    :func:`kernels` (once per point)."""
     c, s = cos(0.5 * W * u), sin(0.5 * W * u)
-    return c, s, 2.0 * s * c
+    return Half(c, s, 2.0 * s * c)
 
 
 @jit
-def kernels(w, W, u, cW, sW, sWu):
+def kernels(w, W, u, hf):
     """Undamped Duhamel kernels ``C, S, C'`` at ``u`` and ``cos w u, sin w u`` (:func:`plbar.response.kernels`).
 
-    ``cW, sW, sWu`` from :func:`half`.  ``C = sin(s) snc / (w + W)``, ``S = (sin(w u) / w - cos(s) snc) / (w + W)``,
+    ``hf`` from :func:`half`.  ``C = sin(s) snc / (w + W)``, ``S = (sin(w u) / w - cos(s) snc) / (w + W)``,
     ``C' = (w cos(s) snc + sin(W u)) / (w + W)`` with ``s = (w + W) u / 2``, ``snc = u sinc((w - W) u / 2)``.
     """
     a = 0.5 * w * u
-    return kernels_at(w, W, u, cos(a), sin(a), cW, sW, sWu)
+    return kernels_at(w, W, u, cos(a), sin(a), hf)
 
 
 @jit
-def kernels_at(w, W, u, ca, sa, cW, sW, sWu):
+def kernels_at(w, W, u, ca, sa, hf):
     """:func:`kernels` from ``ca, sa = cos, sin(w u / 2)`` as well (rotated from sample to sample by a caller)."""
+    cW, sW, sWu = hf
     dl = 0.5 * (w - W) * u
     sdl = sin(dl) if abs(dl) < DIRECT else sa * cW - ca * sW
     snc = u * (sdl / dl if dl != 0.0 else 1.0)
@@ -76,16 +81,18 @@ def kernels_at(w, W, u, ca, sa, cW, sW, sWu):
 
 
 @jit
-def flow(w, f, W, c0, s0, u, eta0, v0, cphi, sphi, cW, sW, sWu):
-    """``eta, eta'`` of an undamped mode at ``u`` into a segment (:func:`plbar.response.segment`)."""
-    a = 0.5 * w * u
-    return flow_at(w, f, W, c0, s0, u, eta0, v0, cphi, sphi, cos(a), sin(a), cW, sW, sWu)
+def flow(mode, ld, u, z, hf):
+    """``eta, eta'`` of the undamped ``mode`` at ``u`` into a segment of forcing ``ld`` from ``z``
+    (:func:`plbar.response.segment`)."""
+    a = 0.5 * mode.w * u
+    return flow_at(mode, ld, u, z, cos(a), sin(a), hf)
 
 
 @jit
-def flow_at(w, f, W, c0, s0, u, eta0, v0, cphi, sphi, ca, sa, cW, sW, sWu):
+def flow_at(mode, ld, u, z, ca, sa, hf):
     """:func:`flow` from ``ca, sa = cos, sin(w u / 2)`` as well."""
-    C, S, Cp, co, si = kernels_at(w, W, u, ca, sa, cW, sW, sWu)
+    w, f, W, c0, s0, cphi, sphi, eta0, v0 = mode.w, mode.f, ld.W, ld.c0, ld.s0, ld.cphi, ld.sphi, z.eta, z.v
+    C, S, Cp, co, si = kernels_at(w, W, u, ca, sa, hf)
     ec, es = f * (c0 * C - s0 * S), f * (s0 * C + c0 * S)
     vc, vs = f * (c0 * Cp - s0 * W * C), f * (s0 * Cp + c0 * W * C)
     return (co * eta0 + si / w * v0 + ec * cphi + es * sphi,
@@ -169,9 +176,11 @@ def damped_kernels(w, W, u, zeta):
 
 
 @jit
-def damped_flow(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi):
-    """``eta, eta'`` of a damped mode at ``u`` into a segment (:func:`plbar.response.segment` with ``zeta``)."""
-    C, S, Cp, p11, ss, p22 = damped_kernels(w, W, u, zeta)
+def damped_flow(mode, ld, u, z):
+    """``eta, eta'`` of a damped ``mode`` at ``u`` into a segment of forcing ``ld`` from ``z``
+    (:func:`plbar.response.segment` with ``zeta``)."""
+    w, f, W, c0, s0, cphi, sphi, eta0, v0 = mode.w, mode.f, ld.W, ld.c0, ld.s0, ld.cphi, ld.sphi, z.eta, z.v
+    C, S, Cp, p11, ss, p22 = damped_kernels(w, W, u, mode.zeta)
     ec, es = f * (c0 * C - s0 * S), f * (s0 * C + c0 * S)
     vc, vs = f * (c0 * Cp - s0 * W * C), f * (s0 * Cp + c0 * W * C)
     return (p11 * eta0 + ss * v0 + ec * cphi + es * sphi,
@@ -179,11 +188,12 @@ def damped_flow(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi):
 
 
 @jit
-def mode_flow(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, cW, sW, sWu, damping):
-    """:func:`damped_flow` where ``damping`` is given (``zeta`` used), else :func:`flow` (compiled only if used)."""
+def mode_flow(mode, ld, u, z, hf, damping):
+    """:func:`damped_flow` where ``damping`` is given (``mode.zeta`` used), else :func:`flow` (``hf`` from
+    :func:`half`; compiled only if used)."""
     if damping is None:
-        return flow(w, f, W, c0, s0, u, eta0, v0, cphi, sphi, cW, sW, sWu)
-    return damped_flow(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi)
+        return flow(mode, ld, u, z, hf)
+    return damped_flow(mode, ld, u, z)
 
 
 @jit

@@ -14,11 +14,17 @@ its first compile short); the fields and the column names below are the only way
   block of periods done, or no room to record an event: ``NEED``) and the next one goes on;
 * :class:`Records` (``rc``): per recorded period ``rc.per[b, r, IMPACTS | OPENINGS | LOSS]``, the recorded events
   ``rc.ev[b, i, TIME | KIND | LOSS]`` (``ti[b, EVENTS]`` of them), the modal states at the recorded boundaries
-  ``rc.sx, rc.sv`` and their states ``rc.ss``;
+  ``rc.sx, rc.sv`` and their states ``rc.ss``, from the forcing period ``rc.first`` on;
 * accounts: None (a replay of the switches: no accounting code is compiled) or ``acc[b, r, D_EQ | D_W |
   WORK_REC | STUCK_T | AMP | VISC_REC]``;
 * inside the kernel, :class:`Current` (one trajectory's working copies of its rows) and :class:`Work` (the work
-  space of one thread), both made by the entry point.
+  space of one thread), both made by the entry point;
+* the scalars the kernel's functions pass each other, in small records (numba passes them by value, as it would
+  the scalars): :class:`Forcing` (the load's rotations over a segment), :class:`Segment` (that forcing, the
+  segment's start and the load's phase), :class:`Half` (the forcing's half angle at a point), :class:`Mode` and
+  :class:`ModeState` (one modal oscillator and its state); for the Taylor model of the margin
+  :class:`Modes` and :class:`Damping` (a state's modes, as arrays), :class:`LoadTerm` (the load's term in the
+  margin at a point) and :class:`Scaled` (one mode in the model's units).
 """
 
 from __future__ import annotations
@@ -29,8 +35,9 @@ import numpy as np
 
 from ..model import IMPACT, OPENS, REBOUND, STICK   # noqa: F401 (the event kinds, here by their kernel names)
 
-__all__ = ["Current", "Model", "Records", "Trajectories", "Work", "accounts", "damping", "grow_events", "model",
-           "records", "trajectories"]
+__all__ = ["Current", "Damping", "Forcing", "Half", "LoadTerm", "Mode", "ModeState", "Model", "Modes", "Records",
+           "Scaled", "Segment", "Trajectories", "Work", "accounts", "damping", "grow_events", "model", "records",
+           "trajectories"]
 
 W, F, C = 0, 1, 2
 RQ, SIZE = 0, 1
@@ -86,13 +93,15 @@ class Trajectories(NamedTuple):
 
 class Records(NamedTuple):
     """What is recorded (:func:`records`): per period ``per[b, r, IMPACTS | OPENINGS | LOSS]``, the events
-    ``ev[b, i, TIME | KIND | LOSS]``, the boundary states ``sx, sv`` (``(B, R + 1, m)``) and their states ``ss``."""
+    ``ev[b, i, TIME | KIND | LOSS]``, the boundary states ``sx, sv`` (``(B, R + 1, m)``) and their states ``ss``,
+    from the forcing period ``first`` on (``r = 0`` is that period)."""
 
     per: np.ndarray
     ev: np.ndarray
     sx: np.ndarray
     sv: np.ndarray
     ss: np.ndarray
+    first: int
 
 
 class Current(NamedTuple):
@@ -127,6 +136,97 @@ class Work(NamedTuple):
     taylor: np.ndarray
     P: np.ndarray
     fast: np.ndarray
+
+
+class Forcing(NamedTuple):
+    """The load ``f cos(W t - phi)`` over a segment that starts at ``ts``, as the closed-form flows take it: ``W``,
+    ``c0, s0 = cos, sin(W ts)`` and ``cphi, sphi = cos, sin(phi)``.  The flows are linear in ``(cphi, sphi)``: zeros
+    give the free flow, ``(-sin phi, cos phi)`` the derivative in ``phi``."""
+
+    W: float
+    c0: float
+    s0: float
+    cphi: float
+    sphi: float
+
+
+class Segment(NamedTuple):
+    """A segment's :class:`Forcing` ``ld``, its start ``ts`` and the load's phase ``phi``: the load at ``u`` into it is
+    ``cos(W (ts + u) - phi)``.  The flows take ``ld`` alone: they need neither ``ts`` nor ``phi``, and every scalar
+    passed to the undamped flow weighs in LLVM's choice to inline it into the event loop (4 % slower where it
+    does)."""
+
+    ld: Forcing
+    ts: float
+    phi: float
+
+
+class Half(NamedTuple):
+    """The forcing's share of the undamped flow at ``u`` into a segment (:func:`.closed.half`):
+    ``cW, sW = cos, sin(W u / 2)`` and ``sWu = sin(W u)``."""
+
+    cW: float
+    sW: float
+    sWu: float
+
+
+class Mode(NamedTuple):
+    """One modal oscillator ``eta'' + 2 zeta w eta' + w^2 eta = f cos(W t - phi)``: ``w``, ``f``, ``zeta`` (0
+    undamped)."""
+
+    w: float
+    f: float
+    zeta: float
+
+
+class ModeState(NamedTuple):
+    """One mode's state: ``eta`` and ``v = eta'``."""
+
+    eta: float
+    v: float
+
+
+class Modes(NamedTuple):
+    """A state's modes as the Taylor model of its margin takes them (:func:`.certify.taylor`): the frequencies ``w``,
+    the modal loads ``f`` and the margin's weights ``c`` (arrays of one length)."""
+
+    w: np.ndarray
+    f: np.ndarray
+    c: np.ndarray
+
+
+class Damping(NamedTuple):
+    """The damping of :class:`Modes`: the ratios ``zeta`` and the margin's weights on the velocities ``cv``."""
+
+    zeta: np.ndarray
+    cv: np.ndarray
+
+
+class LoadTerm(NamedTuple):
+    """The load at a point ``t`` and its term in the margin, ``rq cos(W t - phi) + rs sin(W t - phi)``: ``W``,
+    ``ca, sa = cos, sin(W t - phi)``, ``rq`` and ``rs``."""
+
+    W: float
+    ca: float
+    sa: float
+    rq: float
+    rs: float
+
+
+class Scaled(NamedTuple):
+    """One mode in the units of a Taylor model (``Om``, :func:`.certify.taylor`): the margin's weights ``c`` and
+    ``cv`` (times ``Om``), ``w / Om``, ``f / Om^2``, ``damp = 2 zeta w / Om``, ``eta``, ``v = eta' / Om`` and the
+    bounds ``b0, b1`` of ``|eta|`` and ``|eta'| / Om`` over the step."""
+
+    c: float
+    cv: float
+    w: float
+    f: float
+    damp: float
+    eta: float
+    v: float
+    b0: float
+    b1: float
 
 
 def _f64(a):
@@ -165,10 +265,11 @@ def trajectories(T, phi, state, eta, vel) -> Trajectories:
                         np.zeros((B, 3)))
 
 
-def records(B: int, m: int, R: int, capacity: int) -> Records:
-    """Empty records for ``B`` trajectories, ``R`` periods recorded, room for ``capacity`` events each."""
+def records(B: int, m: int, R: int, capacity: int, first: int) -> Records:
+    """Empty records for ``B`` trajectories, ``R`` periods recorded from period ``first`` on, room for ``capacity``
+    events each."""
     return Records(np.zeros((B, R, 3)), np.zeros((B, capacity, 3)), np.zeros((B, R + 1, m)),
-                   np.zeros((B, R + 1, m)), np.zeros((B, R + 1), np.int64))
+                   np.zeros((B, R + 1, m)), np.zeros((B, R + 1), np.int64), int(first))
 
 
 def accounts(B: int, R: int, on: bool):

@@ -8,7 +8,9 @@ sums of exponentials (:mod:`plbar.response.damped`).  Where a closed form cancel
 near critical damping) Gauss-Legendre quadrature of the exact velocity takes over,
 composite with at most 100 nodes a piece, exact to round-off (the bound of
 :func:`plbar.response.flow.psi_quadrature`).  The work is independent of the energies,
-so the energy budget of a simulation is a check, not an identity.
+so the energy budget of a simulation is a check, not an identity.  A mode is a :class:`.data.Mode`, the
+forcing a :class:`.data.Forcing`, the state at the piece's start a :class:`.data.ModeState`, the forcing's half
+angle over the piece a :class:`.data.Half` (:func:`.closed.half` of its length).
 """
 
 from __future__ import annotations
@@ -57,8 +59,16 @@ def _sc(s, x):
 
 
 @jit
-def _decompose(w, f, W, thc, ths, eta0, v0):
-    """``A, B, Cc, Cs`` of the undamped velocity ``A cos wu + B sin wu + Cc cos Wu + Cs sin Wu`` (Eqs. (15)-(17))."""
+def _theta(ld):
+    """``cos, sin(W ts - phi)``."""
+    return ld.c0 * ld.cphi + ld.s0 * ld.sphi, ld.s0 * ld.cphi - ld.c0 * ld.sphi
+
+
+@jit
+def _decompose(mode, W, thc, ths, z):
+    """``A, B, Cc, Cs`` of the undamped velocity ``A cos wu + B sin wu + Cc cos Wu + Cs sin Wu`` (Eqs. (15)-(17));
+    ``thc, ths = cos, sin(W ts - phi)``."""
+    w, f, eta0, v0 = mode.w, mode.f, z.eta, z.v
     d = (w + W) * (w - W)
     g = f / d if d != 0 else inf
     Cc = -g * W * ths
@@ -67,9 +77,11 @@ def _decompose(w, f, W, thc, ths, eta0, v0):
 
 
 @jit
-def _psi_undamped(w, f, W, thc, ths, u, eta0, v0, cb, sb):
+def _psi_undamped(mode, ld, u, z, hf):
     """Closed-form ``Psi`` of an undamped mode and its cancellation factor (:func:`plbar.response.psi_closed_form`)."""
-    A, B, Cc, Cs = _decompose(w, f, W, thc, ths, eta0, v0)
+    w, W, cb, sb = mode.w, ld.W, hf.cW, hf.sW
+    thc, ths = _theta(ld)
+    A, B, Cc, Cs = _decompose(mode, W, thc, ths, z)
     wp, wm = w + W, w - W
     ht = 0.5 * u
     wt, Wt, pt, mt = w * u, W * u, wp * ht, wm * ht
@@ -87,9 +99,11 @@ def _psi_undamped(w, f, W, thc, ths, u, eta0, v0, cb, sb):
 
 
 @jit
-def _work_undamped(w, f, W, thc, ths, u, eta0, v0, cb, sb):
+def _work_undamped(mode, ld, u, z, hf):
     """Closed-form work of the load on an undamped mode and its cancellation factor (:mod:`plbar.response.power`)."""
-    A, B, Cc, Cs = _decompose(w, f, W, thc, ths, eta0, v0)
+    w, f, W, cb, sb, eta0, v0 = mode.w, mode.f, ld.W, hf.cW, hf.sW, z.eta, z.v
+    thc, ths = _theta(ld)
+    A, B, Cc, Cs = _decompose(mode, W, thc, ths, z)
     wp, wm = w + W, w - W
     _, _, sW1, sW2, sp1, sp2, sm1, sm2 = _sines(w, W, u, cb, sb)
     cm, cp = u * _sc(sm2, wm * u), u * _sc(sp2, wp * u)
@@ -107,9 +121,11 @@ def _work_undamped(w, f, W, thc, ths, u, eta0, v0, cb, sb):
 
 
 @jit
-def _terms(w, zeta, f, W, c0, s0, eta0, v0, cphi, sphi):
-    """The damped velocity ``A1 e^{yu} + A2 e^{zu} + B e^{iWu} + cc``: ``(y, z, A1, A2, B, th, singular)``."""
-    y, z, a, _ = roots(w, zeta)
+def _terms(mode, ld, st):
+    """The damped velocity ``A1 e^{yu} + A2 e^{zu} + B e^{iWu} + cc`` from the state ``st``:
+    ``(y, z, A1, A2, B, th, singular)``."""
+    w, f, W, c0, s0, cphi, sphi, eta0, v0 = mode.w, mode.f, ld.W, ld.c0, ld.s0, ld.cphi, ld.sphi, st.eta, st.v
+    y, z, a, _ = roots(w, mode.zeta)
     den = complex(w * w - W * W, 2.0 * a * W)
     sing = den == 0 or y == z
     H = 1.0 / den if not sing else 1.0 + 0j
@@ -130,13 +146,13 @@ def _F(m, u):
 
 
 @jit
-def _psi_damped(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi):
+def _psi_damped(mode, ld, u, st):
     """Closed-form ``Psi`` of a damped mode and its cancellation factor
     (:func:`plbar.response.damped.psi_closed_form`)."""
-    y, z, A1, A2, B, _, sing = _terms(w, zeta, f, W, c0, s0, eta0, v0, cphi, sphi)
+    y, z, A1, A2, B, _, sing = _terms(mode, ld, st)
     if sing:
         return 0.0, inf
-    iW = complex(0.0, W)
+    iW = complex(0.0, ld.W)
     Bc = B.conjugate()
     t = (A1 * A1 * _F(2 * y, u), 2 * A1 * A2 * _F(y + z, u), A2 * A2 * _F(2 * z, u), 2 * A1 * B * _F(y + iW, u),
          2 * A1 * Bc * _F(y - iW, u), 2 * A2 * B * _F(z + iW, u), 2 * A2 * Bc * _F(z - iW, u),
@@ -149,12 +165,13 @@ def _psi_damped(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi):
 
 
 @jit
-def _work_damped(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi):
+def _work_damped(mode, ld, u, st):
     """Closed-form work of the load on a damped mode, and its cancellation factor (:mod:`plbar.response.damped`)."""
-    y, z, A1, A2, B, th, sing = _terms(w, zeta, f, W, c0, s0, eta0, v0, cphi, sphi)
+    y, z, A1, A2, B, th, sing = _terms(mode, ld, st)
     if sing:
         return 0.0, inf
-    iW = complex(0.0, W)
+    w, f, eta0, v0 = mode.w, mode.f, st.eta, st.v
+    iW = complex(0.0, ld.W)
     thc, Bc = th.conjugate(), B.conjugate()
     t = (th * A1 * _F(y + iW, u), th * A2 * _F(z + iW, u), th * B * _F(2 * iW, u), th * Bc * u,
          thc * A1 * _F(y - iW, u), thc * A2 * _F(z - iW, u), thc * B * u, thc * Bc * _F(-2 * iW, u))
@@ -176,16 +193,16 @@ def _rule(k):
 
 
 @jit
-def _quadrature(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping, k, of_work):
+def _quadrature(mode, ld, u, z, damping, k, of_work):
     """Composite Gauss-Legendre of ``eta'^2`` (or of the load's power) over ``[0, u]`` for total phase ``k``."""
+    f, W, c0, s0, cphi, sphi = mode.f, ld.W, ld.c0, ld.s0, ld.cphi, ld.sphi
     p, n, row = _rule(k)
     h = u / p
     acc = 0.0
     for i in range(p):
         for j in range(n):
             s = h * (i + 0.5 * (GL_X[row, j] + 1.0))
-            cW, sW, sWu = half(W, s)
-            _, v = mode_flow(w, zeta, f, W, c0, s0, s, eta0, v0, cphi, sphi, cW, sW, sWu, damping)
+            _, v = mode_flow(mode, ld, s, z, half(W, s), damping)
             if of_work:      # cos(W (ts + s) - phi)
                 cw, sw = cos(W * s), sin(W * s)
                 v = v * f * (cphi * (c0 * cw - s0 * sw) + sphi * (s0 * cw + c0 * sw))
@@ -203,31 +220,29 @@ def _rate(w, zeta):
 
 
 @jit
-def psi(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping, cb, sb):
-    """``Psi = int_0^u eta'^2`` of one mode over a piece (Eq. (20)): closed form, or quadrature where it cancels.
+def psi(mode, ld, u, z, damping, hf):
+    """``Psi = int_0^u eta'^2`` of ``mode`` over a piece of length ``u`` from ``z`` (Eq. (20)): closed form, or
+    quadrature where it cancels.
 
-    ``cb, sb = cos, sin(W u / 2)`` (once per piece)."""
+    ``hf = half(W, u)`` (once per piece)."""
     if damping is not None:
-        p, cancel = _psi_damped(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi)
+        p, cancel = _psi_damped(mode, ld, u, z)
     else:
-        thc, ths = c0 * cphi + s0 * sphi, s0 * cphi - c0 * sphi
-        p, cancel = _psi_undamped(w, f, W, thc, ths, u, eta0, v0, cb, sb)
+        p, cancel = _psi_undamped(mode, ld, u, z, hf)
     if cancel < CANCEL_LIMIT:
         return p
-    return _quadrature(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping, 2 * max(_rate(w, zeta), W) * u,
-                       False)
+    return _quadrature(mode, ld, u, z, damping, 2 * max(_rate(mode.w, mode.zeta), ld.W) * u, False)
 
 
 @jit
-def work(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping, cb, sb):
-    """Work of the load on one mode over a piece: closed form, or quadrature where it cancels (``cb, sb`` as for
+def work(mode, ld, u, z, damping, hf):
+    """Work of the load on ``mode`` over a piece: closed form, or quadrature where it cancels (arguments as for
     :func:`psi`)."""
     if damping is not None:
-        p, cancel = _work_damped(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi)
+        p, cancel = _work_damped(mode, ld, u, z)
     else:
-        thc, ths = c0 * cphi + s0 * sphi, s0 * cphi - c0 * sphi
-        p, cancel = _work_undamped(w, f, W, thc, ths, u, eta0, v0, cb, sb)
+        p, cancel = _work_undamped(mode, ld, u, z, hf)
     if cancel < CANCEL_LIMIT:
         return p
-    return _quadrature(w, zeta, f, W, c0, s0, u, eta0, v0, cphi, sphi, damping, 2 * (max(_rate(w, zeta), W) + W) * u,
-                       True)
+    W = ld.W
+    return _quadrature(mode, ld, u, z, damping, 2 * (max(_rate(mode.w, mode.zeta), W) + W) * u, True)

@@ -5,7 +5,8 @@ Where the Taylor model certifies that the margin decreases through zero exactly 
 the margin evaluated from the closed-form flow (:func:`margin_at`), kept inside the bracket
 (bisection where a Newton step would leave it), finds it to the round-off of the margin in two
 or three evaluations.  This replaces the rounds that would otherwise step towards the crossing
-one certified step at a time.
+one certified step at a time.  The segment is a :class:`.data.Segment` ``seg`` (its forcing
+``seg.ld``, its start ``seg.ts = tp`` within the forcing period), its start state ``z0[0 | 1]``.
 """
 
 from __future__ import annotations
@@ -25,20 +26,19 @@ POLISH_MAX = 1e-7  #: longest polishing step, times the fastest frequency (its n
 
 
 @jit
-def margin_at(md, st, W, c0, s0, tp, u, z0, cphi, sphi, phi, e, v, damping):
-    """``(g, g', size)``: the margin, its rate and the size of its terms at ``u`` into the segment of state ``st``
-    that starts at ``tp`` with the modal state ``z0`` (``c0, s0 = cos, sin(W tp)``); the modal state at ``u`` is
-    left in ``e, v``."""
-    modal, margin = md.modal, md.margin
-    cW, sW, sWu = half(W, u)
-    arg = W * (tp + u) - phi
+def margin_at(md, st, seg, u, z0, e, v, damping):
+    """``(g, g', size)``: the margin, its rate and the size of its terms at ``u`` into the segment ``seg`` of state
+    ``st`` that starts with the modal state ``z0``; the modal state at ``u`` is left in ``e, v``."""
+    modal, margin, ld, W = md.modal, md.margin, seg.ld, seg.ld.W
+    hf = half(W, u)
+    arg = W * (seg.ts + u) - seg.phi
     ca, sa = cos(arg), sin(arg)
     rq = margin[D.RQ, st]
     g, g1, size = rq * ca, -rq * W * sa, abs(rq)
     for j in range(e.size):
         w, f, c = modal[D.W, st, j], modal[D.F, st, j], modal[D.C, st, j]
         z = 0.0 if damping is None else damping[st, D.ZETA, j]
-        e[j], v[j] = mode_flow(w, z, f, W, c0, s0, u, z0[0, j], z0[1, j], cphi, sphi, cW, sW, sWu, damping)
+        e[j], v[j] = mode_flow(D.Mode(w, f, z), ld, u, D.ModeState(z0[0, j], z0[1, j]), hf, damping)
         g += c * e[j]
         g1 += c * v[j]
         size += abs(c * e[j])
@@ -51,16 +51,16 @@ def margin_at(md, st, W, c0, s0, tp, u, z0, cphi, sphi, phi, e, v, damping):
 
 
 @jit
-def _polish(md, W, tp, x, dx, lo, hi, phi, e, v, damping):
+def _polish(md, seg, x, dx, hi, e, v, damping):
     """An impact located to ``ZERO``: one more Newton step ``x - dx`` taken on the state by its Taylor expansion
     (``dx`` is round-off, its square far below it), so that ``x_c`` is zero to its last bits -- the impact's reset
     (``x_c = 0``) then moves no potential energy: a settled motion repeats that error every period, and the energy
     budget of 1,000 periods grew by it (issue 28: 5e-12 of the work where the load does little work)."""
     xn = x - dx
-    if not lo <= xn <= hi:
+    if not 0.0 <= xn <= hi:
         return x
     modal = md.modal
-    load = cos(W * (tp + x) - phi)
+    load = cos(seg.ld.W * (seg.ts + x) - seg.phi)
     for j in range(e.size):
         w, f = modal[D.W, FREE, j], modal[D.F, FREE, j]
         a = f * load - w * w * e[j]
@@ -72,8 +72,8 @@ def _polish(md, W, tp, x, dx, lo, hi, phi, e, v, damping):
 
 
 @jit
-def land(md, W, tp, x, lo, hi, phi, e, v, damping):
-    """The point ``x`` of an impact (segment time in ``[lo, hi]``, the modal state there in ``e, v``) polished by
+def land(md, seg, x, hi, e, v, damping):
+    """The point ``x`` of an impact (segment time in ``[0, hi]``, the modal state there in ``e, v``) polished by
     :func:`_polish` from the margin ``g = c . eta = -x_c`` and its rate on that state.  However the impact was
     found (a round that decides it, a step that lands on it, :func:`locate`), the margin there is within its
     round-off level ``ZERO``, up to ~1e-13 of its size; the reset ``x_c = 0`` would move ``x_c`` times the contact
@@ -92,19 +92,20 @@ def land(md, W, tp, x, lo, hi, phi, e, v, damping):
     dx = g / g1
     if not abs(dx) * wmax <= POLISH_MAX:    # a grazing impact (slow rate): the Taylor step would not be round-off
         return x
-    return _polish(md, W, tp, x, dx, lo, hi, phi, e, v, damping)
+    return _polish(md, seg, x, dx, hi, e, v, damping)
 
 
 @jit
-def locate(md, st, W, c0, s0, tp, lo, hi, x, z0, phi, e, v, damping):
+def locate(md, st, seg, lo, hi, x, z0, wk, damping):
     """The crossing in ``[lo, hi]`` (segment time; the margin positive at ``lo``, negative at ``hi`` and decreasing
     in between), from the guess ``x``: the point where the margin is within half its round-off level, or ``hi``
-    where the bracket closes to an ulp first.  The modal state there is left in ``e, v``."""
+    where the bracket closes to an ulp first.  The modal state there is left in ``wk.e, wk.v``
+    (:class:`.data.Work`)."""
     floor = md.margin[D.SIZE, st]
-    cphi, sphi = cos(phi), sin(phi)
+    e, v = wk.e, wk.v
     x = min(max(x, lo), hi)
     for _ in range(MAX_NEWTON):
-        g, g1, size = margin_at(md, st, W, c0, s0, tp, x, z0, cphi, sphi, phi, e, v, damping)
+        g, g1, size = margin_at(md, st, seg, x, z0, e, v, damping)
         if abs(g) <= 0.5 * ZERO * max(size, floor):
             return x
         if g > 0:
@@ -117,5 +118,5 @@ def locate(md, st, W, c0, s0, tp, lo, hi, x, z0, phi, e, v, damping):
         if not lo < xn < hi:                       # the bracket is down to an ulp: the crossing is at hi
             break
         x = xn
-    margin_at(md, st, W, c0, s0, tp, hi, z0, cphi, sphi, phi, e, v, damping)
+    margin_at(md, st, seg, hi, z0, e, v, damping)
     return hi

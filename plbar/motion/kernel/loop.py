@@ -69,20 +69,20 @@ CHATTER_H = 1e-11   #: rebounds accumulate (:func:`rebound`) once the next fligh
 
 
 @jit
-def flow_all(md, st, W, tp, u, eta0, vel0, cphi, sphi, out_e, out_v, damping):
-    """Modal ``eta, eta'`` of every mode at ``u`` into a segment of state ``st`` that starts at ``tp``."""
-    cW, sW, sWu = half(W, u)
-    flow_at(md, st, W, cos(W * tp), sin(W * tp), u, cW, sW, sWu, eta0, vel0, cphi, sphi, out_e, out_v, damping)
+def flow_all(md, st, ld, u, z0, out_e, out_v, damping):
+    """Modal ``eta, eta'`` of every mode into ``out_e, out_v`` at ``u`` into a segment of state ``st`` and forcing
+    ``ld`` (:class:`.data.Forcing`) from the modal state ``z0[0 | 1]``."""
+    flow_at(md, st, ld, u, half(ld.W, u), z0, out_e, out_v, damping)
 
 
 @jit
-def flow_at(md, st, W, c0, s0, u, cW, sW, sWu, eta0, vel0, cphi, sphi, out_e, out_v, damping):
-    """:func:`flow_all` from ``c0, s0 = cos, sin(W tp)`` and ``half(W, u)`` (kept by the caller)."""
+def flow_at(md, st, ld, u, hf, z0, out_e, out_v, damping):
+    """:func:`flow_all` from ``hf = half(W, u)`` (kept by the caller)."""
     modal = md.modal
     for j in range(modal.shape[2]):
         z = 0.0 if damping is None else damping[st, D.ZETA, j]
-        out_e[j], out_v[j] = mode_flow(modal[D.W, st, j], z, modal[D.F, st, j], W, c0, s0, u, eta0[j], vel0[j],
-                                       cphi, sphi, cW, sW, sWu, damping)
+        out_e[j], out_v[j] = mode_flow(D.Mode(modal[D.W, st, j], modal[D.F, st, j], z), ld, u,
+                                       D.ModeState(z0[0, j], z0[1, j]), hf, damping)
 
 
 @inline
@@ -93,12 +93,11 @@ def _model(md, st, W, T, ca, sa, K, wk, damping):
     :func:`.certify.bracket`)."""
     modal, margin, d, scale, work = md.modal, md.margin, wk.d, wk.scale, wk.taylor
     cap = CAP * T
+    modes, load = D.Modes(modal[D.W, st], modal[D.F, st], modal[D.C, st]), D.LoadTerm(W, ca, sa, margin[D.RQ, st], 0.0)
     if damping is None:
-        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], wk.e, wk.v, W, ca,
-                         sa, cap, K, d, scale, None, None)
+        rem, Om = taylor(modes, None, wk.e, wk.v, load, cap, K, d, scale)
     else:
-        rem, Om = taylor(modal[D.C, st], margin[D.RQ, st], 0.0, modal[D.W, st], modal[D.F, st], wk.e, wk.v, W, ca,
-                         sa, cap, K, d, scale, damping[st, D.ZETA], damping[st, D.CV])
+        rem, Om = taylor(modes, D.Damping(damping[st, D.ZETA], damping[st, D.CV]), wk.e, wk.v, load, cap, K, d, scale)
     event, v, found = decide_step(d, rem, scale, K, Om * cap, margin[D.SIZE, st], work)
     landing = not event and 0 < v < Om * cap and d[1] < 0 and lands(d, K, rem, v, scale, margin[D.SIZE, st])
     hi, guess = 0.0, 0.0
@@ -195,16 +194,15 @@ def rebound(md, eta, vel, out_e, out_v, load, damping):
 
 
 @jit
-def _account(md, cur, acc, tau, rows, damping):
-    """Account the piece ``[tp, tp + tau]`` of the current segment (its start state ``cur.z0``) of the current
-    trajectory (``rows``: four rows of work space for :func:`.pieces.amplitude`)."""
+def _account(md, cur, seg, acc, tau, rows, damping):
+    """Account the piece ``[tp, tp + tau]`` of the current segment ``seg`` (:class:`.data.Segment`; its start state
+    ``cur.z0``) of the current trajectory (``rows``: four rows of work space for :func:`.pieces.amplitude`)."""
     if acc is None:
         return
-    f, s, z0, tot, first, b = cur.f, cur.s, cur.z0, cur.tot, cur.first, cur.b
-    st, tp, period = s[D.STATE], f[D.TP], s[D.PERIOD]
+    s, z0, tot, first, b = cur.s, cur.z0, cur.tot, cur.first, cur.b
+    st, period = s[D.STATE], s[D.PERIOD]
     full = period >= first
-    W, phi = f[D.OMEGA], f[D.PHI]
-    wk, d_eq, d_w, visc = piece_accounts(md, st, W, cos(phi), sin(phi), tp, tau, z0[0], z0[1], full, damping)
+    wk, d_eq, d_w, visc = piece_accounts(md, st, seg.ld, tau, z0, full, damping)
     tot[D.WORK] += wk
     tot[D.VISC] += visc
     if full:
@@ -216,7 +214,7 @@ def _account(md, cur, acc, tau, rows, damping):
         if st == STUCK:
             acc[b, r, D.STUCK_T] += tau
         elif tau > 0:
-            acc[b, r, D.AMP] = max(acc[b, r, D.AMP], amplitude(md, W, phi, tp, tau, z0[0], z0[1], rows, damping))
+            acc[b, r, D.AMP] = max(acc[b, r, D.AMP], amplitude(md, seg, tau, z0, rows, damping))
 
 
 @jit
@@ -226,16 +224,16 @@ def _set(row, x):
 
 
 @jit
-def _event(md, cur, rc, acc, wk, damping):
-    """Account the segment that ends here (at ``wk.e, wk.v``), switch, record the event, count zero-length
+def _event(md, cur, seg, rc, acc, wk, damping):
+    """Account the segment ``seg`` that ends here (at ``wk.e, wk.v``), switch, record the event, count zero-length
     segments."""
     per, ev, f, s, z0, tot, first, b = rc.per, rc.ev, cur.f, cur.s, cur.z0, cur.tot, cur.first, cur.b
     e, v, e2, v2 = wk.e, wk.v, wk.e2, wk.v2
     st, tp, period = s[D.STATE], f[D.TP], s[D.PERIOD]
     if st == FREE:                     # an impact: landed on x_c = 0 to its last bits, however it was found
-        f[D.P] = land(md, f[D.OMEGA], tp, f[D.P], 0.0, f[D.T] - tp, f[D.PHI], e, v, damping)
+        f[D.P] = land(md, seg, f[D.P], f[D.T] - tp, e, v, damping)
     p = f[D.P]
-    _account(md, cur, acc, p, wk.rows, damping)
+    _account(md, cur, seg, acc, p, wk.rows, damping)
     # (tp + p) first: the next segment starts at tp + p, so a zero-length phase's second event gets the same time
     # (summed as period T + tp + p it came out ulps before the first: event times must never decrease)
     time = period * f[D.T] + (tp + p)
@@ -267,14 +265,13 @@ def _event(md, cur, rc, acc, wk, damping):
 
 
 @jit
-def _boundary(md, cur, rc, acc, wk, damping):
-    """Account the last piece of the forcing period, restart the segment at its end, record the boundary state
-    (the state at the end is left in ``wk.e, wk.v``)."""
+def _boundary(md, cur, seg, rc, acc, wk, damping):
+    """Account the last piece of the forcing period (of the segment ``seg``), restart the segment at its end, record
+    the boundary state (the state at the end is left in ``wk.e, wk.v``)."""
     f, s, z0, first, b, e, v = cur.f, cur.s, cur.z0, cur.first, cur.b, wk.e, wk.v
     st, tp, period = s[D.STATE], f[D.TP], s[D.PERIOD]
-    _account(md, cur, acc, f[D.P], wk.rows, damping)
-    phi = f[D.PHI]
-    flow_all(md, st, f[D.OMEGA], tp, f[D.T] - tp, z0[0], z0[1], cos(phi), sin(phi), e, v, damping)
+    _account(md, cur, seg, acc, f[D.P], wk.rows, damping)
+    flow_all(md, st, seg.ld, f[D.T] - tp, z0, e, v, damping)
     _set(z0[0], e)
     _set(z0[1], v)
     s[D.PERIOD] = period + 1
@@ -299,17 +296,19 @@ def _run(md, cur, rc, acc, stop, wk, large, damping, halt):
     room = rc.ev.shape[1]
     if large is not None:
         particular(md, damping, W, wk.P, wk.fast)
-    seg, c0, s0 = -1.0, 1.0, 0.0
+    start, c0, s0 = -1.0, 1.0, 0.0
     while s[D.PERIOD] < stop and s[D.STATUS] == OK and halt[0] == 0:
         st, tp, p = s[D.STATE], f[D.TP], f[D.P]
-        if tp != seg:                          # the load's phase at the segment's start, once per segment
-            seg, c0, s0 = tp, cos(W * tp), sin(W * tp)
-        cW, sW, sWu = half(W, p)
-        flow_at(md, st, W, c0, s0, p, cW, sW, sWu, z0[0], z0[1], cphi, sphi, e, v, damping)
+        if tp != start:                        # the load's phase at the segment's start, once per segment
+            start, c0, s0 = tp, cos(W * tp), sin(W * tp)
+        ld = D.Forcing(W, c0, s0, cphi, sphi)
+        seg = D.Segment(ld, tp, phi)
+        hf = half(W, p)
+        flow_at(md, st, ld, p, hf, z0, e, v, damping)
         cth, sth = c0 * cphi + s0 * sphi, s0 * cphi - c0 * sphi      # cos, sin(W tp - phi); then at tp + p:
-        cWp = 1.0 - 2.0 * sW * sW
-        event, step, landing, hi, guess = _certify(md, st, W, T, cth * cWp - sth * sWu, sth * cWp + cth * sWu, wk,
-                                                   large, damping)
+        cWp = 1.0 - 2.0 * hf.sW * hf.sW
+        event, step, landing, hi, guess = _certify(md, st, W, T, cth * cWp - sth * hf.sWu, sth * cWp + cth * hf.sWu,
+                                                   wk, large, damping)
         if event and s[D.PERIOD] >= first and s[D.EVENTS] >= room:
             s[D.NEED] = 1                      # no room to record it: the caller grows the record and goes on
             return
@@ -317,7 +316,7 @@ def _run(md, cur, rc, acc, stop, wk, large, damping, halt):
             s[D.STALL] += 1
         s[D.ROUNDS] += 1
         if event:
-            _event(md, cur, rc, acc, wk, damping)
+            _event(md, cur, seg, rc, acc, wk, damping)
         else:
             end = T - tp
             new_p = p + (step if step > 0 else TINY * T)
@@ -325,17 +324,17 @@ def _run(md, cur, rc, acc, stop, wk, large, damping, halt):
                 new_p = np.nextafter(p, np.inf)
             f[D.P] = end if new_p >= end - TINY * T else new_p
             if f[D.P] >= end:
-                _boundary(md, cur, rc, acc, wk, damping)
+                _boundary(md, cur, seg, rc, acc, wk, damping)
                 if step > 0 and new_p > end:    # certified past the boundary: the next round starts there
                     f[D.P] = new_p - end
             elif s[D.PERIOD] >= first and s[D.EVENTS] >= room:
                 pass                           # no room to record an event here: the next round meets it
             elif landing:
-                flow_all(md, st, W, tp, f[D.P], z0[0], z0[1], cphi, sphi, e, v, damping)
-                _event(md, cur, rc, acc, wk, damping)                  # the step ends on a crossing
+                flow_all(md, st, ld, f[D.P], z0, e, v, damping)
+                _event(md, cur, seg, rc, acc, wk, damping)             # the step ends on a crossing
             elif 0 < hi and p + hi < end:      # the one crossing of a certified bracket, on the closed form
-                f[D.P] = locate(md, st, W, c0, s0, tp, f[D.P], p + hi, p + guess, z0, phi, e, v, damping)
-                _event(md, cur, rc, acc, wk, damping)
+                f[D.P] = locate(md, st, seg, f[D.P], p + hi, p + guess, z0, wk, damping)
+                _event(md, cur, seg, rc, acc, wk, damping)
         if s[D.STALL] > MAX_STALL:
             s[D.STATUS] = STALLED
 
@@ -349,10 +348,11 @@ def work_space(m):
 
 
 def _advance(stamp):
-    def advance(md, tr, rc, acc, first, idx, stop, large, damping, halt):
+    def advance(md, tr, rc, acc, idx, stop, large, damping, halt):
         """Advance the trajectories ``idx`` to the start of forcing period ``stop`` (or until each stops, or has no
         room left to record an event: ``NEED``, or until ``halt[0]`` is set, an int64 array of one element that
-        another thread may set: the state reached is kept, a later call goes on from it).
+        another thread may set: the state reached is kept, a later call goes on from it), recording from period
+        ``rc.first`` on.
 
         Each trajectory runs on copies of its state (no two threads write near each other) written back at the
         end.  All work space is allocated here: the functions below are compiled without reference counting
@@ -371,7 +371,7 @@ def _advance(stamp):
             _set(t3, tot[b])
             _set(z0[0], z[b, 0])
             _set(z0[1], z[b, 1])
-            _run(md, D.Current(b, first, f, s, z0, t3), rc, acc, stop, wk, large, damping, halt)
+            _run(md, D.Current(b, rc.first, f, s, z0, t3), rc, acc, stop, wk, large, damping, halt)
             _set(tf[b], f)
             _set(ti[b], s)
             _set(tot[b], t3)

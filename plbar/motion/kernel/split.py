@@ -57,8 +57,10 @@ def particular(md, damping, W, P, fast):
 
 
 @jit
-def _free(c, cvj, w, pr, pi, ct, st, W, eta, vel):
-    """``(|c| / w + |cv|) A``: the bound of a fast mode's free part in the margin (``A`` its free amplitude)."""
+def _free(c, cvj, w, pr, pi, load, eta, vel):
+    """``(|c| / w + |cv|) A``: the bound of a fast mode's free part in the margin (``A`` its free amplitude; ``pr, pi``
+    its steady amplitude, ``load`` the :class:`.data.LoadTerm` at the point)."""
+    W, ct, st = load.W, load.ca, load.sa
     h = eta - (pr * ct - pi * st)
     hv = vel + W * (pr * st + pi * ct)
     return (abs(c) / w + abs(cvj)) * sqrt((w * h) ** 2 + hv * hv)
@@ -74,10 +76,11 @@ def split_step(md, st, W, ct, s_t, cap, wk, damping):
     c, w, f = modal[D.C, st], modal[D.W, st], modal[D.F, st]
     m = w.size
     g = margin[D.RQ, st] * ct
+    at = D.LoadTerm(W, ct, s_t, margin[D.RQ, st], 0.0)
     for j in range(m):
         cvj = 0.0 if damping is None else damping[st, D.CV, j]
         g += c[j] * eta[j] + cvj * vel[j]
-        amp[j] = _free(c[j], cvj, w[j], P[st, 0, j], P[st, 1, j], ct, s_t, W, eta[j], vel[j])
+        amp[j] = _free(c[j], cvj, w[j], P[st, 0, j], P[st, 1, j], at, eta[j], vel[j])
     J, tail = m, 0.0
     for j in range(m - 1, max(fast[st], 1) - 1, -1):
         if tail + amp[j] > 0.25 * g:
@@ -96,11 +99,12 @@ def split_step(md, st, W, ct, s_t, cap, wk, damping):
         cvj = 0.0 if damping is None else damping[st, D.CV, j]
         Rc += c[j] * P[st, 0, j] - cvj * W * P[st, 1, j]
         Rs += -c[j] * P[st, 1, j] - cvj * W * P[st, 0, j]
+    low, load = D.Modes(w[:J], f[:J], c[:J]), D.LoadTerm(W, ct, s_t, Rc, Rs)
     if damping is None:
-        rem, Om = taylor(c[:J], Rc, Rs, w[:J], f[:J], eta[:J], vel[:J], W, ct, s_t, cap, K, d, scale, None, None)
+        rem, Om = taylor(low, None, eta[:J], vel[:J], load, cap, K, d, scale)
     else:
-        rem, Om = taylor(c[:J], Rc, Rs, w[:J], f[:J], eta[:J], vel[:J], W, ct, s_t, cap, K, d, scale,
-                         damping[st, D.ZETA, :J], damping[st, D.CV, :J])
+        rem, Om = taylor(low, D.Damping(damping[st, D.ZETA, :J], damping[st, D.CV, :J]), eta[:J], vel[:J], load, cap,
+                         K, d, scale)
     lead = d[0] - tail
     if not lead > 0:
         return -1.0

@@ -12,6 +12,7 @@ from __future__ import annotations
 from math import cos, pi, sin
 
 from ...motion.kernel.closed import half, mode_flow
+from ...motion.kernel.data import Forcing, Mode, ModeState
 from ...motion.kernel.integrals import psi
 from ..packed import AMPLITUDE, PSI, C, LOAD, W, ZETA
 from .stamp import cached
@@ -20,32 +21,32 @@ __all__ = ["energy", "PSI", "AMPLITUDE"]
 
 
 def _energy(stamp):
-    def energy(md, damping, dwell, T, phi, times, zs, what, samples):
+    def energy(md, dwell, T, phi, times, zs, what, samples):
         """With ``what`` :data:`PSI`: ``(sum w Psi, sum Psi, sum 2 zeta w Psi)`` over every segment; with
         :data:`AMPLITUDE`: ``(max |x_c|, 0, 0)`` over ``samples`` equally spaced points of every free phase."""
-        Om, cphi, sphi = 2.0 * pi / T, cos(phi), sin(phi)
+        Om, cphi, sphi, damping = 2.0 * pi / T, cos(phi), sin(phi), md.damping
         a, b, c, col = 0.0, 0.0, 0.0, 0
         for i in range(dwell.size if stamp >= 0 else 0):       # (the stamp keys the on-disk cache)
             for s in range(2 if dwell[i] == 1 else 1):
                 tab = md.tab1 if s == 0 and dwell[i] == 1 else md.tab2
                 m, t0, tau = tab.shape[1], times[col, 0], times[col, 1]
-                c0, s0 = cos(Om * t0), sin(Om * t0)
+                ld = Forcing(Om, cos(Om * t0), sin(Om * t0), cphi, sphi)
                 z = zs[col, 0]
                 col += 1
                 if what == PSI:
-                    cb, sb = cos(0.5 * Om * tau), sin(0.5 * Om * tau)
+                    hf = half(Om, tau)
                     for j in range(m):
                         w, zeta = tab[W, j], tab[ZETA, j]
-                        p = psi(w, zeta, tab[LOAD, j], Om, c0, s0, tau, z[j], z[m + j], cphi, sphi, damping, cb, sb)
+                        p = psi(Mode(w, tab[LOAD, j], zeta), ld, tau, ModeState(z[j], z[m + j]), damping, hf)
                         a, b, c = a + w * p, b + p, c + 2.0 * zeta * w * p
                 elif s == 1 or dwell[i] != 1:
                     for k in range(samples):
                         u = tau if k == samples - 1 else k * (tau / (samples - 1))
-                        cW, sW, sWu = half(Om, u)
+                        hf = half(Om, u)
                         g = 0.0
                         for j in range(m):
-                            g += tab[C, j] * mode_flow(tab[W, j], tab[ZETA, j], tab[LOAD, j], Om, c0, s0, u, z[j],
-                                                       z[m + j], cphi, sphi, cW, sW, sWu, damping)[0]
+                            g += tab[C, j] * mode_flow(Mode(tab[W, j], tab[LOAD, j], tab[ZETA, j]), ld, u,
+                                                       ModeState(z[j], z[m + j]), hf, damping)[0]
                         a = max(a, abs(g))
         return a, b, c
 

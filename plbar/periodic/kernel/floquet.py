@@ -15,6 +15,7 @@ from math import cos, sin
 import numpy as np
 
 from ...motion.kernel.closed import half, matvec, mode_flow
+from ...motion.kernel.data import Forcing, Mode, ModeState
 from ..packed import CV, LOAD, ZETA, C, W
 from .stamp import cached, jit
 
@@ -36,11 +37,12 @@ def _field(tab, Om, t, phi, z, out):
 def _free(tab, damping, Om, tau, P, Pn):
     """``Pn = Phi(tau) P``: the free flow of every mode (its 2 x 2 block) on the rows of ``P``."""
     m = tab.shape[1]
-    cW, sW, sWu = half(Om, tau)
+    hf = half(Om, tau)
+    free = Forcing(Om, 1.0, 0.0, 0.0, 0.0)      # no load
     for j in range(m):
-        w, f, zeta = tab[W, j], tab[LOAD, j], tab[ZETA, j]
-        p11, p21 = mode_flow(w, zeta, f, Om, 1.0, 0.0, tau, 1.0, 0.0, 0.0, 0.0, cW, sW, sWu, damping)
-        p12, p22 = mode_flow(w, zeta, f, Om, 1.0, 0.0, tau, 0.0, 1.0, 0.0, 0.0, cW, sW, sWu, damping)
+        mode = Mode(tab[W, j], tab[LOAD, j], tab[ZETA, j])
+        p11, p21 = mode_flow(mode, free, tau, ModeState(1.0, 0.0), hf, damping)
+        p12, p22 = mode_flow(mode, free, tau, ModeState(0.0, 1.0), hf, damping)
         for k in range(P.shape[1]):
             a, b = P[j, k], P[m + j, k]
             Pn[j, k], Pn[m + j, k] = p11 * a + p12 * b, p21 * a + p22 * b
@@ -62,8 +64,9 @@ def _salt(M, u, v, s, P, Pn):
 
 
 @jit
-def _opening(tab1, tab2, E, rq1, Om, t, phi, z, P, Pn):
+def _opening(md, Om, t, phi, z, P, Pn):
     """The saltation of the opening at ``t`` from the state I ``z`` (``h = -R``, its gradient ``(c, cv)``)."""
+    tab1, tab2, E, rq1 = md.tab1, md.tab2, md.E, md.rq1
     m1, n2 = tab1.shape[1], E.shape[0]
     fI, ez, f2, jump, dh = np.empty(2 * m1), np.empty(n2), np.empty(n2), np.empty(n2), np.empty(2 * m1)
     _field(tab1, Om, t, phi, z, fI)
@@ -99,9 +102,10 @@ def _impact(tabp, R, tab2, Om, t, phi, z, P, Pn):
 
 
 def _monodromy(stamp):
-    def monodromy(md, damping, dwell, T, phi, times, zs, M):
-        """``M``: the Jacobian of the ``m``-period map of the chain whose segments are ``times``, ``zs``."""
-        tab1, tab2, E, G, rq1, B = md.tab1, md.tab2, md.E, md.G, md.rq1, md.B
+    def monodromy(md, dwell, T, phi, times, zs, M):
+        """``M``: the Jacobian of the ``m``-period map of the chain of ``dwell`` whose segments are ``times``,
+        ``zs``."""
+        tab1, tab2, E, G, B, damping = md.tab1, md.tab2, md.E, md.G, md.B, md.damping
         n0, mm = M.shape[0], 2 * max(tab1.shape[1], tab2.shape[1])
         EG = np.zeros((E.shape[0], G.shape[1]))
         for i in range(E.shape[0]):
@@ -118,7 +122,7 @@ def _monodromy(stamp):
                 t = times[col, 0] + times[col, 1]
                 _free(tab1 if stuck else tab2, damping, Om, times[col, 1], P, Pn)
                 if stuck:
-                    _opening(tab1, tab2, E, rq1, Om, t, phi, zs[col, 1], Pn, P)
+                    _opening(md, Om, t, phi, zs[col, 1], Pn, P)
                 elif dwell[(i + 1) % k] == 1:
                     _impact(tab1, G, tab2, Om, t, phi, zs[col, 1], Pn, P)
                 elif dwell[(i + 1) % k] == 2:      # a rebound: Newton's law, the free phase goes on

@@ -5,7 +5,9 @@ point, halving the step where it fails), :func:`plbar.periodic.follow.correct` a
 (their docstrings say what they do), with the chain walked by :func:`.walk.chain` and the linear systems
 solved by LU with partial pivoting (:func:`lu_factor`, :func:`lu_solve`: a few dozen unknowns at most).  The
 tangent is the null vector of the augmented Jacobian, from the bordered system ``[Ja S; c] x = e`` (``c`` the
-last tangent, or the direction in ``T`` at the first point: the orientation is kept, ``c . t > 0``).
+last tangent, or the direction in ``T`` at the first point: the orientation is kept, ``c . t > 0``).  The
+problem is a :class:`plbar.periodic.packed.ChainModel` ``md``, the signature a :class:`plbar.periodic.packed.Pairs`
+``sig``.
 """
 
 from __future__ import annotations
@@ -70,17 +72,16 @@ def lu_solve(A, piv, b):
 
 
 @jit
-def augmented(md, damping, dwell, m, Y, F, A):
+def augmented(md, sig, Y, F, A):
     """``F`` at ``Y = (X, T)`` and the Jacobian in ``Y`` into the first rows of ``A``: exact in ``X``, the column in
     ``T`` a forward difference (step ``1e-7 T``); returns the switch scales."""
     nX = Y.size - 1
     X, T = Y[:nX], Y[nX]
     J, F2 = np.empty((nX, nX)), np.empty(nX)
-    w = walk_space(md, dwell, F, J)
-    chain(md, damping, dwell, m, T, X, w)
+    w = walk_space(md, sig.dwell, F, J)
+    chain(md, sig, T, X, w)
     h = 1e-7 * T
-    chain(md, damping, dwell, m, T + h, X, Walk(F2, np.empty((0, 0)), w.times, w.zs, w.zero, np.empty(w.scale.size),
-                                                 w.vimp))
+    chain(md, sig, T + h, X, Walk(F2, np.empty((0, 0)), w.times, w.zs, w.zero, np.empty(w.scale.size), w.vimp))
     for i in range(nX):
         copy(J[i], A[i])
         A[i, nX] = (F2[i] - F[i]) / h
@@ -140,7 +141,7 @@ def _newton_step(A, piv, F, Y, Yp, t, S, dY):
 
 
 @jit
-def correct(md, damping, dwell, m, Yp, t, S, newton, Ja, chord, Y):
+def correct(md, sig, Yp, t, S, newton, Ja, chord, Y):
     """Newton on ``F = 0`` and ``t . (Y - Yp) / S = 0`` from ``Yp`` into ``Y``: :data:`FAILED`, :data:`CONVERGED` (at
     ``Y``: the step from it, with residuals only, is below :data:`STEP_TOL`) or :data:`DONE` (the last step, below
     :data:`STEP_TOL`, taken; or the steps stalled below :data:`FLOOR_TOL`, at the round-off of the residuals:
@@ -149,11 +150,11 @@ def correct(md, damping, dwell, m, Yp, t, S, newton, Ja, chord, Y):
     With ``chord`` the augmented Jacobian ``Ja`` at the last point is factorised once and every iteration
     evaluates only the residuals (a chord method); a fresh Jacobian where the chord stalls.
     """
-    n, nz = Yp.size, start_size(md, dwell)
+    n, nz = Yp.size, start_size(md, sig.dwell)
     q = n - nz - 2
     A, piv = np.empty((n, n)), np.empty(n, np.int64)
     F, dY = np.empty(n - 1), np.empty(n)
-    w = walk_space(md, dwell, F, np.empty((0, 0)))
+    w = walk_space(md, sig.dwell, F, np.empty((0, 0)))
     copy(Yp, Y)
     have, last = False, inf
     for it in range(2 * newton if chord else newton):
@@ -161,9 +162,9 @@ def correct(md, damping, dwell, m, Yp, t, S, newton, Ja, chord, Y):
             return FAILED
         fresh = not chord or (not have and it > 0)
         if fresh:
-            augmented(md, damping, dwell, m, Y, F, A)
+            augmented(md, sig, Y, F, A)
         else:
-            chain(md, damping, dwell, m, Y[n - 1], Y[:n - 1], w)
+            chain(md, sig, Y[n - 1], Y[:n - 1], w)
         if fresh or not have:
             for i in range(n):
                 if not fresh and i < n - 1:
@@ -192,25 +193,26 @@ def correct(md, damping, dwell, m, Yp, t, S, newton, Ja, chord, Y):
 
 
 def _step(stamp):
-    def step(md, damping, dwell, m, Y, S, c, Ja, h, h_min, newton, mode, t, Ynew):
-        """``(outcome, h)``: with ``mode`` :data:`FOLLOW` a continuation step from ``Y`` (the tangent ``t`` from ``c``;
-        the corrector from ``Y + h t S`` into ``Ynew``, ``h`` halved where it fails, down to ``h_min``;
-        :data:`ENDED` where the predicted point has a duration that is not positive); with :data:`CHORD` (on
-        ``Ja``) or :data:`NEWTON` one correction from ``Y`` along ``t = c``.  The outcomes of :func:`correct`."""
-        n = Y.size
+    def step(md, sig, Y, S, c, Ja, ctl, t, Ynew):
+        """``(outcome, h)``: with ``ctl.mode`` :data:`FOLLOW` a continuation step from ``Y`` (the tangent ``t`` from
+        ``c``; the corrector from ``Y + h t S`` into ``Ynew``, ``h = ctl.h`` halved where it fails, down to
+        ``ctl.h_min``; :data:`ENDED` where the predicted point has a duration that is not positive); with
+        :data:`CHORD` (on ``Ja``) or :data:`NEWTON` one correction from ``Y`` along ``t = c``
+        (:class:`plbar.periodic.packed.Control`).  The outcomes of :func:`correct`."""
+        n, h, h_min, newton, mode = Y.size, ctl.h, ctl.h_min, ctl.newton, ctl.mode
         if mode == FOLLOW:
             Ja = np.empty((n - 1, n))
-            augmented(md, damping, dwell, m, Y, np.empty(n - 1), Ja)
+            augmented(md, sig, Y, np.empty(n - 1), Ja)
             if not tangent(Ja, S, c, t) or stamp < 0:      # (the stamp keys the on-disk cache)
                 return FAILED, h
         else:
             copy(c, t)
-        nz = start_size(md, dwell)
+        nz = start_size(md, sig.dwell)
         Yp = np.empty(n)
         while h >= h_min:
             for i in range(n):
                 Yp[i] = Y[i] + h * t[i] * S[i]
-            out = correct(md, damping, dwell, m, Yp, t, S, newton, Ja, mode != NEWTON, Ynew)
+            out = correct(md, sig, Yp, t, S, newton, Ja, mode != NEWTON, Ynew)
             if out != FAILED or mode != FOLLOW:
                 return out, h
             if not _positive(Yp, nz, n - nz - 2):
@@ -222,17 +224,17 @@ def _step(stamp):
 
 
 def _polish(stamp):
-    def polish(md, damping, dwell, m, T, X, maxit, roundoff):
+    def polish(md, sig, T, X, maxit, roundoff):
         """Newton on the chain's residuals from ``X`` (in place; damped by halving): :data:`DONE` or
         :data:`SINGULAR`."""
-        nX, nz = X.size, start_size(md, dwell)
+        nX, nz = X.size, start_size(md, sig.dwell)
         q = nX - nz - 1
         F, J, Fn = np.empty(nX), np.empty((nX, nX)), np.empty(nX)
         piv, dX, Xn = np.empty(nX, np.int64), np.empty(nX), X.copy()
-        w = walk_space(md, dwell, F, J)
+        w = walk_space(md, sig.dwell, F, J)
         wn = Walk(Fn, np.empty((0, 0)), w.times, w.zs, w.zero, np.empty(w.scale.size), w.vimp)   # residuals only
         for _ in range(maxit if stamp >= 0 else 0):     # (the stamp keys the on-disk cache)
-            r = chain(md, damping, dwell, m, T, X, w)
+            r = chain(md, sig, T, X, w)
             if r <= roundoff:
                 break
             if not lu_factor(J, piv):
@@ -245,7 +247,7 @@ def _polish(stamp):
                 for i in range(nX):
                     Xn[i] = X[i] + lam * dX[i]
                 if _positive(Xn, nz, q):
-                    chain(md, damping, dwell, m, T, Xn, wn)
+                    chain(md, sig, T, Xn, wn)
                     if relative(Fn, w.scale, X, nz, T) < r or lam < 1e-3:     # at the scales of X
                         break
                 lam *= 0.5

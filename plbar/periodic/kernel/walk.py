@@ -2,7 +2,7 @@
 
 The formulas of :mod:`plbar.periodic.chain` (its module docstring) one mode at a time.  Every
 modal flow is :func:`plbar.motion.kernel.closed.mode_flow` (undamped, or damped where
-``damping`` is given): the end state from the segment's start state; for the Jacobian also
+``md.damping`` is given): the end state from the segment's start state; for the Jacobian also
 the free flow's 2 x 2 block of each mode (unit initial states, no load) and the forced
 part's derivative in the phase (zero initial state, ``(cos, sin)`` of the phase replaced by
 ``(-sin phi, cos phi)``), all linear in those arguments.
@@ -12,7 +12,7 @@ The model is a :class:`plbar.periodic.packed.ChainModel` ``md``: a state's table
 weights of its margin (``-r_eta`` in state I, ``-gap_row`` in state II), its damping ratios and
 the damper's share of the reaction (zero where there is none); ``md.E, md.G, md.B`` are the switch
 maps (opening, impact, rebound), ``md.rq1 = -r_q``.  What a walk fills is a
-:class:`plbar.periodic.packed.Walk`.
+:class:`plbar.periodic.packed.Walk`; the signature is a :class:`plbar.periodic.packed.Pairs` ``sig``.
 A pair's kind ``dwell[i]`` is 1 (a stuck phase of positive dwell, then the free phase), 0 (zero dwell: the
 opening at once) or 2 (a rebound: the free phase at once); the impact that ends a pair is a rebound (``B``)
 when the next pair is of kind 2, else the plastic impact (``G``).
@@ -25,39 +25,44 @@ from math import cos, pi, sin
 import numpy as np
 
 from ...motion.kernel.closed import half, matvec, mode_flow
-from ..packed import CV, LOAD, ZETA, C, W, Walk
+from ...motion.kernel.data import Forcing, Mode, ModeState, Segment
+from ..packed import CV, LOAD, ZETA, C, W, Jet, Walk
 from .stamp import cached, jit
 
 __all__ = ["chain", "segments", "copy", "relative", "start_size", "walk_space"]
 
 
 @jit
-def _flow(tab, damping, Om, t, tau, cphi, sphi, z, z1):
-    """``z1``: the state at the end of a segment of ``tau`` from ``z`` at ``t``."""
+def _flow(tab, damping, ld, tau, z, z1):
+    """``z1``: the state at the end of a segment of ``tau`` and forcing ``ld`` from ``z``."""
     m = tab.shape[1]
-    c0, s0 = cos(Om * t), sin(Om * t)
-    cW, sW, sWu = half(Om, tau)
+    hf = half(ld.W, tau)
     for j in range(m):
-        z1[j], z1[m + j] = mode_flow(tab[W, j], tab[ZETA, j], tab[LOAD, j], Om, c0, s0, tau, z[j], z[m + j], cphi, sphi,
-                                     cW, sW, sWu, damping)
+        z1[j], z1[m + j] = mode_flow(Mode(tab[W, j], tab[LOAD, j], tab[ZETA, j]), ld, tau, ModeState(z[j], z[m + j]),
+                                     hf, damping)
 
 
 @jit
-def _flow_jac(tab, damping, Om, t, tau, phi, z, z1, D, Dn, tcol, dcol):
-    """:func:`_flow` and ``Dn = dz1/dX`` from ``D = dz/dX``: the free flow (unit initial states, no load), the phase
-    (the forced part at ``(-sin phi, cos phi)``), a later start (``-Om d/dphi`` of the forced part) and the segment's
-    own duration (column ``dcol``: the vector field at the end)."""
+def _flow_jac(tab, damping, seg, tau, src, dst, tcol, dcol):
+    """:func:`_flow` over the segment ``seg`` (a :class:`plbar.motion.kernel.data.Segment`) and its derivative:
+    ``dst`` (a :class:`plbar.periodic.packed.Jet`) from ``src``: the free flow (unit initial states, no load), the
+    phase (the forced part at ``(-sin phi, cos phi)``), a later start (``-Om d/dphi`` of the forced part) and the
+    segment's own duration (column ``dcol``: the vector field at the end)."""
+    z, D, z1, Dn = src.z, src.D, dst.z, dst.D
     m, nX = tab.shape[1], D.shape[1]
-    cphi, sphi = cos(phi), sin(phi)
-    c0, s0 = cos(Om * t), sin(Om * t)
-    cW, sW, sWu = half(Om, tau)
-    load = cos(Om * (t + tau) - phi)
+    ld = seg.ld
+    Om, cphi, sphi = ld.W, ld.cphi, ld.sphi
+    free = Forcing(Om, ld.c0, ld.s0, 0.0, 0.0)          # no load
+    phase = Forcing(Om, ld.c0, ld.s0, -sphi, cphi)      # d/dphi of the forced part
+    hf = half(Om, tau)
+    load = cos(Om * (seg.ts + tau) - seg.phi)
     for j in range(m):
         w, f, zeta = tab[W, j], tab[LOAD, j], tab[ZETA, j]
-        e, v = mode_flow(w, zeta, f, Om, c0, s0, tau, z[j], z[m + j], cphi, sphi, cW, sW, sWu, damping)
-        p11, p21 = mode_flow(w, zeta, f, Om, c0, s0, tau, 1.0, 0.0, 0.0, 0.0, cW, sW, sWu, damping)
-        p12, p22 = mode_flow(w, zeta, f, Om, c0, s0, tau, 0.0, 1.0, 0.0, 0.0, cW, sW, sWu, damping)
-        de, dv = mode_flow(w, zeta, f, Om, c0, s0, tau, 0.0, 0.0, -sphi, cphi, cW, sW, sWu, damping)
+        mode = Mode(w, f, zeta)
+        e, v = mode_flow(mode, ld, tau, ModeState(z[j], z[m + j]), hf, damping)
+        p11, p21 = mode_flow(mode, free, tau, ModeState(1.0, 0.0), hf, damping)
+        p12, p22 = mode_flow(mode, free, tau, ModeState(0.0, 1.0), hf, damping)
+        de, dv = mode_flow(mode, phase, tau, ModeState(0.0, 0.0), hf, damping)
         z1[j], z1[m + j] = e, v
         for k in range(nX):
             a, b = D[j, k], D[m + j, k]
@@ -153,8 +158,10 @@ def relative(F, scale, X, nz, T):
 
 
 @jit
-def _close(X, nz, q, m, T, z, D, F, J, jac):
-    """The last rows: ``sum tau = m T`` and the periodicity ``z(m T) = z0`` (with ``jac`` their Jacobian rows)."""
+def _close(X, nz, m, T, end, out, jac):
+    """The last rows of ``out`` (a :class:`plbar.periodic.packed.Walk`): ``sum tau = m T`` and the periodicity
+    ``z(m T) = z0`` at the state ``end`` (a :class:`plbar.periodic.packed.Jet`; with ``jac`` their Jacobian rows)."""
+    q, z, D, F, J = X.size - nz - 1, end.z, end.D, out.F, out.J
     total = 0.0
     for i in range(q):
         total += X[nz + i]
@@ -169,9 +176,9 @@ def _close(X, nz, q, m, T, z, D, F, J, jac):
 
 
 def _chain(stamp):
-    def chain(md, damping, dwell, m, T, X, out):
-        """Residuals ``out.F`` (and, unless ``out.J`` is empty, the Jacobian ``out.J``) of the chain of ``dwell``
-        over ``m`` periods at ``T``; returns the largest relative residual (:func:`relative`).
+    def chain(md, sig, T, X, out):
+        """Residuals ``out.F`` (and, unless ``out.J`` is empty, the Jacobian ``out.J``) of the chain of ``sig.dwell``
+        over ``sig.m`` periods at ``T``; returns the largest relative residual (:func:`relative`).
 
         Also fills (:class:`plbar.periodic.packed.Walk`) the segments' start times and lengths ``times[i]``, their
         states ``zs[i, 0 | 1]`` (start, end; padded; segment ``i`` is the one of duration ``X[nz + i]``), the
@@ -179,7 +186,7 @@ def _chain(stamp):
         ``scale`` and the contact velocity before every impact ``vimp``.  The state and its derivative live in two
         buffers each (``a``: the current one).
         """
-        tab1, tab2, E, G, rq1, B = md.tab1, md.tab2, md.E, md.G, md.rq1, md.B
+        tab1, tab2, E, G, rq1, B, damping, dwell = md.tab1, md.tab2, md.E, md.G, md.rq1, md.B, md.damping, sig.dwell
         F, J, times, zs, zero, scale, vimp = out.F, out.J, out.times, out.zs, out.zero, out.scale, out.vimp
         nz, nX, k = start_size(md, dwell), X.size, dwell.size
         n, jac = 2 * max(tab1.shape[1], tab2.shape[1]), J.size > 0 and stamp >= 0   # (the stamp keys the cache)
@@ -202,12 +209,14 @@ def _chain(stamp):
                     nzero += 1
                 else:
                     tau = X[nz + col]
+                    ld = Forcing(Om, cos(Om * t), sin(Om * t), cphi, sphi)
                     if jac:
-                        _flow_jac(tab, damping, Om, t, tau, phi, Z[a], Z[1 - a], DD[a], DD[1 - a], tcol, nz + col)
+                        _flow_jac(tab, damping, Segment(ld, t, phi), tau, Jet(Z[a], DD[a]), Jet(Z[1 - a], DD[1 - a]),
+                                  tcol, nz + col)
                         tcol[nz + col] = 1.0
                         _gradient(tab, rq, Om, t + tau, phi, DD[1 - a], tcol, J[col])
                     else:
-                        _flow(tab, damping, Om, t, tau, cphi, sphi, Z[a], Z[1 - a])
+                        _flow(tab, damping, ld, tau, Z[a], Z[1 - a])
                     F[col], scale[col] = _margin(tab, rq, Om, t + tau, phi, Z[1 - a])
                     times[col, 0], times[col, 1] = t, tau
                     copy(Z[a], zs[col, 0])
@@ -222,7 +231,7 @@ def _chain(stamp):
                 if jac:
                     _switch_rows(M, DD[a], DD[1 - a])
                 a = 1 - a
-        _close(X, nz, nX - nz - 1, m, T, Z[a], DD[a], F, J, jac)
+        _close(X, nz, sig.m, T, Jet(Z[a], DD[a]), out, jac)
         return relative(F, scale, X, nz, T)
 
     return chain

@@ -127,15 +127,7 @@ def orbit_of(prob, r: Run, b: int, m: int) -> Orbit:
     Raises :class:`plbar.PlbarError` (Newton does not converge) or ``ValueError`` (the switches are not
     opening/impact pairs).
     """
-    R = r.record
-    k0 = max(0, R - 2 * m)
-    T = float(r.T[b])
-    t_b = (r.periods - R + k0) * T
-    sel = r.events["traj"] == b
-    te, ke = r.events["time"][sel], r.events["kind"][sel]
-    after = te >= t_b
-    o = from_motion(prob, T, m, t_b, r.strobe_x[b, k0], r.strobe_v[b, k0], int(r.strobe_state[b, k0]), te[after],
-                    ke[after], float(r.phi[b]))
+    o = from_motion(prob, r, b, m, max(0, r.record - 2 * m))
     return o.minimal() if o.period < o.sig.m else o
 
 
