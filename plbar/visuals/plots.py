@@ -299,17 +299,13 @@ def _edges(v):
     return np.r_[2 * v[0] - mid[0], mid, 2 * v[-1] - mid[-1]]
 
 
-def xi_load_map(path, positions: dict, worst: dict, fam, fams, units: str = "") -> Path:
+def xi_load_map(path, T, branch, fam, s, xi, xi_worst, xi_best, fams, units: str = "") -> Path:
     """``xi_eq`` over (period ``T``, load position ``s``) per family, with the largest ``xi_eq`` of any load above it.
 
-    ``positions``: the positions table (:func:`plbar.studies.loads.sweep.position_table`: ``T, branch`` per path point
-    (P,), ``xi`` (P, S) for unit forces at ``s`` (S,)); ``worst``: the worst-load table's columns ``xi_worst,
-    xi_best_single`` (P,), the worst load distribution and the best single force; ``fam`` (P,) the family of
-    every path point, ``fams`` the families drawn; ``units`` the bar's (:func:`plbar.visuals.style.unit_note`),
-    said on the axes.
+    ``T, branch, fam`` per path point (P,), ``xi`` (P, S) for unit forces at ``s`` (S,),
+    ``xi_worst, xi_best`` (P,) the worst load distribution and the best single force; ``units`` the bar's
+    (:func:`plbar.visuals.style.unit_note`), said on the axes.
     """
-    T, branch, s, xi = (np.asarray(positions[k]) for k in ("T", "branch", "s", "xi"))
-    xi_worst, xi_best = np.asarray(worst["xi_worst"]), np.asarray(worst["xi_best_single"])
     plt = _plt()
     fig, ax = plt.subplots(2, len(fams), figsize=(4.5 * len(fams), 6), sharex="col", squeeze=False,
                            gridspec_kw={"height_ratios": [1, 2]})

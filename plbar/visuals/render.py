@@ -230,17 +230,16 @@ def render(source, out, field: str = "displacement", snapshots: int = 4, gif: bo
     shots = tuple(_save_png(out / f"snapshot_{j:02d}.png", imgs[k]) for j, k in enumerate(ks[:snapshots]))
     montage = _save_png(out / "snapshots.png", np.vstack([imgs[k] for k in ks[:snapshots]]))
     gif_path = _save_gif(out / "response.gif", [imgs[int(k)] for k in first], gif_seconds) if gif else None
-    st = _spacetime(out / "spacetime.png", sc)
+    st = _spacetime(out / "spacetime.png", data, sc.x, sc.vals, sc.on_points, sc.seg_cell, first, sc.t_loc, sc.T,
+                    field, sc.clim, sc.cmap)
     return RenderFiles(shots, montage, st, gif_path, field, sc.scale)
 
 
-def _spacetime(path, sc: _Scene):
-    """The scene's field over ``(x, t/T)`` for one period (a simulated motion: its window, impacts and openings
-    drawn), viewed from above."""
+def _spacetime(path, data, x, vals, on_points, seg_cell, first, t_loc, T, field, clim, cmap):
+    """Field over ``(x, t/T)`` for one period (a simulated motion: its window, impacts and openings drawn), viewed
+    from above."""
     import pyvista as pv
 
-    data, x, vals, on_points, t_loc, first, T, field = (sc.data, sc.x, sc.vals, sc.on_points, sc.t_loc, sc.first,
-                                                        sc.T, sc.field)
     L = float(x[-1])
     H = 0.8 * L
     motion = "event" in data.field_data                     # a simulated motion: its whole window, events marked
@@ -257,11 +256,11 @@ def _spacetime(path, sc: _Scene):
     if on_points:
         g.point_data[field] = v.ravel()                     # x fastest
     else:
-        g.cell_data[field] = v[:, sc.seg_cell].ravel()
+        g.cell_data[field] = v[:, seg_cell].ravel()
     p = pv.Plotter(off_screen=True, window_size=(900, 760))
     try:
         p.set_background("white")
-        p.add_mesh(g, scalars=field, clim=sc.clim, cmap=sc.cmap, show_scalar_bar=True, lighting=False,
+        p.add_mesh(g, scalars=field, clim=clim, cmap=cmap, show_scalar_bar=True, lighting=False,
                    scalar_bar_args=_scalar_bar(p, field, (900, 760), x=0.88, y=0.1, height=0.76, width=0.05))
         T1 = data.info.get("T1")
         if motion:

@@ -86,11 +86,11 @@ def _write_mesh(out: Path, pos: dict, fam) -> Path:
     return write_xi_along_mesh(line, s, fields, out / "xi_along_mesh.vtu")
 
 
-def _plot(out: Path, fam, pos, wcols, units: str) -> Path:
+def _plot(out: Path, lf, fam, pos, wcols, units: str) -> Path:
     from ...visuals import xi_load_map
 
-    return xi_load_map(out / "xi_T_s.png", pos, wcols, fam, [f for f in FAMILIES + (OTHER,) if np.any(fam == f)],
-                       units)
+    return xi_load_map(out / "xi_T_s.png", lf.T, lf.branch, fam, pos["s"], pos["xi"], wcols["xi_worst"],
+                       wcols["xi_best_single"], [f for f in FAMILIES + (OTHER,) if np.any(fam == f)], units)
 
 
 def write_all(out: Path, r: dict, res, plot: bool, csv: bool) -> dict:
@@ -100,6 +100,6 @@ def write_all(out: Path, r: dict, res, plot: bool, csv: bool) -> dict:
     if plot:
         from ...visuals.style import unit_note
 
-        files["plot"] = _plot(out, fam, r["positions"], r["worst_load"], unit_note(res.paths.prob.bar))
+        files["plot"] = _plot(out, lf, fam, r["positions"], r["worst_load"], unit_note(res.paths.prob.bar))
     files["summary"] = write_json(out / "summary.json", r["summary"])
     return files
