@@ -111,7 +111,7 @@ def test_damped_multipliers_match_finite_differences(res):
 def test_damping_pulls_the_multipliers_inwards(damped_result, default_result):
     """A stable damped response attracts a perturbed start; damping shrinks the spectral radius."""
     prob = damped_result.prob
-    i = max(range(len(damped_result.paper)), key=lambda j: len(damped_result.paper[j]))
+    i = max(range(len(damped_result.paths.branches)), key=lambda j: len(damped_result.paper[j]))   # the scan's
     b = damped_result.paper[i]
     k = int(np.argmin(b.max_abs_multiplier))
     o = damped_result.paths.branches[i].orbits.take([k])

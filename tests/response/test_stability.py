@@ -172,7 +172,7 @@ def test_truncated_model_multipliers_converge_to_the_full_ones():
     """With every mode kept the truncated path is the full one; with most modes the multipliers agree closely."""
     full = plbar.Case(model="fe", n=12, grid=(80, 80), signatures="paper")
     res = plbar.solve(full)
-    i = max(range(len(res.paper)), key=lambda j: len(res.paper[j]))
+    i = max(range(len(res.paths.branches)), key=lambda j: len(res.paper[j]))      # the scan's, in its order
     b, p = res.paper[i], res.paths.branches[i]
     k = len(b) // 2
     o = b.orbits[k]
