@@ -145,7 +145,7 @@ class Structure:
 
     def physical(self, y: np.ndarray) -> np.ndarray:
         """DOF vectors ``x = B y`` (last axis) from the solvers' contact coordinates (:func:`contact_coordinates`)."""
-        return np.asarray(y, float) @ contact_coordinates(self).B.T
+        return np.asarray(y, float) @ _basis(self)[0].T
 
 
 def _describe_row(r: np.ndarray) -> str:
@@ -186,15 +186,21 @@ def contact_coordinates(s: Structure) -> Coordinates:
     ``y = (x_o, r . x)``: ``x_o = y_o`` and ``x_c = (u - r_o . y_o) / r_c``.  Exact (no arithmetic) when ``r``
     is a multiple of one unit vector up to the scale of ``u``, and the identity for ``r = e_{n-1}``.
     """
+    B, c, o = _basis(s)
+    r = s.contact
+    if c == s.n - 1 and r[c] == 1.0 and not np.any(r[o]):
+        return Coordinates(s.M, s.K, s.q, s.x, B, True)
+    x = np.concatenate([s.x[o], s.x[c:c + 1]])
+    return Coordinates(B.T @ s.M @ B, B.T @ s.K @ B, B.T @ s.q, x, B, False)
+
+
+def _basis(s: Structure) -> tuple[np.ndarray, int, np.ndarray]:
+    """``B`` of :func:`contact_coordinates` (``x = B y``), the DOF ``c`` the contact coordinate replaces, the others."""
     r, n = s.contact, s.n
-    a = np.abs(r)
-    c = int(n - 1 - np.argmax(a[::-1]))
+    c = int(n - 1 - np.argmax(np.abs(r)[::-1]))
     o = np.array([i for i in range(n) if i != c], int)
     B = np.zeros((n, n))
     B[o, np.arange(n - 1)] = 1.0
     B[c, :-1] = -r[o] / r[c]
     B[c, -1] = 1.0 / r[c]
-    if c == n - 1 and r[c] == 1.0 and not np.any(r[o]):
-        return Coordinates(s.M, s.K, s.q, s.x, B, True)
-    x = np.concatenate([s.x[o], s.x[c:c + 1]])
-    return Coordinates(B.T @ s.M @ B, B.T @ s.K @ B, B.T @ s.q, x, B, False)
+    return B, c, o
