@@ -18,6 +18,13 @@ from plbar.motion.kernel.certify import ZERO, bracket, decide_step, polynomial_s
 from plbar.motion.kernel.locate import locate
 from plbar.motion.kernel.loop import work_space
 from plbar.motion.kernel.split import particular, split_step
+from plbar.util.jit import python_twin
+from twins import Twins
+
+# the kernel's helpers have no wrapper for Python callers: the tests call their twins (the same source)
+closed, integrals = Twins(closed), Twins(integrals)
+bracket, decide_step, polynomial_step, taylor, locate, work_space, particular, split_step = map(
+    python_twin, (bracket, decide_step, polynomial_step, taylor, locate, work_space, particular, split_step))
 from plbar.response import Forcing, Modes, psi, segment, segment_work
 
 RNG = np.random.default_rng(20261125)

@@ -163,6 +163,9 @@ def test_corrector_lands_on_the_curve_and_the_plane(prob):
 
 def test_lu_and_tangent_against_numpy():
     from plbar.periodic.kernel.newton import lu_factor, lu_solve, tangent
+    from plbar.util.jit import python_twin
+
+    lu_factor, lu_solve, tangent = map(python_twin, (lu_factor, lu_solve, tangent))
 
     rng = np.random.default_rng(0)
     for n in (2, 5, 13, 40):
