@@ -8,9 +8,20 @@
 from .case import Case
 from .cost import Cost, cost_note, estimate_cost
 from .casefile import OutputSettings, dump_case, load_case, loads_case
-from .export import case_of_run, from_run, render_response, select, write_response, write_response_data
-from .job import files_of, run_case_file
 from .run import CSV_HEADER, TEXT_COLUMNS, Result, case_fingerprint, check_output, read_paths, solve, write_results
+
+#: the names of :mod:`.export` and :mod:`.job`, imported on first use (a run that exports nothing does not import
+#: the writers of ParaView's files)
+_LATER = {"case_of_run": "export", "from_run": "export", "render_response": "export", "select": "export",
+          "write_response": "export", "write_response_data": "export", "files_of": "job", "run_case_file": "job"}
+
+
+def __getattr__(name: str):
+    if name in _LATER:
+        import importlib
+
+        return getattr(importlib.import_module(f".{_LATER[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 __all__ = ["Case", "Cost", "cost_note", "estimate_cost", "OutputSettings", "dump_case", "load_case", "loads_case",
            "from_run", "case_of_run", "render_response", "select", "write_response", "write_response_data", "files_of",

@@ -204,7 +204,7 @@ def branch_rows(branches) -> list[np.ndarray]:
     """
     cols: dict = {k: [] for k in CSV_HEADER}
     for b in branches:
-        graze = b.grazing
+        graze, label = b.grazing, b.label
         for j, o in enumerate(b.orbits):
             _, d, phi = canonical(o)                 # the durations and phase of the canonical rotation
             row = {"branch": b.id, "T1": float(d[0::2].sum()), "T2": float(d[1::2].sum()), "phi": phi, "T": o.T,
@@ -212,7 +212,7 @@ def branch_rows(branches) -> list[np.ndarray]:
                    "max_abs_multiplier": float(b.max_abs_multiplier[j]), "max_abs_xc": o.amplitude,
                    "omega": 2 * np.pi / o.T, "xi_w": o.xi_w, "viscous_loss": o.viscous,
                    "zeta_rayleigh": o.xi_total - o.xi, "xi_total": o.xi_total, "m": o.sig.m, "k": o.sig.k,
-                   "signature": b.label, "loss_per_T": o.loss_per_T, "durations": ";".join(f"{x:.17g}" for x in d)}
+                   "signature": label, "loss_per_T": o.loss_per_T, "durations": ";".join(f"{x:.17g}" for x in d)}
             for k, v in row.items():
                 cols[k].append(v)
     return [np.array(cols[k], dtype=object if k in TEXT_COLUMNS else None) if cols[k] else np.zeros(0)
