@@ -35,7 +35,6 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..errors import InputError
 from ..util.options import collect
@@ -202,6 +201,8 @@ def _bracket(sg: Segment, closed: bool, fresh: bool, span: float, dt: float, chu
     """``(lo, hi)`` around the first switch of ``sg`` within ``span``, or None: a sign change of the switch
     function on the grid, or a local extremum between grid points that reaches the threshold (a graze).
     ``low`` gets the lowest grid sample ``[f, tau]`` of the switch function on the way (the end's amplitude)."""
+    from scipy.optimize import brentq  # on use: importing scipy.optimize takes 0.13 s
+
     n = max(1, int(math.ceil(span / dt - 1e-9)))
     taus = np.linspace(0.0, span, n + 1)
     sgn = -1.0 if closed else 1.0                  # closed: R < 0 opens; open: u(L) >= 0 is an impact
@@ -234,6 +235,8 @@ def _bracket(sg: Segment, closed: bool, fresh: bool, span: float, dt: float, chu
 def _lowest(sg: Segment, low: list, tau: float, dt: float) -> float:
     """The end's largest excursion ``-u(L)`` in an open segment ``[0, tau]``, refined from the lowest grid sample
     to the turning point of ``u(L)`` (Brent's method on ``v(L)``)."""
+    from scipy.optimize import brentq  # on use: importing scipy.optimize takes 0.13 s
+
     f0, t0 = low
     if not np.isfinite(f0):
         return 0.0
@@ -246,6 +249,8 @@ def _lowest(sg: Segment, low: list, tau: float, dt: float) -> float:
 
 
 def _locate(sg: Segment, lo: float, hi: float) -> float:
+    from scipy.optimize import brentq  # on use: importing scipy.optimize takes 0.13 s
+
     g = lambda x: sg.switch(x)[0][0]  # noqa: E731
     if (g(lo) >= 0) == (g(hi) >= 0):               # a zero exactly at the start of a fresh segment
         return hi

@@ -13,7 +13,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..errors import InputError
 from .bar import ContinuumBar
@@ -67,6 +66,8 @@ def closed_modes(bar: ContinuumBar, K: int, rayleigh=(0.0, 0.0)) -> Modes:
 def open_modes(bar: ContinuumBar, K: int, rayleigh=(0.0, 0.0)) -> Modes:
     """The clamped bar with its free end mass: ``cos z = r z sin z`` (``r = m_e / rhoA L``), one root ``z_j`` in
     ``((j - 1) pi, (j - 1/2) pi)``; ``norm^2 = rhoA (L/2 - sin 2kL / 4k) + m_e sin^2 kL``."""
+    from scipy.optimize import brentq  # on use: importing scipy.optimize takes 0.13 s
+
     r = bar.end_mass / (bar.rhoA * bar.L)
     if r == 0:
         z = (np.arange(1, K + 1) - 0.5) * math.pi

@@ -137,3 +137,36 @@ def test_kill_and_resume(tmp_path):
     assert len(before) == 49
     assert _run(killed).returncode == 0
     assert before == {p.name: p.stat().st_mtime_ns for p in _final(tasks)}
+
+
+_ORDER: list = []
+
+
+def _record_order(task: dict) -> dict:
+    _ORDER.append(task["i"])
+    return {"i": task["i"]}
+
+
+def test_costliest_tasks_are_submitted_first_and_tables_keep_the_task_order(tmp_path):
+    """Study.cost: the longest-processing-time rule (submission by decreasing cost, ties in task order); the
+    results come back in task order whatever ran first."""
+    from plbar.studies import Study
+
+    costs = [1.0, 5.0, 2.0, 5.0, 0.5]
+    st = Study("order", _record_order, tuple({"i": i, "c": c} for i, c in enumerate(costs)), {},
+               cost=lambda t: t["c"])
+    _ORDER.clear()
+    res = run_study(tmp_path / "s", st, progress=False)
+    assert _ORDER == [1, 3, 2, 0, 4]
+    assert [r["i"] for r in res] == [0, 1, 2, 3, 4]
+
+
+def test_survey_tasks_are_sized_and_ordered_by_the_time_they_simulate():
+    """Four forcing periods a task (the default survey: 161 -> 41 tasks), each task's cost its simulated time."""
+    from plbar.studies.survey.study import survey_study
+    from plbar.studies.survey.tasks import task_cost
+
+    st = survey_study(plbar.Case(), np.linspace(6.0, 14.0, 161), 1000, 100)
+    assert len(st.tasks) == 41 and sum(len(t["T"]) for t in st.tasks) == 161
+    assert st.cost is task_cost
+    assert task_cost(st.tasks[-1]) == pytest.approx(1000 * sum(st.tasks[-1]["T"]), rel=1e-15)

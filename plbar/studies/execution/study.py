@@ -75,6 +75,10 @@ class Study:
         running ones included.  None: it counts finished tasks.
     unit : str
         The name of one unit.
+    cost : callable, optional
+        ``task -> float``: a task's predicted cost, in any unit.  The tasks are submitted costliest first (the
+        longest-processing-time rule: no worker is left alone with a long task at the end); the tables keep the
+        task order.  None: submitted in task order.
     """
 
     name: str
@@ -83,6 +87,7 @@ class Study:
     params: dict
     units: Callable[[dict], int] | None = None
     unit: str = "task"
+    cost: Callable[[dict], float] | None = None
 
     @property
     def func_name(self) -> str:
@@ -174,6 +179,8 @@ def run_study(folder, study: Study, executor: cf.Executor | None = None, progres
         old.unlink(missing_ok=True)
     todo = [(k, t) for k, t in zip(keys, study.tasks) if _read_task(_task_file(folder, k), k) is None]
     todo = list({k: t for k, t in todo}.items())          # duplicate tasks run once
+    if study.cost is not None:
+        todo.sort(key=lambda kt: -study.cost(kt[1]))         # stable: equal costs keep the task order
     ex = executor or SerialExecutor()
     units = study.units or (lambda _task: 1)
     every = dict(zip(keys, study.tasks))

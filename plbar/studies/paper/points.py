@@ -10,7 +10,6 @@ the ``D = 0`` curves (FORMULATION section 6).  :func:`exact_point` puts them on 
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import brentq
 
 __all__ = ["PAPER_POINTS", "exact_point", "point_at_period"]
 
@@ -47,6 +46,8 @@ def exact_point(prob, T1: float, T2_guess: float, width: float = 0.02):
     plbar.Orbits
         The single admissible orbit (``T1``, ``T2``, ``phi``, ``T`` exact to round-off).
     """
+    from scipy.optimize import brentq  # on use: importing scipy.optimize takes 0.13 s
+
     from ...paths.continuation import G
 
     T2 = brentq(lambda x: G(prob, np.array([T1]), np.array([x]))[0], T2_guess - width, T2_guess + width,
@@ -71,6 +72,8 @@ def point_at_period(prob, T: float, T1_guess: float, width: float = 0.02):
     plbar.Orbits
         The single admissible orbit.
     """
+    from scipy.optimize import brentq  # on use: importing scipy.optimize takes 0.13 s
+
     from ...paths.continuation import G
 
     T1 = brentq(lambda x: G(prob, np.array([x]), np.array([T - x]))[0], T1_guess - width, T1_guess + width,

@@ -24,7 +24,6 @@ import math
 from pathlib import Path
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ...util.files import write_csv, write_json
 from .convergence import converge, known_limit
@@ -117,6 +116,8 @@ def continuum_periods(level: dict, base: dict) -> tuple[float | None, float | No
     (``sqrt(k / m)`` per unit spacing for the chain, whose own ``m / 2`` at the
     contact is a fraction ``1 / (2 N)`` of its mass and vanishes in the limit).
     """
+    from scipy.optimize import brentq  # on use: importing scipy.optimize takes 0.13 s
+
     if base.get("model", "chain") == "chain":
         c = math.sqrt(base.get("k", 1.0) / base.get("m", 1.0))
         mu = level["end_mass"] / (level["length"] * base.get("m", 1.0))

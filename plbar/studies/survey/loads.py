@@ -37,7 +37,7 @@ from ..loads import check_positions
 from .points import COLUMNS
 from .study import (INT_COLUMNS, TEXT_COLUMNS, case_title, check_forcing_periods, columns_of, default_periods,
                     default_record)
-from .tasks import case_fields, survey_task, task_units
+from .tasks import case_fields, survey_task, task_cost, task_units
 
 __all__ = ["SurveyLoads", "LOADS_COLUMNS", "SURVEY_LOADS_OWNED", "load_positions", "survey_loads",
            "run_survey_loads", "survey_loads_study", "survey_loads_task"]
@@ -163,7 +163,7 @@ def survey_loads_study(case: Case, T, positions, sizes=None, periods: int = 1000
                           "T": [float(t) for t in T], "s": float(si), "N": int(c.n_eff)})
     params = {"periods": int(periods), "record": int(record), "T": [float(t) for t in T],
               "positions": [float(v) for v in s], "sizes": [t["N"] for t in tasks[::len(s)]]}
-    return Study("survey-loads", survey_loads_task, tuple(tasks), params, task_units, "period")
+    return Study("survey-loads", survey_loads_task, tuple(tasks), params, task_units, "period", task_cost)
 
 
 def _table(results: list[dict]) -> dict:

@@ -34,7 +34,7 @@ from ...util.reprs import build, rng
 from ..execution import SerialExecutor, Study
 from .points import COLUMNS
 from .study import INT_COLUMNS, TEXT_COLUMNS, columns_of, default_periods, survey_study
-from .tasks import case_fields, survey_task, task_units
+from .tasks import case_fields, survey_task, task_cost, task_units
 
 __all__ = ["SurveyRestitution", "RESTITUTION_COLUMNS", "RESTITUTIONS", "QUANTILES", "check_restitutions",
            "survey_restitution", "survey_restitution_study", "survey_restitution_task", "write_restitution"]
@@ -145,7 +145,7 @@ def survey_restitution_study(case: Case, T, restitutions, periods: int = 1000, r
         tasks += [dict(t, e=float(v)) for t in s.tasks]
     params = {"periods": params["periods"], "record": params["record"], "T": params["T"],
               "restitutions": [float(v) for v in e]}
-    return Study("survey-restitution", survey_restitution_task, tuple(tasks), params, task_units, "period")
+    return Study("survey-restitution", survey_restitution_task, tuple(tasks), params, task_units, "period", task_cost)
 
 
 def _table(results: list[dict]) -> dict:

@@ -17,7 +17,7 @@ from ...util.progress import message
 from ...util.reprs import build, rng
 from ..execution import SerialExecutor, Study, run_options, run_study
 from .points import COLUMNS
-from .tasks import MODES, case_fields, make_tasks, survey_task, task_units
+from .tasks import MODES, case_fields, make_tasks, survey_task, task_cost, task_units
 
 __all__ = ["Survey", "survey", "run_survey", "survey_study", "SURVEY_OWNED", "check_forcing_periods", "default_record"]
 
@@ -99,7 +99,7 @@ def survey_study(case: Case, T, periods: int = 1000, record: int | None = None, 
                          "state of a mesh from period to period)")
     tasks = make_tasks(case, T, int(periods), int(record), tuple(modes), chunks, checkpoints)
     params = {"periods": int(periods), "record": int(record), "modes": list(modes), "T": [float(t) for t in T]}
-    return Study("survey", survey_task, tuple(tasks), params, task_units, "period")
+    return Study("survey", survey_task, tuple(tasks), params, task_units, "period", task_cost)
 
 
 def columns_of(rows: list[dict], cols) -> dict:
