@@ -23,8 +23,8 @@ from ...util.version import code_hash
 from ..execution import report
 from .points import survey_chunk, start_json, start_of
 
-__all__ = ["survey_task", "task_units", "task_cost", "make_tasks", "balanced_parts", "sweep_key", "MODES", "default_chunks",
-           "case_fields", "case_of"]
+__all__ = ["survey_task", "task_units", "task_cost", "make_tasks", "balanced_parts", "sweep_key", "MODES",
+           "default_chunks", "case_fields", "case_of"]
 
 #: Case fields that apply to one model only
 _CHAIN_ONLY = ("m", "k")
