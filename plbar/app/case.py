@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import asdict, dataclass, field, fields, replace
+from dataclasses import asdict, dataclass, field, replace
 from functools import lru_cache
 
 import numpy as np
@@ -20,13 +20,13 @@ from ..paths import Domain, default_domain
 from ..util.check import choice, integer, interval, number, pairs, positive, show
 from ..util.check import grid as check_grid
 from .applies import FE_ONLY, check_applies
+from .given import SIGNATURES, matrices_fields, structure_dict, structure_fields
 
 __all__ = ["Case", "MODELS", "SIGNATURES"]
 
-MODELS = ("chain", "fe", "continuum", "structure")
+MODELS = ("chain", "fe", "continuum", "matrices", "structure")
 #: grid steps per travel time L / c of the continuum's characteristics (its ``n``) when not given
 CONTINUUM_STEPS = 32
-SIGNATURES = ("default", "paper", "all")    #: which periodic responses a solve finds (see Case.signatures)
 #: default load of an FE bar: a unit point force at this fraction of the length (mid-bar, whatever the mesh)
 DEFAULT_FE_LOAD = 0.5
 
@@ -37,12 +37,13 @@ class Case:
 
     Parameters
     ----------
-    model : {"chain", "fe", "continuum", "structure"}
+    model : {"chain", "fe", "continuum", "matrices", "structure"}
         The paper's mass-spring chain, a finite-element bar, or the uniform continuum bar solved exactly by
         characteristics (:mod:`plbar.continuum`: the N = infinity limit of the FE bar; a survey and its motions
         only, plastic, one point load, no FE options); with Rayleigh damping (a Kelvin-Voigt bar) by the exact
-        modes of each contact state, ``modes`` of them (default 1024; a survey only).  ``"structure"``: the
-        matrices of ``structure`` (set by giving it).
+        modes of each contact state, ``modes`` of them (default 1024; a survey only).  ``"matrices"``: another FE
+        program's structure, read from the file ``matrices``; ``"structure"``: the matrices of ``structure`` (set
+        by giving it).
     n : int, optional
         Masses of the chain / elements of the FE bar / grid steps per travel time ``L / c`` of the continuum (its
         fields are sampled on ``n + 1`` points) (default 5 / 8 / 32).
@@ -104,6 +105,15 @@ class Case:
         Any two-state structure by its matrices (:class:`plbar.Structure`: another FE code's, a beam, two bodies
         and a joint): ``run`` solves it as it solves a bar.  It carries its own load, damping and restitution
         (the case's ``rayleigh`` and ``restitution`` are taken from it); the bar's options do not apply.
+    matrices : str, optional
+        ``model = "matrices"``: a structure file (``.npz`` of ``M``, ``K``, the contact ``r`` or ``contact``, the
+        load ``q``, optional ``C`` of Rayleigh form or ``rayleigh``, ``restitution``, ``x``:
+        :func:`plbar.io.read_structure`); the case's ``rayleigh`` and ``restitution``, where given, replace the
+        file's (a restitution of 0, the default, keeps the file's).  Every command that needs no bar geometry
+        takes it (``run``, ``survey``).
+    matrices_digest : str, optional
+        The file's content digest (:func:`plbar.io.file_digest`): filled in when the case is made; given (a
+        study's task), the file must still hold that content.
     """
 
     model: str = "chain"
@@ -132,11 +142,14 @@ class Case:
     rayleigh: tuple[float, float] | None = None
     restitution: float = 0.0
     structure: Structure | None = None
+    matrices: str | None = None
+    matrices_digest: str | None = None
 
     def __post_init__(self):
+        if self.model == "matrices" or self.matrices is not None:
+            return self._set(matrices_fields(self))
         if self.structure is not None or self.model == "structure":
-            self._check_structure()
-            return
+            return self._set(structure_fields(self))
         choice("model", self.model, MODELS[:-1])
         choice("element", self.element, ELEMENTS)
         choice("mass", self.mass, MASSES)
@@ -181,31 +194,9 @@ class Case:
         object.__setattr__(self, "load_nodes", ld.nodes)
         object.__setattr__(self, "load_points", ld.points)
 
-    def _check_structure(self) -> None:
-        """A case of given matrices: the structure, and the search options (every bar option refused)."""
-        if not isinstance(self.structure, Structure):
-            raise InputError(f"structure = {show(self.structure)} must be a plbar.Structure (model = 'structure' "
-                             "is set by giving one)")
-        if self.model not in ("chain", "structure"):
-            raise InputError(f"model = {self.model!r} conflicts with a structure given by its matrices; drop model")
-        defaults = {f.name: f.default for f in fields(Case)}
-        bar = [k for k in ("n", "element", "mass", "length", "EA", "rhoA", "m", "k", "grading", "mesh_file",
-                           "point_masses", "end_mass", "end_mass_absolute", "load_nodes", "load_points",
-                           "rayleigh", "restitution") if getattr(self, k) != defaults[k]]
-        if bar:
-            raise InputError(f"{bar[0]} does not apply to a structure given by its matrices (plbar.Structure: "
-                             "its load, damping and restitution are its own)")
-        choice("method", self.method, ("continuation", "grid"))
-        choice("signatures", self.signatures, SIGNATURES)
-        if self.modes is not None:
-            object.__setattr__(self, "modes", integer("modes", self.modes, 1, self.structure.n))
-        object.__setattr__(self, "model", "structure")
-        object.__setattr__(self, "rayleigh", self.structure.rayleigh)
-        object.__setattr__(self, "restitution", self.structure.restitution)
-        object.__setattr__(self, "grid", check_grid(self.grid, warn=False))
-        for nm in ("T1", "T2"):
-            if getattr(self, nm) is not None:
-                object.__setattr__(self, nm, interval(f"search domain {nm}", getattr(self, nm)))
+    def _set(self, values: dict) -> None:
+        for name, v in values.items():
+            object.__setattr__(self, name, v)      # the validated, converted inputs
 
     dofs = property(lambda self: self.structure.n if self.structure is not None else self.bar().n_dofs,
                     doc="Free DOFs of the structure.")
@@ -309,10 +300,7 @@ class Case:
         damped case, ``restitution`` only where it is not 0.
         """
         if self.structure is not None:
-            st = self.structure
-            return {"model": "structure", "dofs": st.n, "structure": st.fingerprint, "grid": list(self.grid),
-                    "T1": self.T1, "T2": self.T2, "method": self.method, "signatures": self.signatures,
-                    "modes": self.modes, "restitution": st.restitution, "rayleigh": st.rayleigh}
+            return structure_dict(self)
         d = asdict(self)
         d.pop("structure")
         d["n"] = self.n_eff

@@ -222,13 +222,13 @@ def _loads(ctx: _Ctx, loads) -> tuple[list, list]:
     return nodes, points
 
 
-def _mesh_path(ctx: _Ctx, name: str, base: Path | None) -> str:
-    """``mesh_file`` relative to the case file's folder; it must exist."""
+def _mesh_path(ctx: _Ctx, name: str, base: Path | None, key: str = "mesh_file") -> str:
+    """A file named by the case (``mesh_file``, ``matrices``) relative to the case file's folder; it must exist."""
     mf = Path(name)
     if not mf.is_absolute() and base is not None:
         mf = base / mf
     if not mf.is_file():
-        raise ctx.err("bar", f"mesh_file = {_fmt(name)} does not exist (looked for {str(mf)!r})")
+        raise ctx.err("bar", f"{key} = {_fmt(name)} does not exist (looked for {str(mf)!r})")
     return str(mf)
 
 
@@ -270,9 +270,10 @@ def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
         if sec not in data:
             raise ctx.err("", f"missing required section [{sec}]")
     if "model" not in bar:
-        raise ctx.err("bar", 'missing required key "model"; choose "chain", "fe" or "continuum"')
-    if "mesh_file" in bar:
-        bar["mesh_file"] = _mesh_path(ctx, bar["mesh_file"], base)
+        raise ctx.err("bar", 'missing required key "model"; choose "chain", "fe", "continuum" or "matrices"')
+    for key in ("mesh_file", "matrices"):
+        if key in bar:
+            bar[key] = _mesh_path(ctx, bar[key], base, key)
     _damping_keys(ctx, bar)
     try:        # Case is the one validator of values (ranges, the mesh, the load against the bar)
         case = Case(load_nodes=tuple(nodes), load_points=tuple(points), label=title, **bar, **search)
@@ -320,9 +321,13 @@ def dump_case(case, output: OutputSettings | None = None) -> str:
         lines.append("")
     lines.append("[bar]")
     lines.append(f"model = {_fmt(case.model)}")
+    if case.model == "matrices":
+        lines.append(f"matrices = {_fmt(str(case.matrices))}")
     if case.n is not None:
         lines.append(f"n = {int(case.n)}")
-    if case.model == "chain":
+    if case.model == "matrices":
+        keys = ()
+    elif case.model == "chain":
         keys = ("m", "k")
     else:
         keys = ("element", "mass", "length", "EA", "rhoA", "grading")
@@ -339,6 +344,8 @@ def dump_case(case, output: OutputSettings | None = None) -> str:
         lines.append(f"modes = {int(case.modes)}")
     if case.rayleigh is not None:
         lines.append(f"rayleigh = {_fmt([float(x) for x in case.rayleigh])}")
+    if case.restitution:
+        lines.append(f"restitution = {_fmt(float(case.restitution))}")
     for k, a in case.load_nodes:
         lines += ["", "[[load]]", f"node = {int(k)}", f"amplitude = {_fmt(float(a))}"]
     for s, a in case.load_points:

@@ -97,8 +97,8 @@ class Result:
         stats = {k: (round(v, 6) if isinstance(v, float) else v) for k, v in self.stats.items()}
         return {
             "case": self.case.to_dict(),
-            "bar": self.prob.bar.describe() if self.prob.bar else "",
-            "load": self.prob.load.describe() if self.prob.load else "",
+            "bar": self.prob.bar.describe() if self.prob.bar else _structure_text(self.case),
+            "load": self.prob.load.describe() if self.prob.load else "the structure's own (its vector q)",
             "dofs": int(s.n),
             "rayleigh": [float(s.alpha), float(s.beta)] if s.damped else None,
             "T0_I": float(T0I), "T0_II": float(T0II),
@@ -114,6 +114,13 @@ class Result:
             "signatures_time": round(self.signatures_time, 6),
             "plbar_version": __version__,
         }
+
+
+def _structure_text(case: Case) -> str:
+    """What a structure given by its matrices is, in a line (its DOFs and where it came from)."""
+    where = f" from {case.matrices}" if case.matrices else ""
+    return f"a structure of {case.structure.n} DOFs{where} (contact row {case.structure.contact.tolist()})" \
+        if case.structure.n <= 6 else f"a structure of {case.structure.n} DOFs{where}"
 
 
 def solve(case: Case | Structure | None = None, progress: bool = False) -> Result:

@@ -14,7 +14,8 @@ FORMATS = ("pvd", "xdmf", "both")
 #: expected types: "int", "float" (int accepted), "str", "bool", ("choice", values), "pair", "grid", "pairs"
 SCHEMA = {
     "": {"title": "str", "bar": "table", "load": "tables", "search": "table", "output": "table"},
-    "bar": {"model": ("choice", ("chain", "fe", "continuum")), "n": "int", "element": ("choice", ("P1", "P2")),
+    "bar": {"model": ("choice", ("chain", "fe", "continuum", "matrices")), "matrices": "str", "n": "int",
+            "element": ("choice", ("P1", "P2")),
             "mass": ("choice", MASSES), "length": "float", "EA": "float", "rhoA": "float",
             "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs",
             "end_mass": "float", "end_mass_absolute": "bool", "modes": "int", "rayleigh": "pair",
@@ -36,7 +37,11 @@ HELP = {
          "search": "where to look for paths (optional)", "output": "what to write (optional)"},
     "bar": {"model": "the paper's chain of N masses (L = N), a finite-element bar, or the exact uniform bar by "
                      "characteristics (survey, export, render; n its steps per L/c; with Rayleigh damping by exact "
-                     "modes per contact state, `modes` of them, default 1024: survey only); required",
+                     "modes per contact state, `modes` of them, default 1024: survey only), or another FE "
+                     "program's structure (`matrices`: run and survey); required",
+            "matrices": "a structure file (.npz of `M`, `K`, the contact `r` or integer `contact`, the load `q`; "
+                        "optional `C` of Rayleigh form or `rayleigh`, `restitution`, `x`), relative to the TOML "
+                        "file; `model = \"matrices\"` only",
             "n": "masses of the chain / elements of the FE bar [5 / 8]; not with `mesh_file`",
             "element": "FE element [P1]; FE only",
             "mass": "FE mass matrix [lumped]; FE only; `redistributed` needs `end_mass` > 0",

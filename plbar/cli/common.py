@@ -42,7 +42,7 @@ CASE_OPTIONS = {"model": "--model", "elements": "-N/--elements", "element": "--e
                 "load_at": "--load-at", "grid": "--grid", "T1": "--T1", "T2": "--T2", "method": "--method",
                 "signatures": "--signatures", "rayleigh": "--rayleigh", "damping_ratio": "--damping-ratio",
                 "damping_at": "--damping-at", "restitution": "--restitution", "length": "--length", "EA": "--EA",
-                "rhoA": "--rhoA", "amplitude": "--amplitude"}
+                "rhoA": "--rhoA", "amplitude": "--amplitude", "matrices": "--matrices"}
 
 
 def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None:
@@ -73,9 +73,12 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
     g = p.add_argument_group("model")
     g.add_argument("--case", default=None, metavar="FILE.toml",
                    help="a TOML case file (examples/cases/); then no model, load or search option may be given")
-    g.add_argument("--model", choices=("chain", "fe", "continuum"), default=None,
-                   help="the paper's chain (L = N), a finite-element bar (L = 1, or --length), or the exact uniform "
-                        "bar by characteristics (survey, export, render; -N: its steps per L/c [32]) [chain]")
+    g.add_argument("--model", choices=("chain", "fe", "continuum", "matrices"), default=None,
+                   help="the paper's chain (L = N), a finite-element bar (L = 1, or --length), the exact uniform "
+                        "bar by characteristics (survey, export, render; -N: its steps per L/c [32]), or another "
+                        "FE program's structure (--matrices FILE.npz; run and survey) [chain]")
+    g.add_argument("--matrices", default=None, metavar="FILE.npz", help="--model matrices: a .npz of M, K, the "
+                   "contact (r, or a DOF contact), the load q; optional C (Rayleigh) or rayleigh, restitution, x")
     if sizes is None:
         g.add_argument("--elements", "-N", type=int, default=None, metavar="N",
                        help="masses of the chain / elements of the FE bar [5 / 8]")
@@ -208,7 +211,11 @@ def case_from_args(a):
     amp = _amplitude(getattr(a, "amplitude", None))
     nodes = tuple((k, amp) for k in (a.load_node or ()))
     points = tuple((s, amp) for s in (a.load_at or ()))
+    if getattr(a, "matrices", None) is not None and amp != 1.0:
+        raise InputError("--amplitude does not apply to --model matrices (the structure file holds the load "
+                         "vector q: scale it there)")
     kw = dict(model=a.model, n=getattr(a, "elements", None), element=a.element, mass=a.mass, mesh_file=a.mesh_file,
+              matrices=getattr(a, "matrices", None),
               length=getattr(a, "length", None), EA=getattr(a, "EA", None), rhoA=getattr(a, "rhoA", None),
               grading=a.grading, grid=tuple(a.grid) if a.grid else None, T1=tuple(a.T1) if a.T1 else None,
               T2=tuple(a.T2) if a.T2 else None, method=a.method,
@@ -216,7 +223,7 @@ def case_from_args(a):
               end_mass_absolute=a.end_mass_absolute, rayleigh=_rayleigh(a),
               restitution=getattr(a, "restitution", None))
     case = Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None})
-    if not hasattr(a, "sizes"):          # a list of sizes (-N): each size's case is checked where it is made
+    if not hasattr(a, "sizes") and case.structure is None:   # sizes (-N): each size's case is checked where made
         refuse_contact_load(case, nodes)
     if nodes or points or amp == 1.0:
         return case, None
@@ -236,7 +243,10 @@ def _amplitude(amp) -> float:
 
 def refuse_contact_load(case, nodes) -> None:
     """Refuse a ``--load-node`` (``nodes``) on the contact DOF of ``case``: the paper loads the bar away from its
-    contact (the last DOF, at the wall), where a force goes straight into the reaction."""
+    contact (the last DOF, at the wall), where a force goes straight into the reaction.  A structure given by its
+    matrices holds its own load (the case refuses ``--load-node``)."""
+    if case.structure is not None:
+        return
     n = case.bar().n_dofs
     if any(k == n for k, _ in nodes):
         raise InputError(f"--load-node {n} is the contact DOF (at the wall); the paper's load acts on DOFs 1..{n - 1} "

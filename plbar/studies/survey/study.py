@@ -253,12 +253,15 @@ def run_survey(case: Case, T, periods: int = 1000, record: int | None = None, ou
         from ...visuals.style import unit_note
 
         files["figure"] = survey_plot(table, folder, "survey", paths=paths, title=case_title(case),
-                                      units=unit_note(case.bar()))
+                                      units=unit_note(case.bar() if case.structure is None else None))
     return Survey(case, table, summary, files)
 
 
 def case_title(case: Case) -> str:
     """A figure title naming the model: ``chain N = 5``, ``FE P1 lumped, N = 16, end mass 0.5``."""
+    if case.structure is not None:
+        where = f" ({Path(case.matrices).name})" if case.matrices else ""
+        return f"structure of {case.structure.n} DOFs{where}"
     if case.model == "chain":
         return f"chain N = {case.n_eff}"
     if case.model == "continuum":

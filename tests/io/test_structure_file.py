@@ -1,0 +1,149 @@
+"""A structure from another FE program (``--model matrices``): the file, the case, the commands.
+
+The file route adds no physics: the same matrices given as a file or built by plbar must give the same answers bit
+for bit (the built-in bar, the two-body joint of ``tests/model/test_structure.py``); what is checked here is the
+file format (round trip, a Rayleigh ``C`` recovered, every refusal), the case (its digest, a case file) and the
+commands (``run``, ``survey``: the default case's files byte for byte).
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import plbar
+from plbar.app import dump_case, load_case
+from plbar.errors import InputError
+from plbar.io import read_structure, write_structure
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "model"))
+from test_structure import two_bodies  # noqa: E402
+
+
+def _chain_file(folder: Path) -> Path:
+    c = plbar.Case()
+    return write_structure(folder / "chain.npz", plbar.bar_structure(c.bar(), c.load()))
+
+
+def test_a_structure_file_round_trips_exactly(tmp_path):
+    st = plbar.Structure(two_bodies().M, two_bodies().K, two_bodies().contact, two_bodies().q, (0.01, 0.002), 0.3,
+                         np.arange(5.0))
+    back = read_structure(write_structure(tmp_path / "s.npz", st))
+    for k in ("M", "K", "contact", "q", "x"):
+        assert np.array_equal(getattr(back, k), getattr(st, k))
+    assert back.rayleigh == st.rayleigh and back.restitution == st.restitution
+    assert back.fingerprint == st.fingerprint
+
+
+def test_the_default_case_from_its_matrices_is_the_default_case(tmp_path):
+    """Every branch of every signature, bit for bit (the contact row e_c: nothing is transformed)."""
+    f = _chain_file(tmp_path)
+    a, b = plbar.solve(plbar.Case()), plbar.solve(plbar.Case(model="matrices", matrices=str(f)))
+    assert [x.label for x in a.branches] == [x.label for x in b.branches]
+    for x, y in zip(a.branches, b.branches):
+        assert np.array_equal(x.T, y.T) and np.array_equal(x.xi, y.xi) and np.array_equal(x.dPL, y.dPL)
+        assert np.array_equal(x.max_abs_multiplier, y.max_abs_multiplier)
+
+
+def test_a_joint_from_a_file_is_the_joint_given_as_a_structure(tmp_path):
+    """The two-body joint (contact row e_2 - e_3), its contact as r; as an integer contact DOF the row e_c."""
+    st = two_bodies()
+    f = write_structure(tmp_path / "joint.npz", st)
+    a = plbar.solve(plbar.Case(structure=st, signatures="paper"))
+    b = plbar.solve(plbar.Case(model="matrices", matrices=str(f), signatures="paper"))
+    assert len(a.branches) == len(b.branches) > 0
+    for x, y in zip(a.branches, b.branches):
+        assert np.array_equal(x.T, y.T) and np.array_equal(x.xi, y.xi)
+    np.savez(tmp_path / "dof.npz", M=st.M, K=st.K, q=st.q, contact=np.int64(4))
+    assert np.array_equal(read_structure(tmp_path / "dof.npz").contact, np.eye(5)[4])
+
+
+def test_a_rayleigh_C_is_recovered_and_any_other_C_refused(tmp_path):
+    st = two_bodies()
+    alpha, beta = 0.013, 0.0021
+    np.savez(tmp_path / "c.npz", M=st.M, K=st.K, r=st.contact, q=st.q, C=alpha * st.M + beta * st.K)
+    ab = read_structure(tmp_path / "c.npz").rayleigh
+    assert ab[0] == pytest.approx(alpha, rel=1e-12) and ab[1] == pytest.approx(beta, rel=1e-12)
+    C = alpha * st.M + beta * st.K
+    C[0, 0] += 1e-3
+    np.savez(tmp_path / "bad.npz", M=st.M, K=st.K, r=st.contact, q=st.q, C=C)
+    with pytest.raises(InputError, match="not of Rayleigh form"):
+        read_structure(tmp_path / "bad.npz")
+
+
+@pytest.mark.parametrize("extra, match", [
+    ({"gap": np.array(0.1)}, "a gap or a preload"),
+    ({"q_s": np.ones(5)}, "a constant load"),
+    ({"t": np.ones(5)}, "base excitation"),
+    ({"x0": np.ones(5)}, "a given start"),
+    ({"D": np.ones(5)}, "not an array plbar reads"),
+    ({"contact": np.int64(1)}, "one of r"),
+])
+def test_what_a_structure_file_cannot_hold_is_refused_by_name(tmp_path, extra, match):
+    st = two_bodies()
+    np.savez(tmp_path / "x.npz", M=st.M, K=st.K, r=st.contact, q=st.q, **extra)
+    with pytest.raises(InputError, match=match):
+        read_structure(tmp_path / "x.npz")
+
+
+def test_a_missing_or_broken_file_is_refused(tmp_path):
+    st = two_bodies()
+    with pytest.raises(InputError, match="does not exist"):
+        read_structure(tmp_path / "none.npz")
+    (tmp_path / "text.npz").write_text("not a zip")
+    with pytest.raises(InputError, match="not a readable"):
+        read_structure(tmp_path / "text.npz")
+    np.savez(tmp_path / "noM.npz", K=st.K, r=st.contact, q=st.q)
+    with pytest.raises(InputError, match="has no 'M'"):
+        read_structure(tmp_path / "noM.npz")
+    np.savez(tmp_path / "dof.npz", M=st.M, K=st.K, q=st.q, contact=np.int64(7))
+    with pytest.raises(InputError, match=r"one integer DOF in \[0, 4\]"):
+        read_structure(tmp_path / "dof.npz")
+    np.savez(tmp_path / "spd.npz", M=st.M, K=st.K, r=st.contact, q=np.zeros(5))
+    with pytest.raises(InputError, match="q = 0"):
+        read_structure(tmp_path / "spd.npz")
+
+
+def test_the_case_of_a_file_its_overrides_digest_and_refusals(tmp_path):
+    f = _chain_file(tmp_path)
+    c = plbar.Case(model="matrices", matrices=str(f), restitution=0.4, rayleigh=(0.01, 0.0))
+    assert c.structure.restitution == 0.4 and c.rayleigh == (0.01, 0.0) and c.dofs == 5
+    assert plbar.Case(**c.to_dict()) == c                    # what a study's task rebuilds
+    with pytest.raises(InputError, match="changed"):
+        plbar.Case(model="matrices", matrices=str(f), matrices_digest="0" * 16)
+    with pytest.raises(InputError, match="needs a structure file"):
+        plbar.Case(model="matrices")
+    with pytest.raises(InputError, match="end_mass does not apply to model = 'matrices'"):
+        plbar.Case(model="matrices", matrices=str(f), end_mass=0.5)
+    with pytest.raises(InputError, match="conflicts with matrices"):
+        plbar.Case(model="fe", matrices=str(f))
+
+
+def test_a_case_file_names_its_structure_file_relative_to_itself(tmp_path):
+    _chain_file(tmp_path)
+    (tmp_path / "case.toml").write_text('[bar]\nmodel = "matrices"\nmatrices = "chain.npz"\nrestitution = 0.5\n')
+    case, _ = load_case(tmp_path / "case.toml")
+    assert case.model == "matrices" and Path(case.matrices) == (tmp_path / "chain.npz").resolve()
+    assert case.restitution == 0.5
+    (tmp_path / "again.toml").write_text(dump_case(case))
+    assert load_case(tmp_path / "again.toml")[0] == case
+
+
+def test_run_and_survey_of_the_default_case_from_its_matrices_write_the_same_tables(tmp_path):
+    f = _chain_file(tmp_path)
+    cmd = [sys.executable, "-m", "plbar"]
+    common = ["--quiet", "--no-plot"]
+    for args, name in ((["run", "--signatures", "paper"], "paths.csv"),
+                       (["survey", "--T-list", "10", "12", "--periods", "200", "--no-paths"], "survey.csv")):
+        a, b = tmp_path / f"a-{args[0]}", tmp_path / f"b-{args[0]}"
+        subprocess.run(cmd + args + common + ["--out", str(a)], check=True, cwd=tmp_path)
+        subprocess.run(cmd + args + common + ["--model", "matrices", "--matrices", str(f), "--out", str(b)],
+                       check=True, cwd=tmp_path)
+        assert (a / name).read_bytes() == (b / name).read_bytes()
+    out = subprocess.run(cmd + ["run", "--model", "matrices", "--matrices", str(f), "--amplitude", "2", "--out",
+                                str(tmp_path / "c")], capture_output=True, text=True, cwd=tmp_path)
+    assert out.returncode != 0 and "--amplitude does not apply to --model matrices" in out.stderr
