@@ -59,39 +59,6 @@ class Branch:
         return np.array([getattr(o, name) for o in self.orbits], float)
 
     @property
-    def T(self):
-        return self._a("T")
-
-    @property
-    def dPL(self):
-        return self._a("dPL")
-
-    @property
-    def loss_per_T(self):
-        return self._a("loss_per_T")
-
-    @property
-    def xi(self):
-        return self._a("xi")
-
-    @property
-    def xi_w(self):
-        return self._a("xi_w")
-
-    @property
-    def xi_total(self):
-        return self._a("xi_total")
-
-    @property
-    def viscous(self):
-        return self._a("viscous")
-
-    @property
-    def amplitude(self):
-        """``max |x_c|`` of each orbit (:attr:`Orbit.amplitude`)."""
-        return self._a("amplitude")
-
-    @property
     def T1(self):
         """The total stuck time over each orbit (``m`` periods): the paper's ``T^I`` for ``1P``."""
         return np.array([o.durations[0::2].sum() for o in self.orbits])
@@ -127,10 +94,6 @@ class Branch:
                 f"stable {count(self.stable)}" + (f", events {{{ev}}}" if ev else "") +
                 f", ends: {' / '.join(self.ends)}")
 
-    @property
-    def phi(self):
-        return self._a("phi")
-
     def __len__(self) -> int:
         return len(self.orbits)
 
@@ -138,3 +101,13 @@ class Branch:
         return build("Branch", {"id": self.id, "signature": self.label, "points": len(self), "T": rng(self.T),
                                       "xi": rng(self.xi), "loss_per_T": rng(self.loss_per_T),
                                       "stable": count(self.stable), "events": len(self.events)})
+
+
+def _per_orbit(name: str, doc: str | None = None) -> property:
+    """The :class:`Branch` property of the orbits' ``name``, one value per point."""
+    return property(lambda b: b._a(name), doc=doc or f"Each orbit's ``{name}`` (:class:`plbar.periodic.Orbit`).")
+
+
+for _name in ("T", "phi", "dPL", "loss_per_T", "xi", "xi_w", "xi_total", "viscous"):
+    setattr(Branch, _name, _per_orbit(_name))
+Branch.amplitude = _per_orbit("amplitude", "``max |x_c|`` of each orbit (:attr:`Orbit.amplitude`).")

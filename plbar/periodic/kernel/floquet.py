@@ -64,21 +64,30 @@ def _salt(M, u, v, s, P, Pn):
 
 
 @jit
+def _jump(tab_a, Mp, tab_b, Om, t, phi, z, fa, jump):
+    """The field of ``tab_a`` at ``z`` into ``fa``, and into ``jump`` the field's jump across the switch map
+    ``Mp`` to the field of ``tab_b``: ``f_b(Mp z) - Mp f_a(z)`` (the saltation's numerator)."""
+    n = Mp.shape[0]
+    mz, fb = np.empty(n), np.empty(n)
+    _field(tab_a, Om, t, phi, z, fa)
+    matvec(Mp, z, mz)
+    _field(tab_b, Om, t, phi, mz, fb)
+    matvec(Mp, fa, jump)
+    for i in range(n):
+        jump[i] = fb[i] - jump[i]
+
+
+@jit
 def _opening(md, Om, t, phi, z, P, Pn):
     """The saltation of the opening at ``t`` from the state I ``z`` (``h = -R``, its gradient ``(c, cv)``)."""
-    tab1, tab2, E, rq1 = md.tab1, md.tab2, md.E, md.rq1
-    m1, n2 = tab1.shape[1], E.shape[0]
-    fI, ez, f2, jump, dh = np.empty(2 * m1), np.empty(n2), np.empty(n2), np.empty(n2), np.empty(2 * m1)
-    _field(tab1, Om, t, phi, z, fI)
-    matvec(E, z, ez)
-    _field(tab2, Om, t, phi, ez, f2)
-    matvec(E, fI, jump)
+    tab1, E, rq1 = md.tab1, md.E, md.rq1
+    m1 = tab1.shape[1]
+    fI, jump, dh = np.empty(2 * m1), np.empty(E.shape[0]), np.empty(2 * m1)
+    _jump(tab1, E, md.tab2, Om, t, phi, z, fI, jump)
     hdot = -rq1 * Om * sin(Om * t - phi)
     for j in range(m1):
         dh[j], dh[m1 + j] = tab1[C, j], tab1[CV, j]
         hdot += dh[j] * fI[j] + dh[m1 + j] * fI[m1 + j]
-    for i in range(n2):
-        jump[i] = f2[i] - jump[i]
     _salt(E, jump, dh, hdot, P, Pn)
 
 
@@ -86,19 +95,14 @@ def _opening(md, Om, t, phi, z, P, Pn):
 def _impact(tabp, R, tab2, Om, t, phi, z, P, Pn):
     """The saltation of the impact at ``t`` from the state II ``z`` (``h = x_c``, reset ``R``, then the field of
     ``tabp``)."""
-    m2, n = tab2.shape[1], R.shape[0]
-    fII, rz, fp, rf, e = np.empty(2 * m2), np.empty(n), np.empty(n), np.empty(n), np.zeros(2 * m2)
-    _field(tab2, Om, t, phi, z, fII)
-    matvec(R, z, rz)
-    _field(tabp, Om, t, phi, rz, fp)
-    matvec(R, fII, rf)
+    m2 = tab2.shape[1]
+    fII, jump, e = np.empty(2 * m2), np.empty(R.shape[0]), np.zeros(2 * m2)
+    _jump(tab2, R, tabp, Om, t, phi, z, fII, jump)
     vc = 0.0
     for j in range(m2):
         e[j] = -tab2[C, j]                 # the gap row (the state II margin is -x_c)
         vc += e[j] * z[m2 + j]
-    for i in range(n):
-        fp[i] -= rf[i]
-    _salt(R, fp, e, vc, P, Pn)
+    _salt(R, jump, e, vc, P, Pn)
 
 
 def _monodromy(stamp):
