@@ -42,6 +42,9 @@ def check_applies(case) -> None:
             k, v = given[0]
             raise InputError(f"{k} = {show(v)} conflicts with mesh_file = {case.mesh_file!r}, which fixes the "
                              f"mesh (its elements, grading and length); drop {k} ({_flag(k)}) or the mesh file")
+    if case.load_scale != 1.0:
+        raise InputError(f"load_scale = {show(case.load_scale)} applies to model = 'matrices' only (the factor on "
+                         "its file's load); a bar's load is its forces' amplitudes (--amplitude, [[load]] amplitude)")
     if case.model == "continuum":
         _check_continuum(case)
     if case.end_mass_absolute and case.end_mass == 0:

@@ -111,6 +111,8 @@ class Case:
         :func:`plbar.io.read_structure`); the case's ``rayleigh`` and ``restitution``, where given, replace the
         file's (a restitution of 0, the default, keeps the file's).  Every command that needs no bar geometry
         takes it (``run``, ``survey``).
+    load_scale : float
+        ``model = "matrices"``: a factor on the file's load ``q`` (``--amplitude``) [1].
     matrices_digest : str, optional
         The file's content digest (:func:`plbar.io.file_digest`): filled in when the case is made; given (a
         study's task), the file must still hold that content.
@@ -143,6 +145,7 @@ class Case:
     restitution: float = 0.0
     structure: Structure | None = None
     matrices: str | None = None
+    load_scale: float = 1.0
     matrices_digest: str | None = None
 
     def __post_init__(self):

@@ -323,6 +323,8 @@ def dump_case(case, output: OutputSettings | None = None) -> str:
     lines.append(f"model = {_fmt(case.model)}")
     if case.model == "matrices":
         lines.append(f"matrices = {_fmt(str(case.matrices))}")
+        if case.load_scale != 1.0:
+            lines.append(f"load_scale = {_fmt(float(case.load_scale))}")
     if case.n is not None:
         lines.append(f"n = {int(case.n)}")
     if case.model == "matrices":

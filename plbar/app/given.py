@@ -14,7 +14,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..model import Structure, check_rayleigh, check_restitution
-from ..util.check import choice, integer, interval, show
+from ..util.check import choice, integer, interval, positive, show
 from ..util.check import grid as check_grid
 
 __all__ = ["BAR_OPTIONS", "SIGNATURES", "bar_options", "structure_fields", "matrices_fields", "structure_dict"]
@@ -22,7 +22,7 @@ __all__ = ["BAR_OPTIONS", "SIGNATURES", "bar_options", "structure_fields", "matr
 SIGNATURES = ("default", "paper", "all")    #: which periodic responses a solve finds (see Case.signatures)
 #: the options of a bar (and its load, damping, restitution): none applies to a structure given by its matrices
 BAR_OPTIONS = ("n", "element", "mass", "length", "EA", "rhoA", "m", "k", "grading", "mesh_file", "point_masses",
-               "end_mass", "end_mass_absolute", "load_nodes", "load_points", "rayleigh", "restitution")
+               "end_mass", "end_mass_absolute", "load_nodes", "load_points", "rayleigh", "restitution", "load_scale")
 
 
 def bar_options(case, allowed=()) -> list:
@@ -57,20 +57,22 @@ def matrices_fields(case) -> dict:
         raise InputError("model = 'matrices' needs a structure file: matrices = FILE.npz (--matrices FILE.npz)")
     if not isinstance(case.matrices, (str, os.PathLike)):
         raise InputError(f"matrices = {show(case.matrices)} must be a path (a string)")
-    bar = bar_options(case, ("rayleigh", "restitution"))
+    bar = bar_options(case, ("rayleigh", "restitution", "load_scale"))
     if bar:
         raise InputError(f"{bar[0]} does not apply to model = 'matrices' (the structure file holds the "
                          "structure and its load)")
     path = str(Path(os.fspath(case.matrices)).expanduser().resolve())
     own = read_structure(path)
     ab, e = check_rayleigh(case.rayleigh), check_restitution(case.restitution)
+    scale = positive("load_scale", case.load_scale)
     st = read_structure(path, ab if case.rayleigh is not None and ab != own.rayleigh else None,
-                        e if case.restitution != 0.0 and e != own.restitution else None)
+                        e if case.restitution != 0.0 and e != own.restitution else None, scale)
     digest = file_digest(path)
     if case.matrices_digest is not None and case.matrices_digest != digest:
         raise InputError(f"structure file {path!r} changed (digest {digest}, expected {case.matrices_digest}): "
                          "a study begun on the old content cannot go on; rerun it with --overwrite")
-    return {"model": "matrices", "matrices": path, "matrices_digest": digest, "structure": st, **_search(case, st)}
+    return {"model": "matrices", "matrices": path, "matrices_digest": digest, "structure": st, "load_scale": scale,
+            **_search(case, st)}
 
 
 def _search(case, st: Structure) -> dict:
@@ -97,6 +99,8 @@ def structure_dict(case) -> dict:
             d["rayleigh"] = list(case.rayleigh)
         if case.restitution:
             d["restitution"] = case.restitution
+        if case.load_scale != 1.0:
+            d["load_scale"] = case.load_scale
         return d
     st = case.structure
     return {"model": "structure", "dofs": st.n, "structure": st.fingerprint, **search,

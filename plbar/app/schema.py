@@ -14,8 +14,8 @@ FORMATS = ("pvd", "xdmf", "both")
 #: expected types: "int", "float" (int accepted), "str", "bool", ("choice", values), "pair", "grid", "pairs"
 SCHEMA = {
     "": {"title": "str", "bar": "table", "load": "tables", "search": "table", "output": "table"},
-    "bar": {"model": ("choice", ("chain", "fe", "continuum", "matrices")), "matrices": "str", "n": "int",
-            "element": ("choice", ("P1", "P2")),
+    "bar": {"model": ("choice", ("chain", "fe", "continuum", "matrices")), "matrices": "str",
+            "load_scale": "float", "n": "int", "element": ("choice", ("P1", "P2")),
             "mass": ("choice", MASSES), "length": "float", "EA": "float", "rhoA": "float",
             "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs",
             "end_mass": "float", "end_mass_absolute": "bool", "modes": "int", "rayleigh": "pair",
@@ -42,6 +42,7 @@ HELP = {
             "matrices": "a structure file (.npz of `M`, `K`, the contact `r` or integer `contact`, the load `q`; "
                         "optional `C` of Rayleigh form or `rayleigh`, `restitution`, `x`), relative to the TOML "
                         "file; `model = \"matrices\"` only",
+            "load_scale": "a factor on the structure file's load `q` [1]; `model = \"matrices\"` only",
             "n": "masses of the chain / elements of the FE bar [5 / 8]; not with `mesh_file`",
             "element": "FE element [P1]; FE only",
             "mass": "FE mass matrix [lumped]; FE only; `redistributed` needs `end_mass` > 0",

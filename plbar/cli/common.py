@@ -211,11 +211,9 @@ def case_from_args(a):
     amp = _amplitude(getattr(a, "amplitude", None))
     nodes = tuple((k, amp) for k in (a.load_node or ()))
     points = tuple((s, amp) for s in (a.load_at or ()))
-    if getattr(a, "matrices", None) is not None and amp != 1.0:
-        raise InputError("--amplitude does not apply to --model matrices (the structure file holds the load "
-                         "vector q: scale it there)")
     kw = dict(model=a.model, n=getattr(a, "elements", None), element=a.element, mass=a.mass, mesh_file=a.mesh_file,
               matrices=getattr(a, "matrices", None),
+              load_scale=amp if getattr(a, "matrices", None) is not None else None,
               length=getattr(a, "length", None), EA=getattr(a, "EA", None), rhoA=getattr(a, "rhoA", None),
               grading=a.grading, grid=tuple(a.grid) if a.grid else None, T1=tuple(a.T1) if a.T1 else None,
               T2=tuple(a.T2) if a.T2 else None, method=a.method,
@@ -225,7 +223,7 @@ def case_from_args(a):
     case = Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None})
     if not hasattr(a, "sizes") and case.structure is None:   # sizes (-N): each size's case is checked where made
         refuse_contact_load(case, nodes)
-    if nodes or points or amp == 1.0:
+    if nodes or points or amp == 1.0 or case.structure is not None:
         return case, None
     return replace(case, load_nodes=tuple((k, amp * q) for k, q in case.load_nodes),   # the default load, scaled
                    load_points=tuple((s, amp * q) for s, q in case.load_points)), None

@@ -43,7 +43,7 @@ def file_digest(path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
 
 
-def read_structure(path, rayleigh=None, restitution: float | None = None) -> Structure:
+def read_structure(path, rayleigh=None, restitution: float | None = None, scale: float = 1.0) -> Structure:
     """The :class:`plbar.Structure` of a ``.npz`` file (see the module docstring), read once per process for the
     same file, content and overrides.
 
@@ -54,6 +54,8 @@ def read_structure(path, rayleigh=None, restitution: float | None = None) -> Str
         Rayleigh damping that replaces the file's (``C`` or ``rayleigh``).
     restitution : float, optional
         A coefficient of restitution that replaces the file's.
+    scale : float
+        A factor on the file's load ``q`` (the response is linear in it at zero gap; ``xi_eq`` is not).
 
     Raises
     ------
@@ -66,11 +68,11 @@ def read_structure(path, rayleigh=None, restitution: float | None = None) -> Str
         raise InputError(f"structure file {str(path)!r} does not exist (a .npz of M, K, r or contact, q)")
     st = p.stat()
     return _read(str(p), st.st_mtime_ns, st.st_size, None if rayleigh is None else tuple(map(float, rayleigh)),
-                 None if restitution is None else float(restitution))
+                 None if restitution is None else float(restitution), float(scale))
 
 
 @lru_cache(maxsize=8)
-def _read(path: str, _mtime: int, _size: int, rayleigh, restitution) -> Structure:
+def _read(path: str, _mtime: int, _size: int, rayleigh, restitution, scale: float) -> Structure:
     try:
         with np.load(path, allow_pickle=False) as z:
             arrays = {k: np.asarray(z[k]) for k in z.files}
@@ -90,7 +92,8 @@ def _read(path: str, _mtime: int, _size: int, rayleigh, restitution) -> Structur
     damping = _damping(where, arrays) if rayleigh is None else rayleigh
     e = float(arrays["restitution"]) if restitution is None and "restitution" in arrays else (restitution or 0.0)
     try:
-        return Structure(arrays["M"], arrays["K"], r, arrays["q"], damping, e, arrays.get("x"))
+        return Structure(arrays["M"], arrays["K"], r, scale * np.asarray(arrays["q"], float), damping, e,
+                         arrays.get("x"))
     except InputError as exc:
         raise InputError(f"{where}: {exc}") from None
 

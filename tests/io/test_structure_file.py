@@ -144,6 +144,23 @@ def test_run_and_survey_of_the_default_case_from_its_matrices_write_the_same_tab
         subprocess.run(cmd + args + common + ["--model", "matrices", "--matrices", str(f), "--out", str(b)],
                        check=True, cwd=tmp_path)
         assert (a / name).read_bytes() == (b / name).read_bytes()
-    out = subprocess.run(cmd + ["run", "--model", "matrices", "--matrices", str(f), "--amplitude", "2", "--out",
+    out = subprocess.run(cmd + ["run", "--model", "matrices", "--matrices", str(f), "--load-node", "2", "--out",
                                 str(tmp_path / "c")], capture_output=True, text=True, cwd=tmp_path)
-    assert out.returncode != 0 and "--amplitude does not apply to --model matrices" in out.stderr
+    assert out.returncode != 0 and "load_nodes does not apply to model = 'matrices'" in out.stderr
+
+
+def test_the_amplitude_scales_the_file_s_load(tmp_path):
+    """--amplitude A (load_scale) multiplies q: at zero gap the responses scale by A, their losses by A^2 and
+    xi_eq not at all (the system is linear in the load between its switches)."""
+    f = _chain_file(tmp_path)
+    a = plbar.solve(plbar.Case(model="matrices", matrices=str(f), signatures="paper"))
+    b = plbar.solve(plbar.Case(model="matrices", matrices=str(f), signatures="paper", load_scale=2.5))
+    assert np.array_equal(b.case.structure.q, 2.5 * a.case.structure.q)
+    for x, y in zip(a.branches, b.branches):
+        assert np.allclose(y.T, x.T, rtol=1e-12, atol=0)
+        # to round-off of the largest (the grazing ends' losses are round-off themselves)
+        assert np.allclose(y.dPL, 6.25 * x.dPL, rtol=1e-9, atol=1e-11 * y.dPL.max())
+        assert np.allclose(y.xi, x.xi, rtol=1e-9, atol=1e-11 * y.xi.max())
+    assert plbar.Case(**b.case.to_dict()) == b.case
+    with pytest.raises(InputError, match="applies to model = 'matrices' only"):
+        plbar.Case(load_scale=2.0)
