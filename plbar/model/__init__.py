@@ -4,7 +4,8 @@
 every solver takes; :func:`bar_structure` builds it for the finite-element bar (``Bar`` -> :func:`assemble`,
 scikit-fem, contact DOF last) and the paper's chain (:func:`chain`); :func:`problem` turns it into the modes
 of the stuck state I and the free state II and the switch maps (:func:`two_state`, Eqs. (2)-(10)) with the
-modal load (Eq. (3)), in the contact coordinates of :func:`contact_coordinates`.
+modal load (Eq. (3)), in the contact coordinates of :func:`contact_coordinates`.  :func:`linear_model` and
+:func:`steady_response` are its equivalent linear models (one stiffness, viscous damping: where ``xi_eq`` is put).
 """
 
 from .bar import (ELEMENTS, MASSES, Assembled, Bar, assemble, chain, graded_nodes, uniform_bar,
@@ -14,8 +15,10 @@ from .load import Load, node, point
 from .builders import BarOrigin, bar_structure
 from .structure import Coordinates, Structure, check_restitution, contact_coordinates
 from .system import Problem, TwoStateSystem, problem, two_state, with_load_vector
+from .linear import STIFFNESSES, LinearModel, SteadyResponse, linear_model, steady_response
 
 __all__ = ["ELEMENTS", "MASSES", "Assembled", "Bar", "assemble", "chain", "graded_nodes", "uniform_bar",
            "uniform_nodes", "check_rayleigh", "rayleigh_from_ratio", "rayleigh_ratio", "Load", "node", "point",
            "Problem", "TwoStateSystem", "problem", "two_state", "with_load_vector", "check_restitution",
-           "BarOrigin", "bar_structure", "Coordinates", "Structure", "contact_coordinates"]
+           "BarOrigin", "bar_structure", "Coordinates", "Structure", "contact_coordinates", "STIFFNESSES",
+           "LinearModel", "SteadyResponse", "linear_model", "steady_response"]
