@@ -74,6 +74,8 @@ class SteadyResponse:
         contact coordinate's.
     dissipated : float
         Energy the dampers take over one period (``xi`` and the structure's own ``zeta``).
+    dissipated_xi : float
+        Its part taken by the ratio ``xi`` (what stands for the impact when ``xi = xi_eq``).
     work : float
         Work of the load over one period (equal to ``dissipated``: the balance of a steady response).
     """
@@ -83,6 +85,7 @@ class SteadyResponse:
     eta: np.ndarray
     x: np.ndarray
     dissipated: float
+    dissipated_xi: float
     work: float
 
     @property
@@ -123,6 +126,7 @@ def steady_response(model: LinearModel, T: float, xi: float) -> SteadyResponse:
         raise InputError(f"T = {T:g} is a natural period of the undamped {model.stiffness} model: no steady response")
     f = model.V.T @ model.q
     eta = f / (model.w ** 2 - W ** 2 + 2j * z * model.w * W)
-    diss = float(np.sum(2 * np.pi * z * model.w * W * np.abs(eta) ** 2))
+    psi_w = 2 * np.pi * model.w * W * np.abs(eta) ** 2          # 2 w_j Psi_j of each mode
+    diss = float(np.sum(z * psi_w))
     work = float(np.pi * (model.q @ (model.V @ (1j * eta)).conj()).real) if eta.size else 0.0
-    return SteadyResponse(T, xi, eta, model.V @ eta, diss, work)
+    return SteadyResponse(T, xi, eta, model.V @ eta, diss, float(xi * np.sum(psi_w)), work)

@@ -21,6 +21,7 @@ from ...motion import KINDS, Padded, Start, padded, run, steady
 from ...errors import InputError, PlbarError
 from ...model import rayleigh_ratio
 from ...response import NoResponseError, find_response
+from .linear import LINEAR_COLUMNS, linear_fields, linear_models
 from .settle import Approach, approach, orbit_of, settle
 
 __all__ = ["COLUMNS", "survey_chunk", "start_of", "start_json"]
@@ -29,7 +30,7 @@ __all__ = ["COLUMNS", "survey_chunk", "start_of", "start_json"]
 COLUMNS = ("T", "kind", "m", "impacts_per_T", "loss_per_T", "loss_min", "loss_max", "xi_eq", "xi_min", "xi_max",
            "xi_w", "amp_c", "stuck_fraction", "loss_std", "xi_std", "amp_c_max", "work_per_T", "distance",
            "energy_residual", "exact_loss", "exact_xi", "signature", "status", "viscous_per_T", "xi_total",
-           "max_abs_multiplier", "orbit_distance", "rate", "steady", "drift_loss", "drift_vMv")
+           "max_abs_multiplier", "orbit_distance", "rate", "steady", "drift_loss", "drift_vMv", *LINEAR_COLUMNS)
 
 
 def start_json(s: Start, i: int) -> dict:
@@ -146,9 +147,11 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
     period = [int(orbit[b].get("m", 0)) if b in orbit else 0 for b in range(T.size)]
     if any(p and p != s.m[b] for b, p in enumerate(period)):
         s = steady(r, settled=period)
+    models = linear_models(prob)
     rows = []
     for i in range(T.size):
         row = _row(s, r, i)
+        row.update(linear_fields(models, float(T[i]), float(s.xi_eq[i])))
         row.update(xi_total=float(prob.system.rayleigh_ratio(2 * np.pi / T[i]) + s.xi_eq[i])
                    if getattr(prob.system, "damped", False) else float(s.xi_eq[i]))
         row.update(orbit.get(i, {}))
