@@ -32,3 +32,15 @@ def test_each_row_has_the_linear_models_with_its_own_xi_eq():
 def test_no_linear_columns_without_every_mode():
     rows, _ = survey_chunk(plbar.Case(modes=3), [12.0], 200, 20)
     assert not set(LINEAR_COLUMNS) & set(rows[0])
+
+
+def test_a_model_with_no_steady_response_leaves_its_columns_blank():
+    """Undamped with xi_eq = 0 (an elastic contact's motion loses nothing) at a natural period of one model: that
+    model's columns are blank, the others' are there (the survey went on: examples/restitution.py hit one)."""
+    from plbar.studies.survey.linear import linear_fields, linear_models
+
+    models = linear_models(plbar.Case().problem())
+    T = 2 * np.pi / models["bilinear"].w[0]
+    out = linear_fields(models, T, 0.0)
+    assert "linear_bilinear_amp_c" not in out and "linear_bilinear_loss" not in out
+    assert "linear_free_amp_c" in out and "linear_stuck_loss" in out

@@ -5,13 +5,15 @@ the free, stuck and bilinear stiffness) with the viscous ratio ``xi_eq`` of the 
 their steady responses in closed form (:func:`plbar.model.steady_response`): the contact's amplitude (the free
 and bilinear models; the stuck model holds the contact) and the energy the ratio takes per period (against the
 motion's impact loss ``loss_per_T``).  The columns are blank for the continuum and a truncated model (no
-matrices of every mode), and where the motion has no ``xi_eq``.
+matrices of every mode), where the motion has no ``xi_eq``, and for a model that has no steady response (undamped,
+``xi_eq = 0``, at one of its natural periods).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ...errors import InputError
 from ...model import Problem, linear_model, steady_response
 
 __all__ = ["LINEAR_COLUMNS", "linear_models", "linear_fields"]
@@ -35,7 +37,10 @@ def linear_fields(models: dict, T: float, xi: float) -> dict:
         return {}
     out = {}
     for k, model in models.items():
-        st = steady_response(model, T, xi)
+        try:
+            st = steady_response(model, T, xi)
+        except InputError:                  # undamped at a natural period of the model: no steady response
+            continue
         if k != "stuck":
             out[f"linear_{k}_amp_c"] = st.amplitude_contact
         out[f"linear_{k}_loss"] = st.dissipated_xi
