@@ -39,7 +39,15 @@ RAYLEIGH_FIT = 1e-10
 
 
 def file_digest(path) -> str:
-    """The sha256 of a file's bytes (hex, 16 digits): what identifies a structure file's content."""
+    """The sha256 of a file's bytes (hex, 16 digits): what identifies a structure file's content (read once per
+    process while the file's time and size stay: every case of the file asks for it, each study task too)."""
+    p = Path(os.fspath(path)).expanduser().resolve()
+    st = p.stat()
+    return _digest(str(p), st.st_mtime_ns, st.st_size)
+
+
+@lru_cache(maxsize=8)
+def _digest(path: str, _mtime: int, _size: int) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
 
 
