@@ -68,6 +68,9 @@ def _check_continuum(case) -> None:
     if case.restitution:
         raise InputError(f"model = 'continuum' has a plastic contact (restitution 0), got {case.restitution:g}; "
                          "use model = 'fe' for e > 0")
+    if case.gap:
+        raise InputError(f"model = 'continuum' has no gap at the stop yet, got gap = {case.gap:g}; use model = 'fe' "
+                         "(or 'chain') for a gap")
     if case.load_nodes or len(case.load_points) > 1:
         raise InputError("model = 'continuum' takes one point load (--load-at S), not DOF loads (--load-node) "
                          "nor several points")

@@ -14,8 +14,8 @@ from functools import lru_cache
 import numpy as np
 
 from ..errors import InputError
-from ..model import (ELEMENTS, MASSES, Bar, Load, Problem, Structure, chain, check_rayleigh, check_restitution,
-                     graded_nodes, problem)
+from ..model import (ELEMENTS, MASSES, Bar, Load, Problem, Structure, chain, check_gap, check_rayleigh,
+                     check_restitution, graded_nodes, problem)
 from ..paths import Domain, default_domain
 from ..util.check import choice, integer, interval, number, pairs, positive, show
 from ..util.check import grid as check_grid
@@ -116,6 +116,13 @@ class Case:
     matrices_digest : str, optional
         The file's content digest (:func:`plbar.io.file_digest`): filled in when the case is made; given (a
         study's task), the file must still hold that content.
+    gap : float
+        The stop's distance from the contact at rest, ``d`` (the contact coordinate stays ``<= d``; FORMULATION
+        §9): ``> 0`` a clearance (the structure starts free), ``< 0`` an interference (it starts held, in its
+        static equilibrium against the stop).  Default 0: the paper.  With a gap the response is no longer
+        proportional to the load: what matters is the amplitude over the gap (``--amplitude``).  The simulator
+        and its studies (``survey``) and the periodic responses of the signature search (``run``) take it; the
+        paper's scan of ``(T1, T2)`` does not (``run`` finds the paper's class by the search then).
     """
 
     model: str = "chain"
@@ -147,6 +154,7 @@ class Case:
     matrices: str | None = None
     load_scale: float = 1.0
     matrices_digest: str | None = None
+    gap: float = 0.0
 
     def __post_init__(self):
         if self.model == "matrices" or self.matrices is not None:
@@ -162,6 +170,7 @@ class Case:
             object.__setattr__(self, "modes", integer("modes", self.modes, 1))
         object.__setattr__(self, "rayleigh", check_rayleigh(self.rayleigh))
         object.__setattr__(self, "restitution", check_restitution(self.restitution))
+        object.__setattr__(self, "gap", check_gap(self.gap))
         if self.n is not None:
             what = {"fe": "n", "chain": "chain size N", "continuum": "continuum steps per L/c n"}[self.model]
             object.__setattr__(self, "n", integer(what, self.n, 2))
@@ -316,6 +325,8 @@ class Case:
             drop += ("n", "grading", "length")
         if not d["restitution"]:
             drop += ("restitution",)
+        if not d["gap"]:
+            drop += ("gap",)
         if d["rayleigh"] is None:
             drop += ("rayleigh",)
         else:
@@ -336,4 +347,5 @@ def _problem(case: Case) -> Problem:
     workers inherit it from the parent)."""
     if case.structure is not None:
         return problem(case.structure, modes=case.modes)
-    return problem(case.bar(), case.load(), modes=case.modes, rayleigh=case.rayleigh, restitution=case.restitution)
+    return problem(case.bar(), case.load(), modes=case.modes, rayleigh=case.rayleigh, restitution=case.restitution,
+                   gap=case.gap)

@@ -27,7 +27,8 @@ mesh_file`` (relative to the TOML file), ``point_masses = [[x, m], ...]``,
 ``rayleigh = [alpha, beta]`` (inherent damping ``C = alpha M + beta K``; default none)
 or ``damping_ratio = XI`` with ``damping_at = [T_A, T_B]`` (the same from one ratio at
 two periods, :func:`plbar.rayleigh_from_ratio`), ``restitution = E`` (the contact's coefficient of
-restitution, ``0 <= E <= 1``; default 0, the paper's plastic impact).
+restitution, ``0 <= E <= 1``; default 0, the paper's plastic impact), ``gap = D`` (the stop's distance from
+the contact at rest: ``> 0`` a clearance, ``< 0`` an interference; default 0, the paper).
 Every mistake raises :class:`plbar.errors.CaseFileError` with one line naming
 the file, the section and the key.
 """
@@ -348,6 +349,8 @@ def dump_case(case, output: OutputSettings | None = None) -> str:
         lines.append(f"rayleigh = {_fmt([float(x) for x in case.rayleigh])}")
     if case.restitution:
         lines.append(f"restitution = {_fmt(float(case.restitution))}")
+    if case.gap:
+        lines.append(f"gap = {_fmt(float(case.gap))}")
     for k, a in case.load_nodes:
         lines += ["", "[[load]]", f"node = {int(k)}", f"amplitude = {_fmt(float(a))}"]
     for s, a in case.load_points:

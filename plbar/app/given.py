@@ -3,7 +3,7 @@
 
 The case's validator (:class:`plbar.app.Case`) sets the fields these functions return: the structure and the
 search options checked, every option of a bar refused (the structure holds its own load; a file's damping and
-restitution may be replaced by the case's).
+restitution and gap may be replaced by the case's).
 """
 
 from __future__ import annotations
@@ -13,16 +13,19 @@ from dataclasses import fields
 from pathlib import Path
 
 from ..errors import InputError
-from ..model import Structure, check_rayleigh, check_restitution
+from ..model import Structure, check_gap, check_rayleigh, check_restitution
 from ..util.check import choice, integer, interval, positive, show
 from ..util.check import grid as check_grid
 
 __all__ = ["BAR_OPTIONS", "SIGNATURES", "bar_options", "structure_fields", "matrices_fields", "structure_dict"]
 
 SIGNATURES = ("default", "paper", "all")    #: which periodic responses a solve finds (see Case.signatures)
-#: the options of a bar (and its load, damping, restitution): none applies to a structure given by its matrices
+#: the options of a bar (and its load, damping, restitution, gap): none applies to a structure given by its matrices
 BAR_OPTIONS = ("n", "element", "mass", "length", "EA", "rhoA", "m", "k", "grading", "mesh_file", "point_masses",
-               "end_mass", "end_mass_absolute", "load_nodes", "load_points", "rayleigh", "restitution", "load_scale")
+               "end_mass", "end_mass_absolute", "load_nodes", "load_points", "rayleigh", "restitution", "load_scale",
+               "gap")
+#: the options a structure holds itself (a case built from one carries the structure's values)
+OWN = ("rayleigh", "restitution", "gap")
 
 
 def bar_options(case, allowed=()) -> list:
@@ -38,10 +41,11 @@ def structure_fields(case) -> dict:
                          "is set by giving one)")
     if case.model not in ("chain", "structure"):
         raise InputError(f"model = {case.model!r} conflicts with a structure given by its matrices; drop model")
-    bar = bar_options(case)
+    own = [k for k in OWN if getattr(case, k) == getattr(case.structure, k)]   # its own values: a replace()
+    bar = bar_options(case, own)
     if bar:
         raise InputError(f"{bar[0]} does not apply to a structure given by its matrices (plbar.Structure: "
-                         "its load, damping and restitution are its own)")
+                         "its load, damping, restitution and gap are its own)")
     return {"model": "structure", **_search(case, case.structure)}
 
 
@@ -57,7 +61,7 @@ def matrices_fields(case) -> dict:
         raise InputError("model = 'matrices' needs a structure file: matrices = FILE.npz (--matrices FILE.npz)")
     if not isinstance(case.matrices, (str, os.PathLike)):
         raise InputError(f"matrices = {show(case.matrices)} must be a path (a string)")
-    bar = bar_options(case, ("rayleigh", "restitution", "load_scale"))
+    bar = bar_options(case, ("rayleigh", "restitution", "load_scale", "gap"))
     if bar:
         raise InputError(f"{bar[0]} does not apply to model = 'matrices' (the structure file holds the "
                          "structure and its load)")
@@ -65,8 +69,10 @@ def matrices_fields(case) -> dict:
     own = read_structure(path)
     ab, e = check_rayleigh(case.rayleigh), check_restitution(case.restitution)
     scale = positive("load_scale", case.load_scale)
+    d = check_gap(case.gap)
     st = read_structure(path, ab if case.rayleigh is not None and ab != own.rayleigh else None,
-                        e if case.restitution != 0.0 and e != own.restitution else None, scale)
+                        e if case.restitution != 0.0 and e != own.restitution else None, scale,
+                        d if d != 0.0 and d != own.gap else None)
     digest = file_digest(path)
     if case.matrices_digest is not None and case.matrices_digest != digest:
         raise InputError(f"structure file {path!r} changed (digest {digest}, expected {case.matrices_digest}): "
@@ -79,7 +85,8 @@ def _search(case, st: Structure) -> dict:
     """The search options checked, the structure's damping and restitution."""
     choice("method", case.method, ("continuation", "grid"))
     choice("signatures", case.signatures, SIGNATURES)
-    out = {"rayleigh": st.rayleigh, "restitution": st.restitution, "grid": check_grid(case.grid, warn=False)}
+    out = {"rayleigh": st.rayleigh, "restitution": st.restitution, "gap": st.gap,
+           "grid": check_grid(case.grid, warn=False)}
     if case.modes is not None:
         out["modes"] = integer("modes", case.modes, 1, st.n)
     for nm in ("T1", "T2"):
@@ -101,7 +108,9 @@ def structure_dict(case) -> dict:
             d["restitution"] = case.restitution
         if case.load_scale != 1.0:
             d["load_scale"] = case.load_scale
+        if case.gap:
+            d["gap"] = case.gap
         return d
     st = case.structure
     return {"model": "structure", "dofs": st.n, "structure": st.fingerprint, **search,
-            "restitution": st.restitution, "rayleigh": st.rayleigh}
+            "restitution": st.restitution, "rayleigh": st.rayleigh, **({"gap": st.gap} if st.gap else {})}

@@ -19,7 +19,7 @@ SCHEMA = {
             "mass": ("choice", MASSES), "length": "float", "EA": "float", "rhoA": "float",
             "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs",
             "end_mass": "float", "end_mass_absolute": "bool", "modes": "int", "rayleigh": "pair",
-            "damping_ratio": "float", "damping_at": "pair", "restitution": "float"},
+            "damping_ratio": "float", "damping_at": "pair", "restitution": "float", "gap": "float"},
     "load": {"node": "int", "at": "float", "amplitude": "float"},
     "search": {"grid": "grid", "T1": "pair", "T2": "pair", "method": ("choice", ("continuation", "grid")),
                "signatures": ("choice", ("default", "paper", "all"))},
@@ -62,7 +62,9 @@ HELP = {
                              "`rayleigh`",
             "damping_at": "the two periods `[T_A, T_B]` where `damping_ratio` holds",
             "restitution": "coefficient of restitution e of the contact, 0 <= e <= 1 (Newton's impact law; "
-                           "run's responses then rebound: R in their signatures; sweep-loads and refine need 0) [0]"},
+                           "run's responses then rebound: R in their signatures; sweep-loads and refine need 0) [0]",
+            "gap": "the stop's distance from the contact at rest, d (the contact stays <= d): > 0 a clearance, < 0 an "
+                   "interference held by the stop; the response then depends on the amplitude over the gap [0]"},
     "load": {"node": "a force on free DOF K (1-based from the clamp); or `at`",
              "at": "a point force at position s in (0, L]; or `node`",
              "amplitude": "its amplitude, a force (N in SI) [1]"},

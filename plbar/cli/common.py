@@ -41,8 +41,8 @@ CASE_OPTIONS = {"model": "--model", "elements": "-N/--elements", "element": "--e
                 "end_mass_absolute": "--end-mass-absolute", "modes": "--modes", "load_node": "--load-node",
                 "load_at": "--load-at", "grid": "--grid", "T1": "--T1", "T2": "--T2", "method": "--method",
                 "signatures": "--signatures", "rayleigh": "--rayleigh", "damping_ratio": "--damping-ratio",
-                "damping_at": "--damping-at", "restitution": "--restitution", "length": "--length", "EA": "--EA",
-                "rhoA": "--rhoA", "amplitude": "--amplitude", "matrices": "--matrices"}
+                "damping_at": "--damping-at", "restitution": "--restitution", "gap": "--gap", "length": "--length",
+                "EA": "--EA", "rhoA": "--rhoA", "amplitude": "--amplitude", "matrices": "--matrices"}
 
 
 def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None:
@@ -103,6 +103,9 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
     g.add_argument("--restitution", type=float, default=None, metavar="E",
                    help="coefficient of restitution of the contact, 0 <= E <= 1 (Newton's impact law; run's "
                         "responses then rebound: R in their signatures; sweep-loads and refine need E = 0) [0]")
+    g.add_argument("--gap", type=float, default=None, metavar="D",
+                   help="the stop's distance from the contact at rest: D > 0 a clearance, D < 0 an interference "
+                        "(held by the stop); with a gap the response depends on --amplitude over D [0]")
     _damping_args(p, at)
     _load_args(p, load_help)
     g = p.add_argument_group("search")
@@ -219,7 +222,7 @@ def case_from_args(a):
               T2=tuple(a.T2) if a.T2 else None, method=a.method,
               signatures=getattr(a, "signatures", None), modes=a.modes, end_mass=a.end_mass,
               end_mass_absolute=a.end_mass_absolute, rayleigh=_rayleigh(a),
-              restitution=getattr(a, "restitution", None))
+              restitution=getattr(a, "restitution", None), gap=getattr(a, "gap", None))
     case = Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None})
     if not hasattr(a, "sizes") and case.structure is None:   # sizes (-N): each size's case is checked where made
         refuse_contact_load(case, nodes)

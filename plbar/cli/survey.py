@@ -155,7 +155,7 @@ def _cmd_survey(a) -> int:
     paths = None
     # the paper's class under it (plastic: with a restitution e > 0 it does not exist; the responses with rebounds
     # are plbar run --restitution E)
-    if plot and not a.no_paths and not case.restitution and (a.paths or case.n_eff <= 12):
+    if plot and not a.no_paths and not case.restitution and not case.gap and (a.paths or case.n_eff <= 12):
         paths = solve(replace(case, signatures="paper"), progress=False).paper
     kind = "dask" if a.scheduler else a.executor
     modes = ("rest",) + tuple(dict.fromkeys(a.cont or ()))

@@ -7,11 +7,12 @@ The file holds numpy arrays by name (``numpy.savez``):
   (0-based; ``r = e_contact``); one of the two;
 * ``q`` (required): the harmonic load's amplitude vector (the force ``q cos(W t - phi)``);
 * optional: ``C`` (inherent damping; it must be of Rayleigh form, ``C = alpha M + beta K``, the form plbar's
-  modal solvers take), or ``rayleigh = [alpha, beta]``; ``restitution`` (Newton's ``e``); ``x``, a position per
-  DOF (for tables and plots).
+  modal solvers take), or ``rayleigh = [alpha, beta]``; ``restitution`` (Newton's ``e``); ``gap`` (the stop at
+  ``u = gap``: ``> 0`` a clearance, ``< 0`` an interference; FORMULATION §9); ``x``, a position per DOF (for tables
+  and plots).
 
 What plbar does not model yet is refused by name rather than ignored: a constant load ``q_s``, a support's
-influence vector ``t``, a start ``x0``, ``v0``, a ``gap``.
+influence vector ``t``, a start ``x0``, ``v0``.
 """
 
 from __future__ import annotations
@@ -30,10 +31,10 @@ from ..util.files import atomic_path
 __all__ = ["read_structure", "write_structure", "file_digest", "KEYS", "NOT_YET"]
 
 #: the arrays a structure file may hold
-KEYS = ("M", "K", "r", "contact", "q", "C", "rayleigh", "restitution", "x")
-#: arrays of structures plbar does not solve yet (a gap, a constant load, base excitation, a given start)
+KEYS = ("M", "K", "r", "contact", "q", "C", "rayleigh", "restitution", "gap", "x")
+#: arrays of structures plbar does not solve yet (a constant load, base excitation, a given start)
 NOT_YET = {"q_s": "a constant load", "t": "base excitation (a support's influence vector)", "x0": "a given start",
-           "v0": "a given start", "gap": "a gap or a preload at the contact"}
+           "v0": "a given start"}
 #: the largest relative misfit of C by alpha M + beta K taken as Rayleigh damping
 RAYLEIGH_FIT = 1e-10
 
@@ -51,7 +52,8 @@ def _digest(path: str, _mtime: int, _size: int) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
 
 
-def read_structure(path, rayleigh=None, restitution: float | None = None, scale: float = 1.0) -> Structure:
+def read_structure(path, rayleigh=None, restitution: float | None = None, scale: float = 1.0,
+                   gap: float | None = None) -> Structure:
     """The :class:`plbar.Structure` of a ``.npz`` file (see the module docstring), read once per process for the
     same file, content and overrides.
 
@@ -63,7 +65,9 @@ def read_structure(path, rayleigh=None, restitution: float | None = None, scale:
     restitution : float, optional
         A coefficient of restitution that replaces the file's.
     scale : float
-        A factor on the file's load ``q`` (the response is linear in it at zero gap; ``xi_eq`` is not).
+        A factor on the file's load ``q`` (the response is linear in it at zero gap; with a gap it is not).
+    gap : float, optional
+        A gap that replaces the file's.
 
     Raises
     ------
@@ -76,11 +80,11 @@ def read_structure(path, rayleigh=None, restitution: float | None = None, scale:
         raise InputError(f"structure file {str(path)!r} does not exist (a .npz of M, K, r or contact, q)")
     st = p.stat()
     return _read(str(p), st.st_mtime_ns, st.st_size, None if rayleigh is None else tuple(map(float, rayleigh)),
-                 None if restitution is None else float(restitution), float(scale))
+                 None if restitution is None else float(restitution), float(scale), None if gap is None else float(gap))
 
 
 @lru_cache(maxsize=8)
-def _read(path: str, _mtime: int, _size: int, rayleigh, restitution, scale: float) -> Structure:
+def _read(path: str, _mtime: int, _size: int, rayleigh, restitution, scale: float, gap) -> Structure:
     try:
         with np.load(path, allow_pickle=False) as z:
             arrays = {k: np.asarray(z[k]) for k in z.files}
@@ -99,9 +103,10 @@ def _read(path: str, _mtime: int, _size: int, rayleigh, restitution, scale: floa
     r = _contact(where, arrays)
     damping = _damping(where, arrays) if rayleigh is None else rayleigh
     e = float(arrays["restitution"]) if restitution is None and "restitution" in arrays else (restitution or 0.0)
+    d = float(arrays["gap"]) if gap is None and "gap" in arrays else (gap or 0.0)
     try:
         return Structure(arrays["M"], arrays["K"], r, scale * np.asarray(arrays["q"], float), damping, e,
-                         arrays.get("x"))
+                         arrays.get("x"), gap=d)
     except InputError as exc:
         raise InputError(f"{where}: {exc}") from None
 
@@ -142,13 +147,15 @@ def _damping(where: str, arrays: dict):
 
 
 def write_structure(path, structure: Structure) -> Path:
-    """Write ``structure`` as a structure file (``M, K, r, q, x``, and ``rayleigh``, ``restitution`` where set),
+    """Write ``structure`` as a structure file (``M, K, r, q, x``, and ``rayleigh``, ``restitution``, ``gap`` where set),
     atomically: what :func:`read_structure` reads back exactly."""
     arrays = {"M": structure.M, "K": structure.K, "r": structure.contact, "q": structure.q, "x": structure.x}
     if structure.rayleigh is not None:
         arrays["rayleigh"] = np.array(structure.rayleigh, float)
     if structure.restitution:
         arrays["restitution"] = np.array(structure.restitution)
+    if structure.gap:
+        arrays["gap"] = np.array(structure.gap)
     p = Path(path)
     with atomic_path(p) as tmp:
         with open(tmp, "wb") as fh:

@@ -13,6 +13,7 @@ from .bar import (ELEMENTS, MASSES, Assembled, Bar, assemble, chain, graded_node
 from .damping import check_rayleigh, rayleigh_from_ratio, rayleigh_ratio
 from .load import Load, node, point
 from .builders import BarOrigin, bar_structure
+from .statics import Statics, check_gap, statics
 from .structure import Coordinates, Structure, check_restitution, contact_coordinates
 from .system import Problem, TwoStateSystem, problem, two_state, with_load_vector
 from .linear import STIFFNESSES, LinearModel, SteadyResponse, linear_model, steady_response
@@ -21,4 +22,4 @@ __all__ = ["ELEMENTS", "MASSES", "Assembled", "Bar", "assemble", "chain", "grade
            "uniform_nodes", "check_rayleigh", "rayleigh_from_ratio", "rayleigh_ratio", "Load", "node", "point",
            "Problem", "TwoStateSystem", "problem", "two_state", "with_load_vector", "check_restitution",
            "BarOrigin", "bar_structure", "Coordinates", "Structure", "contact_coordinates", "STIFFNESSES",
-           "LinearModel", "SteadyResponse", "linear_model", "steady_response"]
+           "LinearModel", "SteadyResponse", "linear_model", "steady_response", "Statics", "check_gap", "statics"]

@@ -30,7 +30,7 @@ class BarOrigin:
 
 
 def bar_structure(bar: Bar, load: Load | None = None, q=None, rayleigh=None, restitution: float = 0.0,
-                  asm: Assembled | None = None) -> Structure:
+                  asm: Assembled | None = None, gap: float = 0.0) -> Structure:
     """The :class:`Structure` of ``bar`` under ``load`` (or the amplitude vector ``q`` over its free DOFs).
 
     Parameters
@@ -44,6 +44,8 @@ def bar_structure(bar: Bar, load: Load | None = None, q=None, rayleigh=None, res
         Coefficient of restitution of the contact; default 0, the paper's plastic impact.
     asm : Assembled, optional
         ``assemble(bar)`` when it is already at hand.
+    gap : float
+        The stop's distance from the bar's end at rest (``x_c <= gap``; FORMULATION §9); default 0, the paper.
     """
     if not isinstance(bar, Bar):
         raise InputError(f"bar must be a plbar.Bar (or give a plbar.Structure), got {type(bar).__name__}")
@@ -58,4 +60,4 @@ def bar_structure(bar: Bar, load: Load | None = None, q=None, rayleigh=None, res
         raise InputError("give a load (plbar.point / plbar.node) or a load vector q")
     r = np.zeros(a.n)
     r[-1] = 1.0
-    return Structure(a.M, a.K, r, qv, rayleigh, restitution, a.x, BarOrigin(bar, load, a))
+    return Structure(a.M, a.K, r, qv, rayleigh, restitution, a.x, BarOrigin(bar, load, a), gap)

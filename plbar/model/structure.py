@@ -1,11 +1,11 @@
 """A two-state structure: the one record of a model that every solver takes (FORMULATION §2, generalised).
 
 The structure obeys ``M x'' + C x' + K x = q cos(W t - phi) + r lambda`` with one unilateral contact on the
-contact coordinate ``u = r . x``: the stop allows ``u <= 0`` only and pushes (``lambda <= 0``, the reaction
-``R = -lambda >= 0``) while ``u = 0``.  ``r`` is any row: one DOF (the paper's bar end, ``r = e_c``), or the
-difference of two DOFs (two bodies that close a joint, the faces of a crack).  Nothing in it is bar-specific:
-the builders (:func:`plbar.model.bar_structure` for the FE bar and the paper's chain, or a user's own matrices)
-make it, and :func:`plbar.problem` turns it into the two-state modal problem.
+contact coordinate ``u = r . x``: the stop allows ``u <= d`` only (``d`` the gap, 0 in the paper) and pushes
+(``lambda <= 0``, the reaction ``R = -lambda >= 0``) while ``u = d``.  ``r`` is any row: one DOF (the paper's
+bar end, ``r = e_c``), or the difference of two DOFs (two bodies that close a joint, the faces of a crack).
+Nothing in it is bar-specific: the builders (:func:`plbar.model.bar_structure` for the FE bar and the paper's
+chain, or a user's own matrices) make it, and :func:`plbar.problem` turns it into the two-state modal problem.
 
 The solvers work in the **contact coordinates** ``y`` of :func:`contact_coordinates`: the DOFs other than the
 one ``c`` of largest ``|r_c|``, in their order, then ``u = r . x`` last.  ``x = B y`` with ``B`` unit
@@ -27,6 +27,7 @@ from ..util.check import show
 from ..util.reprs import build, rng
 from .damping import check_rayleigh
 from .matrices import check_matrices
+from .statics import check_gap
 
 __all__ = ["Coordinates", "Structure", "check_restitution", "contact_coordinates"]
 
@@ -80,6 +81,9 @@ class Structure:
     origin : object, optional
         What built the structure (:class:`plbar.model.BarOrigin` for a bar), for descriptions and the bar's own
         studies; no solver reads it.
+    gap : float
+        The stop's position ``d`` on the contact coordinate: the stop holds ``u <= d`` (FORMULATION §9); ``d > 0``
+        a clearance, ``d < 0`` an interference (a preload), 0 (the default) the paper.
 
     Two structures are equal only if they are the same object (arrays have no hash); :attr:`fingerprint`
     identifies the content.
@@ -93,6 +97,7 @@ class Structure:
     restitution: float = 0.0
     x: np.ndarray | None = None
     origin: object = None
+    gap: float = 0.0
 
     def __post_init__(self):
         n = np.shape(self.M)[0] if np.ndim(self.M) == 2 or hasattr(self.M, "toarray") else 0
@@ -109,7 +114,7 @@ class Structure:
             raise InputError("q = 0: the load amplitude vector must not be zero")
         for name, v in (("M", M), ("K", K), ("contact", r), ("q", q), ("x", x),
                         ("rayleigh", check_rayleigh(self.rayleigh)),
-                        ("restitution", check_restitution(self.restitution))):
+                        ("restitution", check_restitution(self.restitution)), ("gap", check_gap(self.gap))):
             object.__setattr__(self, name, v)      # the validated, converted inputs; no other state
 
     @property
@@ -128,19 +133,21 @@ class Structure:
             items["rayleigh"] = self.rayleigh
         if self.restitution:
             items["restitution"] = self.restitution
+        if self.gap:
+            items["gap"] = self.gap
         if self.origin is not None:
             items["origin"] = type(self.origin).__name__
         return build("Structure", items)
 
     @property
     def fingerprint(self) -> str:
-        """A digest of what the solvers read (matrices, contact row, load, damping, restitution)."""
+        """A digest of what the solvers read (matrices, contact row, load, damping, restitution, gap)."""
         import hashlib
 
         h = hashlib.sha256()
         for a in (self.M, self.K, self.contact, self.q):
             h.update(np.ascontiguousarray(a, float).tobytes())
-        h.update(repr((self.rayleigh, self.restitution)).encode())
+        h.update(repr((self.rayleigh, self.restitution) + ((self.gap,) if self.gap else ())).encode())
         return h.hexdigest()[:16]
 
     def physical(self, y: np.ndarray) -> np.ndarray:

@@ -27,6 +27,7 @@ from .damping import check_rayleigh, rayleigh_ratio
 from ..errors import InputError
 from .load import Load
 from .matrices import check_matrices
+from .statics import Statics, statics
 from .structure import Structure, check_restitution, contact_coordinates
 from ..util.reprs import build, rng
 
@@ -277,6 +278,16 @@ class Problem:
         return self.structure.restitution if self.structure is not None else 0.0
 
     @property
+    def gap(self) -> float:
+        """The stop's position ``d`` on the contact coordinate (``u <= d``; 0, the paper)."""
+        return self.structure.gap if self.structure is not None else 0.0
+
+    @property
+    def statics(self) -> Statics:
+        """The two states' static equilibria and the constants they add (:mod:`plbar.model.statics`)."""
+        return self.cached("statics", lambda p: statics(p.system, p.gap))
+
+    @property
     def origin(self):
         """What built the structure (:class:`plbar.model.BarOrigin` for a bar), or None."""
         return self.structure.origin if self.structure is not None else None
@@ -307,6 +318,8 @@ class Problem:
             items["load"] = repr(self.load.describe())
         if self.restitution:
             items["restitution"] = self.restitution
+        if self.gap:
+            items["gap"] = self.gap
         return build("Problem", items)
 
     def under(self, q) -> "Problem":
@@ -344,7 +357,7 @@ def with_load_vector(sys: TwoStateSystem, q: np.ndarray, structure: Structure | 
 
 
 def problem(model, load: Load | None = None, q: np.ndarray | None = None, modes=None,
-            rayleigh=None, restitution: float = 0.0) -> Problem:
+            rayleigh=None, restitution: float = 0.0, gap: float = 0.0) -> Problem:
     """The two-state modal problem of a structure: both states' modes, the switch maps and the load.
 
     Parameters
@@ -358,15 +371,17 @@ def problem(model, load: Load | None = None, q: np.ndarray | None = None, modes=
         The bar's Rayleigh damping ``(alpha, beta)`` (see :func:`two_state`); default none.
     restitution : float
         The bar's coefficient of restitution (:attr:`Problem.restitution`); default 0, the paper's plastic impact.
+    gap : float
+        The bar's gap at the stop (:attr:`Problem.gap`, :class:`plbar.Structure`); default 0, the paper.
     modes : int or (int, int), optional
         Modal truncation (see :func:`two_state`); default all modes.
     """
     if isinstance(model, Structure):
-        if load is not None or q is not None or rayleigh is not None or restitution:
-            raise InputError("a Structure carries its own load, damping and restitution; give them to "
+        if load is not None or q is not None or rayleigh is not None or restitution or gap:
+            raise InputError("a Structure carries its own load, damping, restitution and gap; give them to "
                              "plbar.Structure(...), not to plbar.problem")
         s = model
     else:
-        s = bar_structure(model, load, q, rayleigh, check_restitution(restitution))
+        s = bar_structure(model, load, q, rayleigh, check_restitution(restitution), gap=gap)
     y = contact_coordinates(s)
     return with_load_vector(two_state(y.M, y.K, y.x, modes, s.rayleigh), y.q, s)

@@ -65,8 +65,19 @@ class Padded:
     restitution : float
         The contact's coefficient of restitution (:class:`plbar.model.Problem`; the kernel's rebounds).
     size : ndarray, shape (2,)
-        The margin's own size in each state, ``sum_j |c_j f_j| / w_j^2 + |rq|`` (the static response to
-        the load's amplitude): the floor of its round-off level (a bar at rest has no size of its own).
+        The margin's own size in each state, ``sum_j |c_j f_j| / w_j^2 + |rq| + |g0|`` (the static response to
+        the load's amplitude, and the gap's constant): the floor of its round-off level (a bar at rest has no
+        size of its own).
+    g0 : ndarray, shape (2,)
+        The margin's constant in each state (:attr:`plbar.model.Statics.margin`: ``-R_I`` in state I, the gap
+        ``d`` in state II); zeros at ``d = 0``.
+    offsets : ndarray, shape (2, m)
+        What a switch adds to the mapped positions: row 0 at an opening (``open_offset``), row 1 at an impact
+        (``impact_offset``, :class:`plbar.model.Statics`); zeros at ``d = 0``.
+    xs : ndarray, shape (2, n)
+        Each state's static equilibrium: the physical positions are ``V[s] eta + xs[s]``.
+    es : ndarray, shape (2,)
+        Each state's static energy: the mechanical energy is the modal one plus ``es[s]``.
     """
 
     w: np.ndarray
@@ -85,6 +96,21 @@ class Padded:
     cv: np.ndarray | None = None
     open_vel: np.ndarray | None = None
     restitution: float = 0.0
+    g0: np.ndarray | None = None
+    offsets: np.ndarray | None = None
+    xs: np.ndarray | None = None
+    es: np.ndarray | None = None
+
+    def __post_init__(self):
+        m, n = self.m, self.n
+        for name, shape in (("g0", (2,)), ("offsets", (2, m)), ("xs", (2, n)), ("es", (2,))):
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, np.zeros(shape))   # no gap: every constant 0
+
+    @property
+    def rest_state(self) -> int:
+        """The state of the static equilibrium (:attr:`plbar.model.Statics.rest_state`)."""
+        return FREE if self.g0[FREE] > 0.0 else STUCK
 
     @property
     def m(self) -> int:
@@ -190,10 +216,14 @@ def padded(prob: Problem) -> Padded:
     else:
         *maps, S = energy_consistent(s)
     open_pos, open_vel, impact_pos, impact_vel = (np.asarray(a, float) for a in maps)
-    size = np.sum(np.abs(c * f) / (w * w), axis=1) + np.abs(rq)
+    st = prob.statics
+    g0 = np.asarray(st.margin, float)
+    size = np.sum(np.abs(c * f) / (w * w), axis=1) + np.abs(rq) + np.abs(g0)
+    offsets = np.vstack([_pad(st.open_offset, (m,)), _pad(st.impact_offset, (m,))])
     damped = bool(getattr(s, "damped", False))
     zeta = np.vstack([_pad(s.zeta1, (m,)), _pad(s.zeta2, (m,))]) if damped else None
     cv = np.vstack([_pad(-np.asarray(s.r_v, float), (m,)), np.zeros(m)]) if damped else None
     return Padded(w, f, c, rq, _pad(open_pos, (m, m)), _pad(impact_pos, (m, m)), _pad(impact_vel, (m, m)),
                   _pad(s.gap_row, (m,)), S, V, bool(s.truncated), size, zeta, cv, _pad(open_vel, (m, m)),
-                  float(getattr(prob, "restitution", 0.0)))
+                  float(getattr(prob, "restitution", 0.0)), g0, offsets, np.vstack([st.x1, st.x2]),
+                  np.asarray(st.energy, float))

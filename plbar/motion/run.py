@@ -15,7 +15,7 @@ from ..util.record import Record, events, messages
 from ..util.reprs import build, listing, rng
 from ..util.threads import map_chunks, n_threads, off_main
 from .compile import kind
-from .model import OK, STUCK, Padded, padded
+from .model import OK, Padded, padded
 
 __all__ = ["Run", "Start", "Stopped", "energy", "prepare", "rest", "run", "halt_flag"]
 
@@ -43,8 +43,9 @@ class Start:
 
 
 def rest(pad: Padded, B: int) -> Start:
-    """``B`` bars at rest against the wall."""
-    return Start(np.full(B, STUCK), np.zeros((B, pad.m)), np.zeros((B, pad.m)))
+    """``B`` structures at rest: in the static equilibrium (:attr:`Padded.rest_state`): against the stop with no
+    reaction (no gap, the paper), held by it (an interference), or free (a clearance)."""
+    return Start(np.full(B, pad.rest_state), np.zeros((B, pad.m)), np.zeros((B, pad.m)))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -237,19 +238,20 @@ def _collect(pad: Padded, T, phi, periods, record, tr, rc, acc, e0) -> Run:
                periods=periods, record=record, impacts=per[..., D.IMPACTS].astype(int),
                openings=per[..., D.OPENINGS].astype(int), loss=per[..., D.LOSS].copy(), d_eq=a[..., D.D_EQ].copy(),
                d_w=a[..., D.D_W].copy(), work_rec=a[..., D.WORK_REC].copy(), stuck=a[..., D.STUCK_T].copy(),
-               amp=a[..., D.AMP].copy(), strobe_x=_physical(pad, ss, sx), strobe_v=_physical(pad, ss, sv),
+               amp=a[..., D.AMP].copy(), strobe_x=_physical(pad, ss, sx, True), strobe_v=_physical(pad, ss, sv),
                strobe_state=ss, work=tot[:, D.WORK].copy(), losses=tot[:, D.LOSSES].copy(), energy0=e0,
                energy_end=e_end, final=Start(state, z[:, 0].copy(), z[:, 1].copy()),
                rounds=int(ti[:, D.ROUNDS].sum()), viscous=tot[:, D.VISC].copy(), viscous_rec=a[..., D.VISC_REC].copy(),
                stop_time=stop)
 
 
-def _physical(pad: Padded, state, modal) -> np.ndarray:
-    """Physical states ``V[state] eta`` of modal boundary states ``(B, R + 1, m)``."""
+def _physical(pad: Padded, state, modal, positions: bool = False) -> np.ndarray:
+    """Physical states ``V[state] eta`` of modal boundary states ``(B, R + 1, m)`` (``positions``: plus the state's
+    static equilibrium, a gap's)."""
     out = np.zeros(modal.shape[:2] + (pad.n,))
     for s in (0, 1):
         sel = state == s
-        out[sel] = modal[sel] @ pad.V[s].T
+        out[sel] = modal[sel] @ pad.V[s].T + (pad.xs[s] if positions else 0.0)
     return out
 
 
@@ -298,6 +300,7 @@ def _on_threads(step, rc, idx, stop: int) -> None:
 
 
 def energy(pad: Padded, state, eta, vel) -> np.ndarray:
-    """Mechanical energy ``sum (etadot^2 + w^2 eta^2) / 2`` (Eqs. (12)-(13)) of rows in ``state``."""
+    """Mechanical energy ``sum (etadot^2 + w^2 eta^2) / 2`` (Eqs. (12)-(13)) of rows in ``state``, plus the state's
+    static energy (a gap's, :class:`plbar.model.Statics`; 0 without one)."""
     w = pad.w[state]
-    return 0.5 * np.sum(vel * vel + (w * eta) ** 2, axis=-1)
+    return 0.5 * np.sum(vel * vel + (w * eta) ** 2, axis=-1) + pad.es[state]

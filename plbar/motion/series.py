@@ -134,7 +134,7 @@ class Series:
     def response(self, times):
         """Physical ``x, v`` (K, n) and state (K,) (1 in contact, 2 gap open) at absolute ``times``."""
         st, eta, vel = self.modal(times)
-        return (*_physical(self.prob.system, st, eta, vel), st)
+        return (*_physical(self.prob, st, eta, vel), st)
 
     def reaction(self, times):
         """``-R`` (K,) in state I at ``times`` (0 in state II): the compression the wall holds."""
@@ -146,18 +146,20 @@ class Series:
         out = np.zeros(t.size)
         W = 2 * np.pi / self.T
         out[one] = -(_dots(eta[one, :m1], sy.r_eta) + _dots(vel[one, :m1], rv)
-                     + prob.r_q * np.cos(W * t[one] - self.phi))
+                     + prob.r_q * np.cos(W * t[one] - self.phi) + prob.statics.reaction)
         return out
 
     def energies(self, times):
-        """Kinetic and potential energy (Eqs. (12)-(13)) at ``times``; each (K,)."""
-        sy = self.prob.system
+        """Kinetic and potential energy (Eqs. (12)-(13)) at ``times``; each (K,).  The potential energy is the
+        structure's, ``x^T K x / 2``: the modal one plus the state's static energy (a gap's,
+        :class:`plbar.model.Statics`)."""
+        sy, es = self.prob.system, self.prob.statics.energy
         st, eta, vel = self.modal(times)
         ek, ep = np.zeros(st.size), np.zeros(st.size)
         for s, w in ((1, sy.w1), (2, sy.w2)):
             sel, m = st == s, w.size
             ek[sel] = 0.5 * _dots(vel[sel, :m], vel[sel, :m])
-            ep[sel] = 0.5 * np.sum((w * eta[sel, :m]) ** 2, axis=1)
+            ep[sel] = 0.5 * np.sum((w * eta[sel, :m]) ** 2, axis=1) + es[s - 1]
         return ek, ep
 
 
@@ -266,25 +268,25 @@ class _Flow:
                        np.sin(self.phi), zeta=zeta)
 
     def switch(self, s: int, kind: int, e, v):
-        sy = self.prob.system
+        sy, st = self.prob.system, self.prob.statics
         if kind == 1:
             if s != 1:
                 raise InputError("an opening of the gap recorded while it is open: not this run's events")
-            return 2, sy.P12 @ e, sy.P12 @ v
+            return 2, sy.P12 @ e + st.open_offset, sy.P12 @ v
         if s != 2:
             raise InputError("an impact recorded in contact: not this run's events")
         if kind == 3:                      # a rebound: Newton's law along the contact DOF, the gap stays open
             g = np.asarray(sy.gap_row, float)
             return 2, e, v - (1.0 + float(self.prob.restitution)) * (g @ v) / (g @ g) * g
-        return 1, sy.P21 @ e, sy.Q21 @ v
+        return 1, sy.P21 @ e + st.impact_offset, sy.Q21 @ v
 
     def stick_time(self, t: float, te: float, e, v) -> float:
         """The time of the impact that ends a chattering sequence, recorded at ``te``: the simulator records it at
         the accumulation point of the rebounds it stands for, ``2 e v_c / (a (1 - e))`` after the impact, where
         it switched (:func:`plbar.motion.kernel.loop.rebound`).  The last return of the gap to zero in the free
         flight ``[t, te]`` (from the state ``e, v`` at ``t``)."""
-        g = np.asarray(self.prob.system.gap_row, float)
-        xc = lambda u: float(g @ self(2, t, u - t, e, v)[0])   # noqa: E731
+        g, d = np.asarray(self.prob.system.gap_row, float), self.prob.statics.margin[1]
+        xc = lambda u: float(g @ self(2, t, u - t, e, v)[0]) - d   # noqa: E731  (the stop at x_c = d)
         grid = np.linspace(t, te, 65)[1:]
         vals = np.array([xc(u) for u in grid])
         if not vals[-1] > 0:
@@ -306,17 +308,21 @@ def boundary_mismatch(series: Series, r: Run, b: int) -> float:
     scale = max(float(np.abs(np.c_[xs, vs]).max()), 1e-300)
     ends = series.t0 + (np.arange(P) + 1) * series.T
     st, eta, vel = series.modal(ends, block=np.arange(P))
-    sy = series.prob.system
-    x, v = _physical(sy, st, eta, vel)
+    x, v = _physical(series.prob, st, eta, vel)
     return float(np.abs(np.c_[x - xs[1:], v - vs[1:]]).max()) / scale
 
 
-def _physical(sy, st, eta, vel):
-    """Physical ``x, v`` (K, n) of modal states ``eta, vel`` (K, n) in states ``st`` (K,)."""
+def _physical(prob, st, eta, vel):
+    """Physical ``x, v`` (K, n) of modal states ``eta, vel`` (K, n) in states ``st`` (K,): ``x`` about each state's
+    static equilibrium (a gap's, :class:`plbar.model.Statics`; none without one)."""
+    sy, sta = prob.system, prob.statics
     x, v = np.zeros((st.size, sy.n)), np.zeros((st.size, sy.n))
     one, m1, m2 = st == 1, sy.w1.size, sy.w2.size
     x[one, :-1], v[one, :-1] = _each(sy.V1, eta[one, :m1]), _each(sy.V1, vel[one, :m1])
     x[~one], v[~one] = _each(sy.V2, eta[~one, :m2]), _each(sy.V2, vel[~one, :m2])
+    if not sta.zero:
+        x[one] += sta.x1
+        x[~one] += sta.x2
     return x, v
 
 

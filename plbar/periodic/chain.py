@@ -106,7 +106,8 @@ def layout(prob: Problem, sig: Signature) -> tuple[int, int, int]:
 
 def state_data(prob: Problem, s: int):
     """``(w, f, c, rq, zeta, cv)`` of state ``s`` (1 or 2): the margin is ``c . eta + cv . etadot + rq cos``
-    (``-R`` in state I, with the damper's share ``-r_v``; ``-x_c`` in state II); ``zeta, cv`` None undamped."""
+    (``-R`` in state I, with the damper's share ``-r_v``; ``-x_c`` in state II), plus a gap's constant
+    (``prob.statics.margin``); ``zeta, cv`` None undamped."""
     sy = prob.system
     damped = bool(getattr(sy, "damped", False))
     if s == 1:
@@ -161,8 +162,12 @@ def _build_model(prob: Problem):
                                                    none if cv is None else cv]), dtype=float))
     E, G = switch_maps(prob)
     damping = np.ones(1) if getattr(prob.system, "damped", False) else None
+    st = prob.statics
+    offE, offG = np.zeros(E.shape[0]), np.zeros(G.shape[0])
+    offE[:st.open_offset.size], offG[:st.impact_offset.size] = st.open_offset, st.impact_offset
     return ChainModel(tabs[0], tabs[1], np.ascontiguousarray(E, float), np.ascontiguousarray(G, float),
-                      float(state_data(prob, 1)[3]), np.ascontiguousarray(rebound_map(prob), float), damping)
+                      float(state_data(prob, 1)[3]), np.ascontiguousarray(rebound_map(prob), float), damping,
+                      np.ascontiguousarray(st.margin, float), offE, offG)
 
 
 ZERO, POSITIVE, REBOUND = 0, 1, 2     #: pair kinds of the compiled chain (:func:`dwell_of`)

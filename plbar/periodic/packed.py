@@ -45,6 +45,10 @@ class ChainModel(NamedTuple):
         The rebound (Newton's law with the coefficient of restitution).
     damping : ndarray or None
         None undamped (the undamped flows are compiled), else a marker array (the damped ones).
+    g0 : ndarray, shape (2,)
+        The margins' constants (a gap's, :class:`plbar.model.Statics`: ``-R_I`` in state I, ``d`` in state II).
+    offE, offG : ndarray, shapes (2 m2,), (2 m1,)
+        What the opening and the impact add to the mapped state (a gap's static equilibria, on the positions).
     """
 
     tab1: np.ndarray
@@ -54,6 +58,9 @@ class ChainModel(NamedTuple):
     rq1: float
     B: np.ndarray
     damping: np.ndarray | None
+    g0: np.ndarray
+    offE: np.ndarray
+    offG: np.ndarray
 
 
 class Pairs(NamedTuple):

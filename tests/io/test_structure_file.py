@@ -75,8 +75,21 @@ def test_a_rayleigh_C_is_recovered_and_any_other_C_refused(tmp_path):
         read_structure(tmp_path / "bad.npz")
 
 
+def test_a_structure_file_holds_a_gap(tmp_path):
+    """A file's gap is the structure's; the case's gap replaces it; written back, it is kept."""
+    st = two_bodies()
+    np.savez(tmp_path / "g.npz", M=st.M, K=st.K, r=st.contact, q=st.q, gap=np.array(0.25))
+    assert read_structure(tmp_path / "g.npz").gap == 0.25
+    case = plbar.Case(model="matrices", matrices=str(tmp_path / "g.npz"))
+    assert case.gap == 0.25 and case.problem().gap == 0.25 and case.to_dict()["gap"] == 0.25
+    other = plbar.Case(model="matrices", matrices=str(tmp_path / "g.npz"), gap=-0.5)
+    assert other.problem().gap == -0.5
+    write_structure(tmp_path / "back.npz", other.problem().structure)
+    assert read_structure(tmp_path / "back.npz").gap == -0.5
+
+
 @pytest.mark.parametrize("extra, match", [
-    ({"gap": np.array(0.1)}, "a gap or a preload"),
+    ({"gap": np.array(np.nan)}, "gap"),
     ({"q_s": np.ones(5)}, "a constant load"),
     ({"t": np.ones(5)}, "base excitation"),
     ({"x0": np.ones(5)}, "a given start"),

@@ -109,7 +109,7 @@ def _modes(pad, s):
 
 def _load(pad, s, W, t, phi):
     """The margin's load term at ``t`` (:class:`plbar.motion.kernel.data.LoadTerm`)."""
-    return data.LoadTerm(W, cos(W * t - phi), sin(W * t - phi), pad.rq[s], 0.0)
+    return data.LoadTerm(W, cos(W * t - phi), sin(W * t - phi), pad.rq[s], 0.0, pad.g0[s])
 
 
 @settings(max_examples=60, deadline=None)

@@ -81,7 +81,7 @@ def _cyc(c, s, i):
 def taylor(modes, damp, eta, vel, load, s, K, d, scale):
     """Scaled derivatives ``g^(k) / Om^k`` (``k = 0 .. K``) into ``d`` and their sizes into ``scale``.
 
-    The margin is ``c . eta + cv . eta' + rq cos(W t - phi) + rs sin(W t - phi)`` at the point whose modal state
+    The margin is ``c . eta + cv . eta' + rq cos(W t - phi) + rs sin(W t - phi) + g0`` at the point whose modal state
     is ``eta, vel``: ``modes`` (:class:`.data.Modes`) its modes and weights ``c``, ``damp`` (:class:`.data.Damping`)
     their damping ratios and the weights ``cv`` on the velocities, or None (undamped; that code is then not
     compiled), ``load`` (:class:`.data.LoadTerm`) its load term (``rs = 0`` but for the low part of a split model,
@@ -91,7 +91,7 @@ def taylor(modes, damp, eta, vel, load, s, K, d, scale):
     its value is the round-off of the phase, not a size).
     """
     c, w, f = modes.c, modes.w, modes.f
-    W, ca, sa, rq, rs = load
+    W, ca, sa, rq, rs, g0 = load
     m = w.size
     Om = W
     for j in range(m):
@@ -102,6 +102,8 @@ def taylor(modes, damp, eta, vel, load, s, K, d, scale):
         d[k] = wk * (rq * _cyc(ca, sa, k) + rs * _cyc(ca, sa, k - 1))
         scale[k] = wk * (abs(rq) + abs(rs))    # a sinusoid's round-off is its amplitude's, not its value's
         wk *= Wr
+    d[0] += g0                                 # a gap's constant (0 without one: no double changes)
+    scale[0] += abs(g0)
     rem = (abs(rq) + abs(rs)) * wk
     for j in range(m):
         amp = sqrt((w[j] * eta[j]) ** 2 + vel[j] ** 2) + abs(f[j]) * s

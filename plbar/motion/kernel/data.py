@@ -5,8 +5,9 @@ its first compile short); the fields and the column names below are the only way
 :mod:`plbar.motion.run` reach them.
 
 * :class:`Model` (``md``, :func:`model`): ``md.modal[W | F | C, state]`` the frequencies, modal loads and margin
-  weights, ``md.margin[RQ | SIZE, state]``, ``md.maps[OPEN | IMPACT_POS | IMPACT_VEL | OPEN_VEL]`` the switch maps
-  (:class:`plbar.motion.Padded`), the contact row, the impact mass, whether truncated, the restitution;
+  weights, ``md.margin[RQ | SIZE | G0, state]``, ``md.maps[OPEN | IMPACT_POS | IMPACT_VEL | OPEN_VEL]`` the switch maps
+  and ``md.offsets[OPEN_OFF | IMPACT_OFF]`` what they add (a gap's; :class:`plbar.motion.Padded`), the contact
+  row, the impact mass, whether truncated, the restitution;
 * damping: None (undamped: no damped code is compiled) or ``damping[state, ZETA | CV]``;
 * :class:`Trajectories` (``tr``): ``tr.tf[b, T | OMEGA | PHI | TP | P]``, ``tr.ti[b, PERIOD | STATE | ZEROS |
   STALL | STATUS | ROUNDS | NEED | EVENTS | SHORT]``, the modal state ``tr.z[b, 0 | 1]`` (``eta, eta'``) at the
@@ -40,7 +41,8 @@ __all__ = ["Current", "Damping", "Forcing", "Half", "LoadTerm", "Mode", "ModeSta
            "trajectories"]
 
 W, F, C = 0, 1, 2
-RQ, SIZE = 0, 1
+RQ, SIZE, G0 = 0, 1, 2
+OPEN_OFF, IMPACT_OFF = 0, 1
 OPEN, IMPACT_POS, IMPACT_VEL, OPEN_VEL = 0, 1, 2, 3
 ZETA, CV = 0, 1
 T, OMEGA, PHI, TP, P = 0, 1, 2, 3, 4
@@ -58,10 +60,14 @@ class Model(NamedTuple):
     ----------
     modal : ndarray, shape (3, 2, m)
         ``modal[W | F | C, state, j]``: frequencies, modal loads, margin weights.
-    margin : ndarray, shape (2, 2)
-        ``margin[RQ | SIZE, state]``: the margin's load term and its own size.
+    margin : ndarray, shape (3, 2)
+        ``margin[RQ | SIZE | G0, state]``: the margin's load term, its own size and its constant (a gap's,
+        :class:`plbar.model.Statics`; 0 without one).
     maps : ndarray, shape (4, m, m)
         ``maps[OPEN | IMPACT_POS | IMPACT_VEL | OPEN_VEL]``: the switch maps.
+    offsets : ndarray, shape (2, m)
+        ``offsets[OPEN_OFF | IMPACT_OFF]``: what an opening and an impact add to the mapped positions (a gap's
+        static equilibria; 0 without one).
     vc_row : ndarray, shape (m,)
         The contact velocity's row in state II.
     S : float
@@ -75,6 +81,7 @@ class Model(NamedTuple):
     modal: np.ndarray
     margin: np.ndarray
     maps: np.ndarray
+    offsets: np.ndarray
     vc_row: np.ndarray
     S: float
     truncated: bool
@@ -203,14 +210,15 @@ class Damping(NamedTuple):
 
 
 class LoadTerm(NamedTuple):
-    """The load at a point ``t`` and its term in the margin, ``rq cos(W t - phi) + rs sin(W t - phi)``: ``W``,
-    ``ca, sa = cos, sin(W t - phi)``, ``rq`` and ``rs``."""
+    """The load at a point ``t`` and its term in the margin, ``rq cos(W t - phi) + rs sin(W t - phi) + g0``:
+    ``W``, ``ca, sa = cos, sin(W t - phi)``, ``rq``, ``rs`` and the margin's constant ``g0`` (a gap's)."""
 
     W: float
     ca: float
     sa: float
     rq: float
     rs: float
+    g0: float
 
 
 class Scaled(NamedTuple):
@@ -236,9 +244,9 @@ def _f64(a):
 def model(pad) -> Model:
     """The kernel's view of a :class:`plbar.motion.Padded`."""
     maps = [pad.open_map, pad.impact_pos, pad.impact_vel, pad.open_map if pad.open_vel is None else pad.open_vel]
-    return Model(_f64(np.stack([pad.w, pad.f, pad.c])), _f64(np.stack([pad.rq, pad.size])), _f64(np.stack(maps)),
-                 _f64(pad.vc_row), float(0.0 if pad.truncated else pad.S), bool(pad.truncated),
-                 float(pad.restitution))
+    return Model(_f64(np.stack([pad.w, pad.f, pad.c])), _f64(np.stack([pad.rq, pad.size, pad.g0])),
+                 _f64(np.stack(maps)), _f64(pad.offsets), _f64(pad.vc_row), float(0.0 if pad.truncated else pad.S),
+                 bool(pad.truncated), float(pad.restitution))
 
 
 def damping(pad):

@@ -33,8 +33,8 @@ def margin_at(md, st, seg, u, z0, e, v, damping):
     hf = half(W, u)
     arg = W * (seg.ts + u) - seg.phi
     ca, sa = cos(arg), sin(arg)
-    rq = margin[D.RQ, st]
-    g, g1, size = rq * ca, -rq * W * sa, abs(rq)
+    rq, g0 = margin[D.RQ, st], margin[D.G0, st]
+    g, g1, size = rq * ca + g0, -rq * W * sa, abs(rq) + abs(g0)
     for j in range(e.size):
         w, f, c = modal[D.W, st, j], modal[D.F, st, j], modal[D.C, st, j]
         z = 0.0 if damping is None else damping[st, D.ZETA, j]
@@ -79,8 +79,8 @@ def land(md, seg, x, hi, e, v, damping):
     round-off level ``ZERO``, up to ~1e-13 of its size; the reset ``x_c = 0`` would move ``x_c`` times the contact
     force of potential energy, 1e-13 of the energy at some impacts, and the budget of 1,000 periods drifted by
     1e-12 of the work (issue 28)."""
-    modal = md.modal
-    g, g1, size, wmax = 0.0, 0.0, 0.0, 0.0
+    modal, g0 = md.modal, md.margin[D.G0, FREE]
+    g, g1, size, wmax = g0, 0.0, abs(g0), 0.0
     for j in range(e.size):
         c = modal[D.C, FREE, j]
         g += c * e[j]

@@ -93,7 +93,8 @@ def _model(md, st, W, T, ca, sa, K, wk, damping):
     :func:`.certify.bracket`)."""
     modal, margin, d, scale, work = md.modal, md.margin, wk.d, wk.scale, wk.taylor
     cap = CAP * T
-    modes, load = D.Modes(modal[D.W, st], modal[D.F, st], modal[D.C, st]), D.LoadTerm(W, ca, sa, margin[D.RQ, st], 0.0)
+    modes = D.Modes(modal[D.W, st], modal[D.F, st], modal[D.C, st])
+    load = D.LoadTerm(W, ca, sa, margin[D.RQ, st], 0.0, margin[D.G0, st])
     if damping is None:
         rem, Om = taylor(modes, None, wk.e, wk.v, load, cap, K, d, scale)
     else:
@@ -128,6 +129,13 @@ def _certify(md, st, W, T, ca, sa, wk, large, damping):
 
 
 @jit
+def _add(x, a):
+    """``x += a`` (a switch's offset: a gap's static equilibria; zeros without one, which change no double)."""
+    for j in range(x.size):
+        x[j] += a[j]
+
+
+@jit
 def switch(md, st, eta, vel, out_e, out_v, load, damping):
     """The event at the current point: ``(kind, loss, dt)``; the new modal state into ``out_e, out_v``.
 
@@ -140,6 +148,7 @@ def switch(md, st, eta, vel, out_e, out_v, load, damping):
     maps, vc_row, S, truncated, rest = md.maps, md.vc_row, md.S, md.truncated, md.restitution
     if st == STUCK:
         matvec(maps[D.OPEN], eta, out_e)
+        _add(out_e, md.offsets[D.OPEN_OFF])
         matvec(maps[D.OPEN_VEL], vel, out_v)
         return D.OPENS, 0.0, 0.0
     kind, loss, dt = D.IMPACT, 0.0, 0.0
@@ -148,6 +157,7 @@ def switch(md, st, eta, vel, out_e, out_v, load, damping):
         if kind == D.REBOUND:
             return kind, loss, dt
     matvec(maps[D.IMPACT_POS], eta, out_e)
+    _add(out_e, md.offsets[D.IMPACT_OFF])
     matvec(maps[D.IMPACT_VEL], vel, out_v)
     ke, vc = 0.0, 0.0
     for j in range(vel.size):

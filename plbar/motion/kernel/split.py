@@ -75,8 +75,9 @@ def split_step(md, st, W, ct, s_t, cap, wk, damping):
     d, scale, amp, P, fast = wk.d, wk.scale, wk.amp, wk.P, wk.fast
     c, w, f = modal[D.C, st], modal[D.W, st], modal[D.F, st]
     m = w.size
-    g = margin[D.RQ, st] * ct
-    at = D.LoadTerm(W, ct, s_t, margin[D.RQ, st], 0.0)
+    g0 = margin[D.G0, st]
+    g = margin[D.RQ, st] * ct + g0
+    at = D.LoadTerm(W, ct, s_t, margin[D.RQ, st], 0.0, g0)
     for j in range(m):
         cvj = 0.0 if damping is None else damping[st, D.CV, j]
         g += c[j] * eta[j] + cvj * vel[j]
@@ -99,7 +100,7 @@ def split_step(md, st, W, ct, s_t, cap, wk, damping):
         cvj = 0.0 if damping is None else damping[st, D.CV, j]
         Rc += c[j] * P[st, 0, j] - cvj * W * P[st, 1, j]
         Rs += -c[j] * P[st, 1, j] - cvj * W * P[st, 0, j]
-    low, load = D.Modes(w[:J], f[:J], c[:J]), D.LoadTerm(W, ct, s_t, Rc, Rs)
+    low, load = D.Modes(w[:J], f[:J], c[:J]), D.LoadTerm(W, ct, s_t, Rc, Rs, g0)
     if damping is None:
         rem, Om = taylor(low, None, eta[:J], vel[:J], load, cap, K, d, scale)
     else:

@@ -75,11 +75,11 @@ def _flow_jac(tab, damping, seg, tau, src, dst, tcol, dcol):
 
 
 @jit
-def _margin(tab, rq, Om, t, phi, z):
-    """``(g, size)``: the state's margin ``c . eta + cv . eta' + rq cos(Om t - phi)`` (``-R`` in I, ``-x_c`` in II)
-    and the size of its terms."""
+def _margin(tab, rq, g0, Om, t, phi, z):
+    """``(g, size)``: the state's margin ``c . eta + cv . eta' + rq cos(Om t - phi) + g0`` (``-R`` in I, ``-x_c``
+    in II; ``g0`` a gap's constant) and the size of its terms."""
     m = tab.shape[1]
-    g, size = 0.0, 0.0
+    g, size = g0, abs(g0)
     for j in range(m):
         g += tab[C, j] * z[j] + tab[CV, j] * z[m + j]
         size += abs(tab[C, j]) * abs(z[j]) + abs(tab[CV, j]) * abs(z[m + j])
@@ -108,6 +108,13 @@ def _switch_rows(M, D, Dn):
             for j in range(M.shape[1]):
                 s += M[i, j] * D[j, k]
             Dn[i, k] = s
+
+
+@jit
+def _add(x, a):
+    """``x[:a.size] += a``."""
+    for i in range(a.size):
+        x[i] += a[i]
 
 
 @jit
@@ -203,9 +210,9 @@ def _chain(stamp):
             for s in range(2):
                 if s == 0 and dwell[i] == 2:          # a rebound: the free phase at once
                     continue
-                tab, rq = tab1 if s == 0 else tab2, rq1 if s == 0 else 0.0
+                tab, rq, g0 = tab1 if s == 0 else tab2, rq1 if s == 0 else 0.0, md.g0[s]
                 if s == 0 and dwell[i] == 0:          # just after the impact: the reaction must pull (< 0)
-                    zero[nzero] = _margin(tab1, rq1, Om, t, phi, Z[a])[0]
+                    zero[nzero] = _margin(tab1, rq1, g0, Om, t, phi, Z[a])[0]
                     nzero += 1
                 else:
                     tau = X[nz + col]
@@ -217,7 +224,7 @@ def _chain(stamp):
                         _gradient(tab, rq, Om, t + tau, phi, DD[1 - a], tcol, J[col])
                     else:
                         _flow(tab, damping, ld, tau, Z[a], Z[1 - a])
-                    F[col], scale[col] = _margin(tab, rq, Om, t + tau, phi, Z[1 - a])
+                    F[col], scale[col] = _margin(tab, rq, g0, Om, t + tau, phi, Z[1 - a])
                     times[col, 0], times[col, 1] = t, tau
                     copy(Z[a], zs[col, 0])
                     copy(Z[1 - a], zs[col, 1])
@@ -226,8 +233,11 @@ def _chain(stamp):
                         for j in range(tab2.shape[1]):
                             vimp[i] -= tab2[C, j] * Z[1 - a, tab2.shape[1] + j]
                     a, t, col = 1 - a, t + tau, col + 1
-                M = E if s == 0 else (B if dwell[(i + 1) % k] == 2 else G)
+                rebound = s == 1 and dwell[(i + 1) % k] == 2
+                M = E if s == 0 else (B if rebound else G)
                 matvec(M, Z[a], Z[1 - a])               # opening, impact or rebound
+                if not rebound:                         # a gap's static equilibria (zeros without one)
+                    _add(Z[1 - a], md.offE if s == 0 else md.offG)
                 if jac:
                     _switch_rows(M, DD[a], DD[1 - a])
                 a = 1 - a

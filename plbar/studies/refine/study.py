@@ -165,6 +165,9 @@ def refine_study(cases, ns, families=("T0_II/2",), settings: TrackSettings | Non
 
 def _refinable(case: Case) -> None:
     """Refuse what a refinement cannot honour (one line each, saying what to do instead)."""
+    if case.gap:
+        raise InputError(f"gap = {case.gap:g}: refine follows families of the paper's scan, written for no gap; the "
+                         "real motion on each mesh with a gap: plbar survey -N N1 N2 ... --gap D")
     if case.restitution:
         raise InputError(f"restitution = {case.restitution:g}: refine follows families of the paper's class (a "
                          "plastic impact) through N, which need e = 0; the real motion on each mesh with rebounds: "

@@ -1,0 +1,108 @@
+"""The static part of each state's motion: a gap or an interference at the stop (FORMULATION §9, affine terms).
+
+With the stop at ``u = d`` (``gap``; the contact coordinate is last, ``u <= d``) each state moves about its own
+static equilibrium, and the motion about it is the paper's flow (Eqs. (1)-(3)) unchanged:
+
+* state II (free): ``x_II = 0`` (no constant load), the opening ``o = d - u``;
+* state I (held): ``u = d`` and ``K_rr x_r + K_rc d = 0``, so ``x_I = (-K_rr^-1 K_rc d, d)``, with the reaction
+  ``R_I = (K x_I)_c = d (K_cc - K_cr K_rr^-1 K_rc)`` (the Schur complement of ``K_rr``: the stiffness the stop
+  sees).
+
+A state's modal coordinates are those of ``x - x_state``.  Everything that is linear in them stays as it is: the
+flows, their derivatives (hence Newton's Jacobians and the Floquet multipliers), the velocities, the impact loss
+(Eq. (14)), ``Psi`` (Eq. (20)) and ``xi_eq`` (Eq. (22)).  What changes is affine and constant:
+
+* the margins gain constants: ``-R`` in state I gains ``-R_I``, ``-u`` in state II gains ``d``;
+* a switch maps the positions as before and adds a constant (:attr:`Statics.open_offset`,
+  :attr:`Statics.impact_offset`): ``eta_to = P eta_from + L_to (x_from - x_to)`` with ``L_to`` the projection
+  the map ``P`` is made of (``V2^T M`` on opening, ``V1^T M_rr`` on the held DOFs at an impact);
+* the modal energy ``sum (eta'^2 + w^2 eta^2) / 2`` is the mechanical energy ``v^T M v / 2 + x^T K x / 2`` less
+  the state's static energy ``x_state^T K x_state / 2`` (the cross term ``x^T K x_I = R_I u`` is ``R_I d``, a
+  constant, in state I).
+
+At ``d = 0`` every constant is 0: the paper's system, bit for bit (a constant 0 added changes no double).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+
+from ..errors import InputError
+
+__all__ = ["Statics", "check_gap", "statics"]
+
+
+def check_gap(d) -> float:
+    """A validated gap: a finite number (``> 0`` a clearance, ``< 0`` an interference, 0 the paper)."""
+    bad = f"gap = {d!r} must be a finite number (> 0 a clearance at the stop, < 0 an interference, 0 the paper)"
+    if isinstance(d, (bool, str, bytes)):
+        raise InputError(bad)
+    try:
+        v = float(d)
+    except (TypeError, ValueError):
+        raise InputError(bad) from None
+    if not np.isfinite(v):
+        raise InputError(bad)
+    return v
+
+
+@dataclass(frozen=True)
+class Statics:
+    """The static equilibria of the two states and the constants they add (module docstring).
+
+    Attributes
+    ----------
+    gap : float
+        ``d``: the stop holds ``u <= d``.
+    x1, x2 : ndarray, shape (n,)
+        The static equilibria of state I (``x1[-1] = d``) and state II (zeros), in contact coordinates.
+    reaction : float
+        ``R_I``, the reaction of state I at its equilibrium (``< 0``: the stop pushes, as it must to hold it).
+    energy : ndarray, shape (2,)
+        ``x_s^T K x_s / 2`` of the two equilibria (state I, state II): the mechanical energy less the modal one.
+    margin : ndarray, shape (2,)
+        The margins' constants ``(-R_I, d)`` (``-R`` in state I, the opening ``d - u`` in state II).
+    open_offset : ndarray, shape (m2,)
+        Added to ``P12 eta^I`` at an opening: ``V2^T M (x1 - x2)``.
+    impact_offset : ndarray, shape (m1,)
+        Added to ``P21 eta^II`` at an impact: ``V1^T M_rr (x2 - x1)_r``.
+    """
+
+    gap: float
+    x1: np.ndarray
+    x2: np.ndarray
+    reaction: float
+    energy: np.ndarray
+    margin: np.ndarray
+    open_offset: np.ndarray
+    impact_offset: np.ndarray
+
+    @property
+    def zero(self) -> bool:
+        """True at ``d = 0``: the paper's system, every constant 0."""
+        return self.gap == 0.0
+
+    @property
+    def rest_state(self) -> int:
+        """The state of the static equilibrium (0: state I, held; 1: state II, free): free where the opening at
+        rest is positive (a clearance), else held (no gap: at the stop with no reaction; an interference)."""
+        return 1 if self.margin[1] > 0.0 else 0
+
+
+def statics(system, gap: float = 0.0) -> Statics:
+    """The :class:`Statics` of a :class:`plbar.model.TwoStateSystem` with its stop at ``u = gap``."""
+    d = check_gap(gap)
+    M, K, V1, V2 = system.M, system.K, system.V1, system.V2
+    n = M.shape[0]
+    x1, x2 = np.zeros(n), np.zeros(n)
+    if d != 0.0:
+        x1[:-1] = -sla.solve(K[:-1, :-1], K[:-1, -1] * d, assume_a="pos")
+        x1[-1] = d
+    reaction = float(K[-1] @ x1)
+    energy = np.array([0.5 * float(x1 @ K @ x1), 0.5 * float(x2 @ K @ x2)])
+    dx = x1 - x2
+    return Statics(d, x1, x2, reaction, energy, np.array([-reaction, d - x2[-1]]), V2.T @ (M @ dx),
+                   V1.T @ (M[:-1, :-1] @ -dx[:-1]))
