@@ -100,12 +100,7 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
                    help="take --end-mass as an absolute mass")
     g.add_argument("--modes", type=int, default=None, metavar="M",
                    help="keep the lowest M modes of each state (modal truncation: never for xi_eq, see README) [all]")
-    g.add_argument("--restitution", type=float, default=None, metavar="E",
-                   help="coefficient of restitution of the contact, 0 <= E <= 1 (Newton's impact law; run's "
-                        "responses then rebound: R in their signatures; sweep-loads and refine need E = 0) [0]")
-    g.add_argument("--gap", type=float, default=None, metavar="D",
-                   help="the stop's distance from the contact at rest: D > 0 a clearance, D < 0 an interference "
-                        "(held by the stop); with a gap the response depends on --amplitude over D [0]")
+    _contact_args(g)
     _damping_args(p, at)
     _load_args(p, load_help)
     g = p.add_argument_group("search")
@@ -125,6 +120,16 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
     for act in p._actions:                   # refused options: still parsed (to say why), not offered
         if act.dest in refused:
             act.help = hidden
+
+
+def _contact_args(g) -> None:
+    """``--restitution`` and ``--gap``: the contact's impact law and the stop's position."""
+    g.add_argument("--restitution", type=float, default=None, metavar="E",
+                   help="coefficient of restitution of the contact, 0 <= E <= 1 (Newton's impact law; run's "
+                        "responses then rebound: R in their signatures; sweep-loads and refine need E = 0) [0]")
+    g.add_argument("--gap", type=float, default=None, metavar="D",
+                   help="the stop's distance from the contact at rest: D > 0 a clearance, D < 0 an interference "
+                        "(held by the stop); with a gap the response depends on --amplitude over D [0]")
 
 
 def _section_args(g) -> None:

@@ -147,7 +147,7 @@ def _damping(where: str, arrays: dict):
 
 
 def write_structure(path, structure: Structure) -> Path:
-    """Write ``structure`` as a structure file (``M, K, r, q, x``, and ``rayleigh``, ``restitution``, ``gap`` where set),
+    """Write ``structure`` as a structure file (``M, K, r, q, x``; ``rayleigh``, ``restitution``, ``gap`` where set),
     atomically: what :func:`read_structure` reads back exactly."""
     arrays = {"M": structure.M, "K": structure.K, "r": structure.contact, "q": structure.q, "x": structure.x}
     if structure.rayleigh is not None:

@@ -111,6 +111,18 @@ def _switch_rows(M, D, Dn):
 
 
 @jit
+def _switch(md, s, rebound, z, z1, D, D1, jac):
+    """The switch at the end of a segment of state ``s + 1`` (opening; impact, or a ``rebound``): ``z1`` from
+    ``z``, plus a gap's static equilibria (zeros without one); with ``jac`` its derivative ``D1`` from ``D``."""
+    M = md.E if s == 0 else (md.B if rebound else md.G)
+    matvec(M, z, z1)
+    if not rebound:
+        _add(z1, md.offE if s == 0 else md.offG)
+    if jac:
+        _switch_rows(M, D, D1)
+
+
+@jit
 def _add(x, a):
     """``x[:a.size] += a``."""
     for i in range(a.size):
@@ -193,7 +205,7 @@ def _chain(stamp):
         ``scale`` and the contact velocity before every impact ``vimp``.  The state and its derivative live in two
         buffers each (``a``: the current one).
         """
-        tab1, tab2, E, G, rq1, B, damping, dwell = md.tab1, md.tab2, md.E, md.G, md.rq1, md.B, md.damping, sig.dwell
+        tab1, tab2, rq1, damping, dwell = md.tab1, md.tab2, md.rq1, md.damping, sig.dwell
         F, J, times, zs, zero, scale, vimp = out.F, out.J, out.times, out.zs, out.zero, out.scale, out.vimp
         nz, nX, k = start_size(md, dwell), X.size, dwell.size
         n, jac = 2 * max(tab1.shape[1], tab2.shape[1]), J.size > 0 and stamp >= 0   # (the stamp keys the cache)
@@ -233,13 +245,7 @@ def _chain(stamp):
                         for j in range(tab2.shape[1]):
                             vimp[i] -= tab2[C, j] * Z[1 - a, tab2.shape[1] + j]
                     a, t, col = 1 - a, t + tau, col + 1
-                rebound = s == 1 and dwell[(i + 1) % k] == 2
-                M = E if s == 0 else (B if rebound else G)
-                matvec(M, Z[a], Z[1 - a])               # opening, impact or rebound
-                if not rebound:                         # a gap's static equilibria (zeros without one)
-                    _add(Z[1 - a], md.offE if s == 0 else md.offG)
-                if jac:
-                    _switch_rows(M, DD[a], DD[1 - a])
+                _switch(md, s, dwell[(i + 1) % k] == 2, Z[a], Z[1 - a], DD[a], DD[1 - a], jac)
                 a = 1 - a
         _close(X, nz, sig.m, T, Jet(Z[a], DD[a]), out, jac)
         return relative(F, scale, X, nz, T)
