@@ -30,23 +30,14 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
-from ..errors import InputError
+from ..util.check import finite
 
 __all__ = ["Statics", "check_gap", "statics"]
 
 
 def check_gap(d) -> float:
     """A validated gap: a finite number (``> 0`` a clearance, ``< 0`` an interference, 0 the paper)."""
-    bad = f"gap = {d!r} must be a finite number (> 0 a clearance at the stop, < 0 an interference, 0 the paper)"
-    if isinstance(d, (bool, str, bytes)):
-        raise InputError(bad)
-    try:
-        v = float(d)
-    except (TypeError, ValueError):
-        raise InputError(bad) from None
-    if not np.isfinite(v):
-        raise InputError(bad)
-    return v
+    return finite("gap", d, "a finite number (> 0 a clearance at the stop, < 0 an interference, 0 the paper)")
 
 
 @dataclass(frozen=True)
