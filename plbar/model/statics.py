@@ -32,7 +32,7 @@ import scipy.linalg as sla
 
 from ..util.check import finite
 
-__all__ = ["Statics", "check_gap", "statics"]
+__all__ = ["Statics", "check_gap", "rest_state", "statics"]
 
 
 def check_gap(d) -> float:
@@ -78,9 +78,15 @@ class Statics:
 
     @property
     def rest_state(self) -> int:
-        """The state of the static equilibrium (0: state I, held; 1: state II, free): free where the opening at
-        rest is positive (a clearance), else held (no gap: at the stop with no reaction; an interference)."""
-        return 1 if self.margin[1] > 0.0 else 0
+        """The state of the static equilibrium (:func:`rest_state`)."""
+        return rest_state(self.margin)
+
+
+def rest_state(margin) -> int:
+    """The state of the static equilibrium from the margins' constants ``(-R_I, d - u_II)``: 1 (state II, free)
+    where the opening at rest is positive (a clearance), else 0 (state I, held: no gap, at the stop with no
+    reaction; an interference)."""
+    return 1 if margin[1] > 0.0 else 0
 
 
 def statics(system, gap: float = 0.0) -> Statics:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import Problem
+from ..model.statics import rest_state
 
 __all__ = ["CHATTER", "FREE", "IMPACT", "OK", "OPENS", "REBOUND", "STALLED", "STICK", "STUCK", "Padded", "padded",
            "energy_consistent"]
@@ -109,8 +110,8 @@ class Padded:
 
     @property
     def rest_state(self) -> int:
-        """The state of the static equilibrium (:attr:`plbar.model.Statics.rest_state`)."""
-        return FREE if self.g0[FREE] > 0.0 else STUCK
+        """The state of the static equilibrium (:func:`plbar.model.statics.rest_state`)."""
+        return rest_state(self.g0)
 
     @property
     def m(self) -> int:

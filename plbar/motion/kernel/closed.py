@@ -26,12 +26,14 @@ from .data import Half
 from .jit import jit
 
 __all__ = [
+    "add",
     "damped_flow",
     "damped_free",
     "damped_kernels",
     "flow",
     "half",
     "kernels",
+    "matvec",
     "mode_flow",
     "phi1",
     "roots",
@@ -205,3 +207,11 @@ def matvec(A, x, out):
         for j in range(A.shape[1]):
             acc += A[i, j] * x[j]
         out[i] = acc
+
+
+@jit
+def add(x, a):
+    """``x[:a.size] += a`` (a switch's offset, a gap's static equilibria, in the simulator and the chain: zeros
+    without a gap, which change no double)."""
+    for i in range(a.size):
+        x[i] += a[i]

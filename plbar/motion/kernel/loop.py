@@ -24,7 +24,7 @@ import numpy as np
 from ..model import CHATTER, FREE, OK, STALLED, STUCK
 from . import data as D
 from .certify import ZERO, bracket, decide_step, lands, taylor
-from .closed import half, matvec, mode_flow
+from .closed import add, half, matvec, mode_flow
 from .jit import alloc, cached, inline, jit
 from .locate import land, locate
 from .pieces import amplitude, piece_accounts
@@ -129,13 +129,6 @@ def _certify(md, st, W, T, ca, sa, wk, large, damping):
 
 
 @jit
-def _add(x, a):
-    """``x += a`` (a switch's offset: a gap's static equilibria; zeros without one, which change no double)."""
-    for j in range(x.size):
-        x[j] += a[j]
-
-
-@jit
 def switch(md, st, eta, vel, out_e, out_v, load, damping):
     """The event at the current point: ``(kind, loss, dt)``; the new modal state into ``out_e, out_v``.
 
@@ -148,7 +141,7 @@ def switch(md, st, eta, vel, out_e, out_v, load, damping):
     maps, vc_row, S, truncated, rest = md.maps, md.vc_row, md.S, md.truncated, md.restitution
     if st == STUCK:
         matvec(maps[D.OPEN], eta, out_e)
-        _add(out_e, md.offsets[D.OPEN_OFF])
+        add(out_e, md.offsets[D.OPEN_OFF])
         matvec(maps[D.OPEN_VEL], vel, out_v)
         return D.OPENS, 0.0, 0.0
     kind, loss, dt = D.IMPACT, 0.0, 0.0
@@ -157,7 +150,7 @@ def switch(md, st, eta, vel, out_e, out_v, load, damping):
         if kind == D.REBOUND:
             return kind, loss, dt
     matvec(maps[D.IMPACT_POS], eta, out_e)
-    _add(out_e, md.offsets[D.IMPACT_OFF])
+    add(out_e, md.offsets[D.IMPACT_OFF])
     matvec(maps[D.IMPACT_VEL], vel, out_v)
     ke, vc = 0.0, 0.0
     for j in range(vel.size):

@@ -24,7 +24,7 @@ from math import cos, pi, sin
 
 import numpy as np
 
-from ...motion.kernel.closed import half, matvec, mode_flow
+from ...motion.kernel.closed import add, half, matvec, mode_flow
 from ...motion.kernel.data import Forcing, Mode, ModeState, Segment
 from ..packed import CV, LOAD, ZETA, C, W, Jet, Walk
 from .stamp import cached, jit
@@ -117,16 +117,9 @@ def _switch(md, s, rebound, z, z1, D, D1, jac):
     M = md.E if s == 0 else (md.B if rebound else md.G)
     matvec(M, z, z1)
     if not rebound:
-        _add(z1, md.offE if s == 0 else md.offG)
+        add(z1, md.offE if s == 0 else md.offG)
     if jac:
         _switch_rows(M, D, D1)
-
-
-@jit
-def _add(x, a):
-    """``x[:a.size] += a``."""
-    for i in range(a.size):
-        x[i] += a[i]
 
 
 @jit
