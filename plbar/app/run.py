@@ -119,8 +119,9 @@ class Result:
 def _structure_text(case: Case) -> str:
     """What a structure given by its matrices is, in a line (its DOFs and where it came from)."""
     where = f" from {case.matrices}" if case.matrices else ""
-    return f"a structure of {case.structure.n} DOFs{where} (contact row {case.structure.contact.tolist()})" \
-        if case.structure.n <= 6 else f"a structure of {case.structure.n} DOFs{where}"
+    n = case.structure.n
+    dofs = f"a structure of {n} DOF{'s' if n != 1 else ''}{where}"
+    return f"{dofs} (contact row {case.structure.contact.tolist()})" if n <= 6 else dofs
 
 
 def solve(case: Case | Structure | None = None, progress: bool = False) -> Result:

@@ -32,9 +32,10 @@ M_MAX = {"paper": 1, "default": 4, "all": 8}
 
 
 def search_window(prob: Problem, domain: Domain) -> tuple[float, float]:
-    """Forcing periods searched: from ``T0^I / 2`` to the top of the paper's search domain ``max T1 + max T2``."""
-    T0I, _ = prob.system.T0
-    return 0.5 * T0I, float(domain.T1[1] + domain.T2[1])
+    """Forcing periods searched: from ``T0^I / 2`` (``T0^II / 4`` for a single mass held at the stop, whose
+    ``T0^I = 0``) to the top of the paper's search domain ``max T1 + max T2``."""
+    T0I, T0II = prob.system.T0
+    return (0.5 * T0I if T0I else 0.25 * T0II), float(domain.T1[1] + domain.T2[1])
 
 
 def _seeding(prob: Problem, window, kinds: str, progress=None, pad=None, halt=None):

@@ -104,8 +104,8 @@ class Structure:
         x = np.arange(1.0, n + 1.0) if self.x is None else self.x
         M, K, x = check_matrices(self.M, self.K, x)
         n = M.shape[0]
-        if n < 2:
-            raise InputError(f"the structure needs at least 2 free DOFs, got {n}")
+        if n < 1:
+            raise InputError(f"the structure needs at least 1 free DOF, got {n}")
         r = _vector("contact", self.contact, n)
         if not np.any(r):
             raise InputError("contact = 0: the contact row must have a non-zero entry (u = r . x)")

@@ -38,7 +38,11 @@ SINGULAR_RTOL = 1e-13
 
 
 def _modes(K: np.ndarray, M: np.ndarray, what: str, m: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Natural circular frequencies and mass-normalised modes, sign-fixed (the lowest ``m``, or all)."""
+    """Natural circular frequencies and mass-normalised modes, sign-fixed (the lowest ``m``, or all).
+
+    A state with no DOF (a single mass held at the stop) has no mode: empty arrays."""
+    if K.shape[0] == 0:
+        return np.zeros(0), np.zeros((0, 0))
     if m is None or m >= K.shape[0]:
         lam, V = sla.eigh(K, M)
     else:
@@ -179,8 +183,9 @@ class TwoStateSystem:
 
     @property
     def T0(self) -> tuple[float, float]:
-        """Fundamental periods ``(T0^I, T0^II)``."""
-        return 2 * np.pi / self.w1[0], 2 * np.pi / self.w2[0]
+        """Fundamental periods ``(T0^I, T0^II)``; ``T0^I = 0`` where state I has no DOF (a single mass held at the
+        stop: infinitely stiff, no period of its own)."""
+        return (2 * np.pi / self.w1[0] if self.w1.size else 0.0), 2 * np.pi / self.w2[0]
 
     def embed(self, xr: np.ndarray) -> np.ndarray:
         """State I physical vector(s) ``(..., n-1)`` to full DOFs ``(..., n)`` with ``x_c = 0``."""
@@ -226,8 +231,8 @@ def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray, modes=None, rayleigh=
     """
     M, K, x = check_matrices(M, K, x)
     n = M.shape[0]
-    if n < 2:
-        raise InputError(f"the system needs at least 2 free DOFs, got {n}")
+    if n < 1:
+        raise InputError(f"the system needs at least 1 free DOF, got {n}")
     m1, m2 = _n_modes(modes, n)
     Mrr, Krr = M[:-1, :-1], K[:-1, :-1]
     w1, V1 = _modes(Krr, Mrr, "state I", m1)

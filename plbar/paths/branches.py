@@ -34,9 +34,10 @@ class Domain:
 
 
 def default_domain(prob: Problem) -> Domain:
-    """The paper's domain ``T^alpha in (0, T0^alpha / 2]`` (Sec. 4.1)."""
+    """The paper's domain ``T^alpha in (0, T0^alpha / 2]`` (Sec. 4.1); a single mass held at the stop (no
+    period of its own, ``T0^I = 0``) is searched with stuck phases up to ``T0^II / 2``."""
     T0I, T0II = prob.system.T0
-    return Domain((0.0, T0I / 2), (0.0, T0II / 2))
+    return Domain((0.0, (T0I or T0II) / 2), (0.0, T0II / 2))
 
 
 @dataclass(frozen=True)

@@ -31,6 +31,7 @@ from ..model import Problem
 from ..paths import FOLD_MU, FOLD_T, GRAZING, NEIMARK_SACKER, PERIOD_DOUBLING
 from .branch import DWELL_ZERO, PREMATURE, Branch
 from .floquet import monodromy, multipliers
+from .followed import Followed
 from .follow import END_DWELL, FollowSettings, follow
 from .seeds import doubled, split, zero_dwell
 from .signature import ONE_REBOUND, PAPER, ZERO_DWELL, Signature
@@ -48,7 +49,7 @@ STABLE_TOL = 1e-9
 def _curve(prob, orb: Orbit, window, st) -> tuple[list[Orbit], list[str]]:
     """The whole curve through ``orb`` (both directions), in increasing arclength, and its two ends."""
     up, e_up = follow(prob, orb.sig, orb, window, +1.0, st)
-    dn, e_dn = follow(prob, orb.sig, orb, window, -1.0, st)
+    dn, e_dn = follow(prob, orb.sig, orb, window, -1.0, st, before=up[:0:-1])   # ends where it meets ``up``
     return dn[::-1] + up[1:], [e_dn, e_up]
 
 
@@ -116,46 +117,20 @@ def _critical(mu) -> str:
     return PD if crit.real < 0 else FOLD_MU
 
 
-class _Curves:
-    """The curves followed so far, as pieces (two neighbouring points) per canonical signature: is an orbit on one?"""
-
-    def __init__(self):
-        self.pieces: dict = {}
-
-    def add(self, label: str, T, L) -> None:
-        T, L = np.asarray(T, float), np.asarray(L, float)
-        new = (T[:-1], T[1:], L[:-1], L[1:])
-        old = self.pieces.get(label)
-        self.pieces[label] = new if old is None else tuple(np.concatenate([o, n]) for o, n in zip(old, new))
-
-    def known(self, orb: Orbit) -> bool:
-        """Same canonical signature, and its loss on a piece's linear interpolation at its ``T`` (the piece's ``T``
-        range holding it)."""
-        p = self.pieces.get(str(orb.sig.canonical()))
-        if p is None:
-            return False
-        a, b, La, Lb = p
-        T, loss = orb.T, orb.loss_per_T
-        i = np.flatnonzero((np.minimum(a, b) <= T) & (T <= np.maximum(a, b)))
-        if not i.size:
-            return False
-        a, b, La, Lb = a[i], b[i], La[i], Lb[i]
-        w = np.divide(T - a, b - a, out=np.zeros(i.size), where=b != a)
-        return bool(np.any(np.abs(La + w * (Lb - La) - loss) <= 1e-2 * np.abs(Lb - La) + 1e-6 * max(abs(loss), 1e-12)))
-
-
 def _zero_dwell_seeds(prob, window, num: int) -> list[Orbit]:
     """One admissible ``1Z`` orbit (``1R`` with restitution) per admissible stretch of the grid (and root)."""
     Ts = np.linspace(window[0], window[1], num)
     sig = ONE_REBOUND if getattr(prob, "restitution", 0.0) else ZERO_DWELL
-    orbs = [o for T in Ts for o in zero_dwell(prob, T, sig)]
-    ok = admissible(orbs)
-    seeds, prev = [], None
-    for o, a in zip(orbs, ok):
-        if a and (prev is None or abs(prev.T - o.T) > 1.5 * (Ts[1] - Ts[0]) or abs(prev.phi - o.phi) > 0.5):
-            seeds.append(o)
-        if a:
-            prev = o
+    per_T = [zero_dwell(prob, T, sig) for T in Ts]
+    ok = admissible([o for orbs in per_T for o in orbs])
+    seeds, prev, k = [], [], 0
+    for orbs in per_T:
+        here = [o for o, a in zip(orbs, ok[k:k + len(orbs)]) if a]
+        k += len(orbs)
+        # a new seed where no admissible root at the previous grid period is near it in phase: with a gap both
+        # roots can be admissible (the two sides of a fold), each continuing its own root
+        seeds.extend(o for o in here if not any(abs(p.phi - o.phi) <= 0.5 for p in prev))
+        prev = here
     return seeds
 
 
@@ -246,14 +221,14 @@ def find_branches(prob: Problem, window: tuple[float, float], paper_branches=(),
     if kinds == "paper":
         return _numbered(paper_branches, [])
     st = settings or FollowSettings()
-    queue = list(_zero_dwell_seeds(prob, window, grid)) + _paper_doublings(prob, paper_branches) + \
-        _paper_ends(prob, paper_branches, window, st) + list(extra_seeds)
-    # the paper's branches count as followed: a seed of class 1P on them is known; one off them (outside the
-    # paper's search domain, e.g. a stuck phase longer than T0_I / 2) is followed here
-    curves, paper = _Curves(), _Curves()
+    # the curves through the paper's branches are followed first, from a point of each, through their inadmissible
+    # stretches as every curve is: where one comes back admissible off the paper's search domain (a stuck phase
+    # longer than T0_I / 2) it is a branch of class 1P found here; the paper's own points stay with its branches
+    queue = [b.orbits[len(b) // 2] for b in paper_branches] + list(_zero_dwell_seeds(prob, window, grid)) + \
+        _paper_doublings(prob, paper_branches) + _paper_ends(prob, paper_branches, window, st) + list(extra_seeds)
+    curves, paper = Followed(prob), Followed(prob)
     for b in paper_branches:
-        curves.add("1P", b.T, b.dPL)
-        paper.add("1P", b.T, b.dPL)
+        paper.add(b.orbits)
     branches = []
     while queue:
         orb = queue.pop(0)
@@ -268,7 +243,7 @@ def find_branches(prob: Problem, window: tuple[float, float], paper_branches=(),
         orbs, ends = _curve(prob, orb, window, st)
         if progress is not None:
             progress()
-        curves.add(str(orb.sig.canonical()), [o.T for o in orbs], [o.loss_per_T for o in orbs])
+        curves.add(orbs)
         mus = _mults(prob, orbs)
         ok = admissible(orbs)
         if orb.sig.canonical() == PAPER:              # the paper's own points stay with its branches

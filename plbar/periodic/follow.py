@@ -25,7 +25,7 @@ from .signature import Signature
 from .solve import ACCEPT, ROUNDOFF, Orbit, NotConverged, orbit_at, polish
 
 __all__ = ["FollowSettings", "follow", "END_WINDOW", "END_DWELL", "END_FREE", "END_FAILED", "END_POINTS",
-           "END_INADMISSIBLE", "END_REPEATED", "plausible", "correct", "scale_of"]
+           "END_INADMISSIBLE", "END_REPEATED", "END_LOOP", "plausible", "correct", "scale_of"]
 
 END_WINDOW = "window"          #: left the period window
 END_DWELL = "dwell->0"         #: a stuck phase shrank to zero (the signature changes)
@@ -34,6 +34,7 @@ END_FAILED = "no convergence"  #: Newton failed at the smallest step
 END_POINTS = "max points"
 END_INADMISSIBLE = "inadmissible"   #: :attr:`FollowSettings.patience` points in a row fail the necessary conditions
 END_REPEATED = "repeats a shorter orbit"   #: the curve reaches an orbit that is a shorter one repeated
+END_LOOP = "closed loop"       #: the curve came back to one of its points (it has gone round a loop once)
 
 
 @dataclass(frozen=True)
@@ -106,9 +107,13 @@ def plausible(orb: Orbit) -> bool:
 
 
 def follow(prob: Problem, sig: Signature, start: Orbit, window: tuple[float, float], direction: float = 1.0,
-           settings: FollowSettings | None = None) -> tuple[list[Orbit], str]:
+           settings: FollowSettings | None = None, before=()) -> tuple[list[Orbit], str]:
     """The curve of responses of signature ``sig`` through ``start``, in one direction of ``T``, inside ``window``.
 
+    ``before`` (optional): the curve's points already followed, in the order that arrives at ``start`` (the other
+    half, reversed, without ``start``).  The curve then leaves ``start`` away from the last of them, whatever
+    ``direction`` says (at a fold the sign of the tangent's ``T`` component does not tell the two ways apart), and
+    ends where it closes a loop through them as through its own points (:data:`END_LOOP`).
     Returns the orbits in order (``start`` first) and why the curve ended.
     """
     K = compiled()
@@ -120,6 +125,11 @@ def follow(prob: Problem, sig: Signature, start: Orbit, window: tuple[float, flo
     run = _kernel(prob, sig)
     c = np.zeros(Y.size)                 # the last tangent; at the first point the direction in T
     c[-1] = direction
+    before = list(before)
+    if before:
+        away = before[-1]
+        c = (Y - np.concatenate([away.X, [away.T]])) / scale_of(prob, sig, Y[:-1], Y[-1])
+        c[-2] = -np.angle(np.exp(1j * (away.phi - start.phi)))
     t, Yn, none = np.empty(Y.size), np.empty(Y.size), np.zeros((1, 1))
     bad = 0
     while len(out) < st.max_points:
@@ -141,17 +151,52 @@ def follow(prob: Problem, sig: Signature, start: Orbit, window: tuple[float, flo
         if orb is None:
             return out, END_FAILED
         if not window[0] <= orb.T <= window[1]:
-            return out, END_WINDOW
+            edge = _at_edge(prob, sig, out[-1], orb, window)
+            return out + ([edge] if edge is not None else []), END_WINDOW
         if sig.m > 1 and orb.period < sig.m:         # on the shorter orbit seen m / period times: its own curve
             return out, END_REPEATED
         Y = np.concatenate([orb.X, [orb.T]])
         out.append(orb)
+        if len(before) + len(out) > 4 and _back_at(before + out, S, h):
+            return out, END_LOOP
         bad = 0 if plausible(orb) else bad + 1
         if bad >= st.patience:
             return out, END_INADMISSIBLE
         c = t.copy()
         h = min(1.5 * h, st.h_max)
     return out, END_POINTS
+
+
+def _back_at(out, S: np.ndarray, h: float) -> bool:
+    """Has the curve's last step closed a loop: its last point within that step ``h`` of a point three or more
+    steps back, passing it the same way (tangents within 60 degrees; scaled by ``S``, the phase mod ``2 pi``)?
+    A hairpin (the curve turning back along itself) passes the other way and goes on."""
+    Y = np.array([np.concatenate([o.X, [o.T]]) for o in out])
+    d = Y[-1] - Y[:-4]
+    d[:, -2] = np.angle(np.exp(1j * d[:, -2]))
+    near = np.linalg.norm(d / S, axis=1) <= h
+    if not near.any():
+        return False
+    step = np.diff(Y, axis=0)
+    step[:, -2] = np.angle(np.exp(1j * step[:, -2]))
+    step /= S
+    u, v = step[-1], step[:-3]                      # the last step; the step leaving each earlier point
+    cos = v @ u / np.maximum(np.linalg.norm(v, axis=1) * np.linalg.norm(u), 1e-300)
+    return bool(np.any(near & (cos > 0.5)))
+
+
+def _at_edge(prob: Problem, sig: Signature, inside: Orbit, outside: Orbit, window) -> Orbit | None:
+    """The curve's point on the window's edge, between its last point inside and the first outside: Newton at the
+    edge's ``T`` from the linear interpolation (so that a curve covers the window to its ends); None where Newton
+    fails or the point is not plausible."""
+    edge = window[1] if outside.T > window[1] else window[0]
+    w = (edge - inside.T) / (outside.T - inside.T)
+    X = inside.X + w * (outside.X - inside.X)
+    try:
+        orb = polish(prob, sig, edge, X)
+    except NotConverged:
+        return None
+    return orb if plausible(orb) else None
 
 
 def _duration_end(sig: Signature, col: int) -> str:

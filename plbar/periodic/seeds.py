@@ -42,20 +42,38 @@ def zero_dwell(prob: Problem, T: float, sig: Signature = ZERO_DWELL) -> list[Orb
     rows = np.r_[0, np.arange(2, 2 + nz)]                         # impact residual and periodicity
     A = ch0.J[rows][:, :nz]                                       # d/dz0 of both (affine in z0)
     cc, cs = ch0.F[rows], ch1.F[rows]
+    c0 = np.zeros_like(cc)
+    if prob.gap:                                                  # a gap adds a constant (phi = pi: c0 - cos)
+        Xs[-1] = np.pi
+        c0 = 0.5 * (cc + evaluate(prob, sig, T, Xs, jac=False).F[rows])
+        cc, cs = cc - c0, cs - c0
     try:
         Zc = np.linalg.solve(A[1:], -cc[1:])
         Zs = np.linalg.solve(A[1:], -cs[1:])
+        Z0 = np.linalg.solve(A[1:], -c0[1:])
     except np.linalg.LinAlgError:
         return []
     a = A[0] @ Zc + cc[0]
     b = A[0] @ Zs + cs[0]
     out = []
-    for phi in np.mod(np.arctan2(-a, b) + np.array([0.0, np.pi]), 2 * np.pi):
-        X = np.concatenate([Zc * np.cos(phi) + Zs * np.sin(phi), [T, phi]])
+    for phi in _phase_roots(A[0] @ Z0 + c0[0], a, b):
+        X = np.concatenate([Z0 + Zc * np.cos(phi) + Zs * np.sin(phi), [T, phi]])
         orb = orbit_at(prob, sig, T, X)
         if orb.residual <= 1e-9:
             out.append(orb)
     return out
+
+
+def _phase_roots(a0: float, a: float, b: float) -> np.ndarray:
+    """The phases in ``[0, 2 pi)`` where ``a0 + a cos phi + b sin phi = 0``: two (one at a tangency), none where
+    ``|a0| > hypot(a, b)`` (the force cannot reach the stop).  ``a0 = 0`` (no gap): ``phi`` and ``phi + pi``."""
+    if a0 == 0.0:
+        return np.mod(np.arctan2(-a, b) + np.array([0.0, np.pi]), 2 * np.pi)
+    rho = np.hypot(a, b)
+    if abs(a0) > rho:
+        return np.zeros(0)
+    half = np.arccos(-a0 / rho)
+    return np.mod(np.arctan2(b, a) + np.array([half, -half]), 2 * np.pi)
 
 
 def doubled(prob: Problem, orb: Orbit, steps=(1e-3, 3e-3, 1e-2, 3e-2)) -> list[Orbit]:

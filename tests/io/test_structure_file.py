@@ -170,7 +170,7 @@ def test_the_amplitude_scales_the_file_s_load(tmp_path):
     b = plbar.solve(plbar.Case(model="matrices", matrices=str(f), signatures="paper", load_scale=2.5))
     assert np.array_equal(b.case.structure.q, 2.5 * a.case.structure.q)
     for x, y in zip(a.branches, b.branches):
-        assert np.allclose(y.T, x.T, rtol=1e-12, atol=0)
+        assert np.allclose(y.T, x.T, rtol=1e-10, atol=0)    # the scan's roots: 1.2e-12 seen with numpy 2.x
         # to round-off of the largest (the grazing ends' losses are round-off themselves)
         assert np.allclose(y.dPL, 6.25 * x.dPL, rtol=1e-9, atol=1e-11 * y.dPL.max())
         assert np.allclose(y.xi, x.xi, rtol=1e-9, atol=1e-11 * y.xi.max())
