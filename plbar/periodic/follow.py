@@ -37,6 +37,11 @@ END_REPEATED = "repeats a shorter orbit"   #: the curve reaches an orbit that is
 END_LOOP = "closed loop"       #: the curve came back to one of its points (it has gone round a loop once)
 
 
+#: a curve ends where a duration reaches zero only when a step this short (scaled arclength) predicts it: a long
+#: step's tangent overshoots where the curve bends, and ended curves short of their end
+END_STEP = 1e-3
+
+
 @dataclass(frozen=True)
 class FollowSettings:
     """Step control of :func:`follow` (scaled arclength; ``h`` relative to the period)."""
@@ -145,7 +150,7 @@ def follow(prob: Problem, sig: Signature, start: Orbit, window: tuple[float, flo
                 if orb is not None and abs(orb.T - Y[-1]) <= 0.2 * Y[-1]:
                     break
                 orb = None
-            if np.any(Yp[nz:nz + q] <= 0):
+            if np.any(Yp[nz:nz + q] <= 0) and h <= END_STEP:     # a duration reaches 0 within a short step
                 return out, _duration_end(sig, int(np.argmin(Yp[nz:nz + q])))
             h *= 0.5
         if orb is None:

@@ -8,10 +8,11 @@ has already followed.  Two tests, the cheap one first:
   the same orbit where the curve bends between the two points (a fold in ``T``, a steep loss): the interpolation
   is then off by the sagitta, far more than a hundredth;
 * **the same orbit** -- Newton at the orbit's ``T`` (:func:`.solve.polish`) from the interpolation of a piece's
-  unknowns (a piece whose ``T`` range, widened by half on each side, holds the orbit's: seeds often sit at a
-  curve's end, where a duration reaches zero) converges to an orbit whose rotation-invariant description (the
-  sorted durations, the loss per period) equals the orbit's to ``1e-7``.  An exact test, where it converges; where
-  it does not (a guess too far off), the orbit counts as new, so no curve is lost, at worst one is followed twice.
+  unknowns (a piece whose ``T`` range, widened on each side by half and by ``1e-3 T``, holds the orbit's: seeds
+  often sit at a curve's end, where a duration reaches zero, or past a fold's tip between two followed points)
+  converges to an orbit whose rotation-invariant description (the sorted durations, the loss per period) equals
+  the orbit's to ``1e-7``.  An exact test, where it converges; where it does not (a guess too far off), the orbit
+  counts as new, so no curve is lost, at worst one is followed twice.
 """
 
 from __future__ import annotations
@@ -65,7 +66,7 @@ class Followed:
             a, b, La, Lb = Tc[:-1], Tc[1:], Lc[:-1], Lc[1:]
             if np.any(on_chord(a, b, La, Lb, T, loss, 1e-6 * max(abs(loss), 1e-12))):
                 return True
-            half = 0.5 * np.abs(b - a)                        # and a little beyond: a seed at a curve's end
+            half = 0.5 * np.abs(b - a) + 1e-3 * T             # and a little beyond: a curve's end, a fold's tip
             held = np.flatnonzero((np.minimum(a, b) - half <= T) & (T <= np.maximum(a, b) + half))
             candidates.extend((c[i], c[i + 1]) for i in held)
             if len(c) == 1:                                   # a curve of one point: Newton from it
