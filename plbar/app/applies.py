@@ -71,6 +71,9 @@ def _check_continuum(case) -> None:
     if case.gap:
         raise InputError(f"model = 'continuum' has no gap at the stop yet, got gap = {case.gap:g}; use model = 'fe' "
                          "(or 'chain') for a gap")
+    if case.gravity:
+        raise InputError(f"model = 'continuum' has no constant load yet, got gravity = {case.gravity:g}; use model "
+                         "= 'fe' (or 'chain') for gravity")
     if case.load_nodes or len(case.load_points) > 1:
         raise InputError("model = 'continuum' takes one point load (--load-at S), not DOF loads (--load-node) "
                          "nor several points")

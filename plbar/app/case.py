@@ -17,7 +17,7 @@ from ..errors import InputError
 from ..model import (ELEMENTS, MASSES, Bar, Load, Problem, Structure, chain, check_gap, check_rayleigh,
                      check_restitution, graded_nodes, problem)
 from ..paths import Domain, default_domain
-from ..util.check import choice, integer, interval, number, pairs, positive, show
+from ..util.check import choice, finite, integer, interval, number, pairs, positive, show
 from ..util.check import grid as check_grid
 from .applies import FE_ONLY, check_applies
 from .given import SIGNATURES, matrices_fields, structure_dict, structure_fields
@@ -123,6 +123,12 @@ class Case:
         proportional to the load: what matters is the amplitude over the gap (``--amplitude``).  The simulator
         and its studies (``survey``) and the periodic responses of the signature search (``run``) take it; the
         paper's scan of ``(T1, T2)`` does not (``run`` finds the paper's class by the search then).
+    gravity : float
+        A uniform acceleration along the bar, towards the stop (``> 0``) or away from it: the constant load
+        ``q_s``, the weight of its masses under ``g``, beside the harmonic one (:func:`plbar.model.bar_structure`);
+        the structure starts in its static equilibrium (free, or held against the stop).  Default 0.  Like a gap,
+        it makes the response depend on the amplitude, and the same commands take it.  A structure file gives its
+        own constant load (``q_s``).
     """
 
     model: str = "chain"
@@ -155,6 +161,7 @@ class Case:
     load_scale: float = 1.0
     matrices_digest: str | None = None
     gap: float = 0.0
+    gravity: float = 0.0
 
     def __post_init__(self):
         if self.model == "matrices" or self.matrices is not None:
@@ -171,6 +178,9 @@ class Case:
         object.__setattr__(self, "rayleigh", check_rayleigh(self.rayleigh))
         object.__setattr__(self, "restitution", check_restitution(self.restitution))
         object.__setattr__(self, "gap", check_gap(self.gap))
+        object.__setattr__(self, "gravity", finite("gravity", self.gravity,
+                                                   "a finite number (an acceleration along the bar, > 0 towards "
+                                                   "the stop)"))
         if self.n is not None:
             what = {"fe": "n", "chain": "chain size N", "continuum": "continuum steps per L/c n"}[self.model]
             object.__setattr__(self, "n", integer(what, self.n, 2))
@@ -327,6 +337,8 @@ class Case:
             drop += ("restitution",)
         if not d["gap"]:
             drop += ("gap",)
+        if not d["gravity"]:
+            drop += ("gravity",)
         if d["rayleigh"] is None:
             drop += ("rayleigh",)
         else:
@@ -348,4 +360,4 @@ def _problem(case: Case) -> Problem:
     if case.structure is not None:
         return problem(case.structure, modes=case.modes)
     return problem(case.bar(), case.load(), modes=case.modes, rayleigh=case.rayleigh, restitution=case.restitution,
-                   gap=case.gap)
+                   gap=case.gap, gravity=case.gravity)

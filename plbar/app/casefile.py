@@ -28,7 +28,8 @@ mesh_file`` (relative to the TOML file), ``point_masses = [[x, m], ...]``,
 or ``damping_ratio = XI`` with ``damping_at = [T_A, T_B]`` (the same from one ratio at
 two periods, :func:`plbar.rayleigh_from_ratio`), ``restitution = E`` (the contact's coefficient of
 restitution, ``0 <= E <= 1``; default 0, the paper's plastic impact), ``gap = D`` (the stop's distance from
-the contact at rest: ``> 0`` a clearance, ``< 0`` an interference; default 0, the paper).
+the contact at rest: ``> 0`` a clearance, ``< 0`` an interference; default 0, the paper), ``gravity = G`` (a
+uniform acceleration along the bar, ``> 0`` towards the stop: the weight of the bar's masses under ``G``; default 0).
 Every mistake raises :class:`plbar.errors.CaseFileError` with one line naming
 the file, the section and the key.
 """
@@ -351,6 +352,8 @@ def dump_case(case, output: OutputSettings | None = None) -> str:
         lines.append(f"restitution = {_fmt(float(case.restitution))}")
     if case.gap:
         lines.append(f"gap = {_fmt(float(case.gap))}")
+    if case.gravity:
+        lines.append(f"gravity = {_fmt(float(case.gravity))}")
     for k, a in case.load_nodes:
         lines += ["", "[[load]]", f"node = {int(k)}", f"amplitude = {_fmt(float(a))}"]
     for s, a in case.load_points:

@@ -20,10 +20,11 @@ from ..util.check import grid as check_grid
 __all__ = ["BAR_OPTIONS", "SIGNATURES", "bar_options", "structure_fields", "matrices_fields", "structure_dict"]
 
 SIGNATURES = ("default", "paper", "all")    #: which periodic responses a solve finds (see Case.signatures)
-#: the options of a bar (and its load, damping, restitution, gap): none applies to a structure given by its matrices
+#: the options of a bar (and its load, damping, restitution, gap, gravity): none applies to a structure given by its
+#: matrices
 BAR_OPTIONS = ("n", "element", "mass", "length", "EA", "rhoA", "m", "k", "grading", "mesh_file", "point_masses",
                "end_mass", "end_mass_absolute", "load_nodes", "load_points", "rayleigh", "restitution", "load_scale",
-               "gap")
+               "gap", "gravity")
 #: the options a structure holds itself (a case built from one carries the structure's values)
 OWN = ("rayleigh", "restitution", "gap")
 

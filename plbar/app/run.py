@@ -144,10 +144,11 @@ def solve(case: Case | Structure | None = None, progress: bool = False) -> Resul
     if not isinstance(case, Case):
         raise InputError(f"case = {show(case)} is not a plbar.Case ({type(case).__name__}); "
                          "build one with plbar.Case(...) or read a file with plbar.casefile.load_case")
-    if case.gap and case.signatures == "paper":
-        raise InputError(f"gap = {case.gap:g} with signatures = 'paper': the paper's scan of (T1, T2) is written for "
-                         "no gap; with a gap every response, the paper's class too, is found by the signature "
-                         "search: signatures = 'default' or 'all'")
+    if (case.gap or case.gravity) and case.signatures == "paper":
+        what = f"gap = {case.gap:g}" if case.gap else f"gravity = {case.gravity:g}"
+        raise InputError(f"{what} with signatures = 'paper': the paper's scan of (T1, T2) is written for no gap and "
+                         "no constant load; with either every response, the paper's class too, is found by the "
+                         "signature search: signatures = 'default' or 'all'")
     if case.restitution and case.signatures == "paper":
         raise InputError(f"restitution = {case.restitution:g} with signatures = 'paper': the paper's class (one "
                          "plastic impact and a stuck phase per period, Eq. (10)) needs e = 0; with rebounds every "
@@ -163,7 +164,7 @@ def solve(case: Case | Structure | None = None, progress: bool = False) -> Resul
         search = None if case.signatures == "paper" else stack.enter_context(
             Search(prob, domain, case.signatures, progress))
         t_paper = time.perf_counter()
-        paths = _no_paths(prob, domain, case) if case.restitution or case.gap else \
+        paths = _no_paths(prob, domain, case) if case.restitution or prob.affine else \
             find_paths(prob, domain, case.grid, method=case.method, progress=progress)
         paper = from_paths(prob, paths.branches)
         t_search = time.perf_counter()
@@ -201,7 +202,7 @@ def _no_paths(prob, domain, case: Case) -> Paths:
     every response with rebounds, chattering included (``R...RP``), comes from the signature search; with a gap the
     scan's equations do not hold, and the paper's class (``P1``) is found by the search too."""
     why = (f"none: restitution e = {case.restitution:g} (the paper's class needs a plastic impact)" if case.restitution
-           else f"from the signature search: gap = {case.gap:g} (the scan of (T1, T2) is written for no gap)")
+           else f"from the signature search: {prob.static_part} (the scan of (T1, T2) is written for neither)")
     return Paths(prob, domain, tuple(case.grid), (), {"paper_class": why})
 
 

@@ -19,7 +19,8 @@ SCHEMA = {
             "mass": ("choice", MASSES), "length": "float", "EA": "float", "rhoA": "float",
             "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs",
             "end_mass": "float", "end_mass_absolute": "bool", "modes": "int", "rayleigh": "pair",
-            "damping_ratio": "float", "damping_at": "pair", "restitution": "float", "gap": "float"},
+            "damping_ratio": "float", "damping_at": "pair", "restitution": "float", "gap": "float",
+            "gravity": "float"},
     "load": {"node": "int", "at": "float", "amplitude": "float"},
     "search": {"grid": "grid", "T1": "pair", "T2": "pair", "method": ("choice", ("continuation", "grid")),
                "signatures": ("choice", ("default", "paper", "all"))},
@@ -64,7 +65,9 @@ HELP = {
             "restitution": "coefficient of restitution e of the contact, 0 <= e <= 1 (Newton's impact law; "
                            "run's responses then rebound: R in their signatures; sweep-loads and refine need 0) [0]",
             "gap": "the stop's distance from the contact at rest, d (the contact stays <= d): > 0 a clearance, < 0 an "
-                   "interference held by the stop; the response then depends on the amplitude over the gap [0]"},
+                   "interference held by the stop; the response then depends on the amplitude over the gap [0]",
+            "gravity": "a uniform acceleration g along the bar, > 0 towards the stop: the weight of the bar's masses "
+                       "under g, beside the harmonic load; the bar starts in its static equilibrium [0]"},
     "load": {"node": "a force on free DOF K (1-based from the clamp); or `at`",
              "at": "a point force at position s in (0, L]; or `node`",
              "amplitude": "its amplitude, a force (N in SI) [1]"},

@@ -41,7 +41,8 @@ CASE_OPTIONS = {"model": "--model", "elements": "-N/--elements", "element": "--e
                 "end_mass_absolute": "--end-mass-absolute", "modes": "--modes", "load_node": "--load-node",
                 "load_at": "--load-at", "grid": "--grid", "T1": "--T1", "T2": "--T2", "method": "--method",
                 "signatures": "--signatures", "rayleigh": "--rayleigh", "damping_ratio": "--damping-ratio",
-                "damping_at": "--damping-at", "restitution": "--restitution", "gap": "--gap", "length": "--length",
+                "damping_at": "--damping-at", "restitution": "--restitution", "gap": "--gap", "gravity": "--gravity",
+                "length": "--length",
                 "EA": "--EA", "rhoA": "--rhoA", "amplitude": "--amplitude", "matrices": "--matrices"}
 
 
@@ -123,13 +124,17 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
 
 
 def _contact_args(g) -> None:
-    """``--restitution`` and ``--gap``: the contact's impact law and the stop's position."""
+    """``--restitution``, ``--gap`` and ``--gravity``: the contact's impact law, the stop's position and the
+    constant load that presses the bar on it (or pulls it away)."""
     g.add_argument("--restitution", type=float, default=None, metavar="E",
                    help="coefficient of restitution of the contact, 0 <= E <= 1 (Newton's impact law; run's "
                         "responses then rebound: R in their signatures; sweep-loads and refine need E = 0) [0]")
     g.add_argument("--gap", type=float, default=None, metavar="D",
                    help="the stop's distance from the contact at rest: D > 0 a clearance, D < 0 an interference "
                         "(held by the stop); with a gap the response depends on --amplitude over D [0]")
+    g.add_argument("--gravity", type=float, default=None, metavar="G",
+                   help="a uniform acceleration along the bar, G > 0 towards the stop: the weight of the bar's "
+                        "masses under G, beside the harmonic load; the bar starts in its static equilibrium [0]")
 
 
 def _section_args(g) -> None:
@@ -227,7 +232,8 @@ def case_from_args(a):
               T2=tuple(a.T2) if a.T2 else None, method=a.method,
               signatures=getattr(a, "signatures", None), modes=a.modes, end_mass=a.end_mass,
               end_mass_absolute=a.end_mass_absolute, rayleigh=_rayleigh(a),
-              restitution=getattr(a, "restitution", None), gap=getattr(a, "gap", None))
+              restitution=getattr(a, "restitution", None), gap=getattr(a, "gap", None),
+              gravity=getattr(a, "gravity", None))
     case = Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None})
     if not hasattr(a, "sizes") and case.structure is None:   # sizes (-N): each size's case is checked where made
         refuse_contact_load(case, nodes)

@@ -8,11 +8,12 @@ The file holds numpy arrays by name (``numpy.savez``):
 * ``q`` (required): the harmonic load's amplitude vector (the force ``q cos(W t - phi)``);
 * optional: ``C`` (inherent damping; it must be of Rayleigh form, ``C = alpha M + beta K``, the form plbar's
   modal solvers take), or ``rayleigh = [alpha, beta]``; ``restitution`` (Newton's ``e``); ``gap`` (the stop at
-  ``u = gap``: ``> 0`` a clearance, ``< 0`` an interference; FORMULATION §9); ``x``, a position per DOF (for tables
-  and plots).
+  ``u = gap``: ``> 0`` a clearance, ``< 0`` an interference; FORMULATION §9); ``q_s``, a constant load beside the
+  harmonic one (gravity, a prestress; not scaled by ``--amplitude``); ``x``, a position per DOF (for tables and
+  plots).
 
-What plbar does not model yet is refused by name rather than ignored: a constant load ``q_s``, a support's
-influence vector ``t``, a start ``x0``, ``v0``.
+What plbar does not model yet is refused by name rather than ignored: a support's influence vector ``t``, a start
+``x0``, ``v0``.
 """
 
 from __future__ import annotations
@@ -31,9 +32,9 @@ from ..util.files import atomic_path
 __all__ = ["read_structure", "write_structure", "file_digest", "KEYS", "NOT_YET"]
 
 #: the arrays a structure file may hold
-KEYS = ("M", "K", "r", "contact", "q", "C", "rayleigh", "restitution", "gap", "x")
+KEYS = ("M", "K", "r", "contact", "q", "C", "rayleigh", "restitution", "gap", "q_s", "x")
 #: arrays of structures plbar does not solve yet (a constant load, base excitation, a given start)
-NOT_YET = {"q_s": "a constant load", "t": "base excitation (a support's influence vector)", "x0": "a given start",
+NOT_YET = {"t": "base excitation (a support's influence vector)", "x0": "a given start",
            "v0": "a given start"}
 #: the largest relative misfit of C by alpha M + beta K taken as Rayleigh damping
 RAYLEIGH_FIT = 1e-10
@@ -106,7 +107,7 @@ def _read(path: str, _mtime: int, _size: int, rayleigh, restitution, scale: floa
     d = float(arrays["gap"]) if gap is None and "gap" in arrays else (gap or 0.0)
     try:
         return Structure(arrays["M"], arrays["K"], r, scale * np.asarray(arrays["q"], float), damping, e,
-                         arrays.get("x"), gap=d)
+                         arrays.get("x"), gap=d, q_s=arrays.get("q_s"))
     except InputError as exc:
         raise InputError(f"{where}: {exc}") from None
 
@@ -147,7 +148,8 @@ def _damping(where: str, arrays: dict):
 
 
 def write_structure(path, structure: Structure) -> Path:
-    """Write ``structure`` as a structure file (``M, K, r, q, x``; ``rayleigh``, ``restitution``, ``gap`` where set),
+    """Write ``structure`` as a structure file (``M, K, r, q, x``; ``rayleigh``, ``restitution``, ``gap``, ``q_s``
+    where set),
     atomically: what :func:`read_structure` reads back exactly."""
     arrays = {"M": structure.M, "K": structure.K, "r": structure.contact, "q": structure.q, "x": structure.x}
     if structure.rayleigh is not None:
@@ -156,6 +158,8 @@ def write_structure(path, structure: Structure) -> Path:
         arrays["restitution"] = np.array(structure.restitution)
     if structure.gap:
         arrays["gap"] = np.array(structure.gap)
+    if structure.q_s is not None:
+        arrays["q_s"] = structure.q_s
     p = Path(path)
     with atomic_path(p) as tmp:
         with open(tmp, "wb") as fh:

@@ -281,6 +281,10 @@ class Assembled:
         The scikit-fem basis (all DOFs, including the clamped one).
     free : ndarray, shape (n,)
         Basis DOF index of each sorted free DOF.
+    body : ndarray, shape (n,)
+        The load of a unit uniform acceleration along the bar (gravity ``g = 1``; a support's rigid motion): the
+        whole mass matrix, the clamped DOF's columns included, times ones, over the free DOFs.  For a consistent
+        mass it is the body force's load vector (the shape functions sum to 1); for a lumped one its row sums.
     """
 
     K: np.ndarray
@@ -288,6 +292,7 @@ class Assembled:
     x: np.ndarray
     basis: object
     free: np.ndarray
+    body: np.ndarray
 
     @property
     def n(self) -> int:
@@ -348,4 +353,4 @@ def assemble(bar: Bar) -> Assembled:
     free = np.flatnonzero(xd > 0.0)
     free = free[np.argsort(xd[free], kind="stable")]
     xf = xd[free]
-    return Assembled(K[np.ix_(free, free)], M[np.ix_(free, free)], xf, basis, free)
+    return Assembled(K[np.ix_(free, free)], M[np.ix_(free, free)], xf, basis, free, M.sum(axis=1)[free])

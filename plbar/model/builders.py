@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..util.check import finite
 from .bar import Assembled, Bar, assemble
 from .load import Load
 from .structure import Structure
@@ -30,7 +31,7 @@ class BarOrigin:
 
 
 def bar_structure(bar: Bar, load: Load | None = None, q=None, rayleigh=None, restitution: float = 0.0,
-                  asm: Assembled | None = None, gap: float = 0.0) -> Structure:
+                  asm: Assembled | None = None, gap: float = 0.0, gravity: float = 0.0) -> Structure:
     """The :class:`Structure` of ``bar`` under ``load`` (or the amplitude vector ``q`` over its free DOFs).
 
     Parameters
@@ -46,6 +47,12 @@ def bar_structure(bar: Bar, load: Load | None = None, q=None, rayleigh=None, res
         ``assemble(bar)`` when it is already at hand.
     gap : float
         The stop's distance from the bar's end at rest (``x_c <= gap``; FORMULATION §9); default 0, the paper.
+    gravity : float
+        A uniform acceleration along the bar, towards the stop (> 0) or away from it: the constant load
+        ``q_s = g b`` with ``b`` the load of a unit uniform acceleration (:attr:`plbar.model.Assembled.body`: the
+        whole mass matrix times ones, the clamp's columns included; the consistent body force for a consistent
+        mass, since the shape functions sum to 1, the row sums for a lumped one; end masses included).
+        Default 0: none.
     """
     if not isinstance(bar, Bar):
         raise InputError(f"bar must be a plbar.Bar (or give a plbar.Structure), got {type(bar).__name__}")
@@ -60,4 +67,6 @@ def bar_structure(bar: Bar, load: Load | None = None, q=None, rayleigh=None, res
         raise InputError("give a load (plbar.point / plbar.node) or a load vector q")
     r = np.zeros(a.n)
     r[-1] = 1.0
-    return Structure(a.M, a.K, r, qv, rayleigh, restitution, a.x, BarOrigin(bar, load, a), gap)
+    g = finite("gravity", gravity, "a finite number (an acceleration along the bar, > 0 towards the stop)")
+    q_s = g * a.body if g else None
+    return Structure(a.M, a.K, r, qv, rayleigh, restitution, a.x, BarOrigin(bar, load, a), gap, q_s)

@@ -1,12 +1,14 @@
-"""The static part of each state's motion: a gap or an interference at the stop (FORMULATION §9, affine terms).
+"""The static part of each state's motion: a gap or an interference at the stop, a constant load (FORMULATION §9,
+affine terms).
 
-With the stop at ``u = d`` (``gap``; the contact coordinate is last, ``u <= d``) each state moves about its own
-static equilibrium, and the motion about it is the paper's flow (Eqs. (1)-(3)) unchanged:
+With the stop at ``u = d`` (``gap``; the contact coordinate is last, ``u <= d``) and a constant load ``q_s``
+(gravity, a prestress) each state moves about its own static equilibrium, and the motion about it is the paper's
+flow (Eqs. (1)-(3)) unchanged:
 
-* state II (free): ``x_II = 0`` (no constant load), the opening ``o = d - u``;
-* state I (held): ``u = d`` and ``K_rr x_r + K_rc d = 0``, so ``x_I = (-K_rr^-1 K_rc d, d)``, with the reaction
-  ``R_I = (K x_I)_c = d (K_cc - K_cr K_rr^-1 K_rc)`` (the Schur complement of ``K_rr``: the stiffness the stop
-  sees).
+* state II (free): ``K x_II = q_s``, the opening ``o = d - u``;
+* state I (held): ``u = d`` and ``K_rr x_r + K_rc d = q_s,r``, so ``x_I = (K_rr^-1 (q_s,r - K_rc d), d)``, with
+  the reaction ``R_I = (K x_I - q_s)_c``; without a constant load ``R_I = d (K_cc - K_cr K_rr^-1 K_rc)`` (the
+  Schur complement of ``K_rr``: the stiffness the stop sees).
 
 A state's modal coordinates are those of ``x - x_state``.  Everything that is linear in them stays as it is: the
 flows, their derivatives (hence Newton's Jacobians and the Floquet multipliers), the velocities, the impact loss
@@ -16,11 +18,12 @@ flows, their derivatives (hence Newton's Jacobians and the Floquet multipliers),
 * a switch maps the positions as before and adds a constant (:attr:`Statics.open_offset`,
   :attr:`Statics.impact_offset`): ``eta_to = P eta_from + L_to (x_from - x_to)`` with ``L_to`` the projection
   the map ``P`` is made of (``V2^T M`` on opening, ``V1^T M_rr`` on the held DOFs at an impact);
-* the modal energy ``sum (eta'^2 + w^2 eta^2) / 2`` is the mechanical energy ``v^T M v / 2 + x^T K x / 2`` less
-  the state's static energy ``x_state^T K x_state / 2`` (the cross term ``x^T K x_I = R_I u`` is ``R_I d``, a
-  constant, in state I).
+* the modal energy ``sum (eta'^2 + w^2 eta^2) / 2`` is the mechanical energy ``v^T M v / 2 + x^T K x / 2 - q_s^T x``
+  (the constant load's potential included) less the state's static energy ``x_s^T K x_s / 2 - q_s^T x_s``: with
+  ``x = x_s + y``, the cross term ``y^T (K x_s - q_s)`` is 0 in state II and ``R_I y_c = 0`` in state I.
 
-At ``d = 0`` every constant is 0: the paper's system, bit for bit (a constant 0 added changes no double).
+At ``d = 0`` without a constant load every constant is 0: the paper's system, bit for bit (a constant 0 added
+changes no double).
 """
 
 from __future__ import annotations
@@ -48,12 +51,15 @@ class Statics:
     ----------
     gap : float
         ``d``: the stop holds ``u <= d``.
+    q_s : ndarray, shape (n,) or None
+        The constant load in contact coordinates (None: none).
     x1, x2 : ndarray, shape (n,)
-        The static equilibria of state I (``x1[-1] = d``) and state II (zeros), in contact coordinates.
+        The static equilibria of state I (``x1[-1] = d``) and state II (``K x2 = q_s``), in contact coordinates.
     reaction : float
         ``R_I``, the reaction of state I at its equilibrium (``< 0``: the stop pushes, as it must to hold it).
     energy : ndarray, shape (2,)
-        ``x_s^T K x_s / 2`` of the two equilibria (state I, state II): the mechanical energy less the modal one.
+        ``x_s^T K x_s / 2 - q_s^T x_s`` of the two equilibria (state I, state II): the mechanical energy (the
+        constant load's potential included) less the modal one.
     margin : ndarray, shape (2,)
         The margins' constants ``(-R_I, d)`` (``-R`` in state I, the opening ``d - u`` in state II).
     open_offset : ndarray, shape (m2,)
@@ -63,6 +69,7 @@ class Statics:
     """
 
     gap: float
+    q_s: np.ndarray | None
     x1: np.ndarray
     x2: np.ndarray
     reaction: float
@@ -73,8 +80,8 @@ class Statics:
 
     @property
     def zero(self) -> bool:
-        """True at ``d = 0``: the paper's system, every constant 0."""
-        return self.gap == 0.0
+        """True at ``d = 0`` without a constant load: the paper's system, every constant 0."""
+        return self.gap == 0.0 and self.q_s is None
 
     @property
     def rest_state(self) -> int:
@@ -89,17 +96,23 @@ def rest_state(margin) -> int:
     return 1 if margin[1] > 0.0 else 0
 
 
-def statics(system, gap: float = 0.0) -> Statics:
-    """The :class:`Statics` of a :class:`plbar.model.TwoStateSystem` with its stop at ``u = gap``."""
+def statics(system, gap: float = 0.0, q_s=None) -> Statics:
+    """The :class:`Statics` of a :class:`plbar.model.TwoStateSystem` with its stop at ``u = gap`` and the constant
+    load ``q_s`` (in the system's coordinates; None or zeros: none)."""
     d = check_gap(gap)
     M, K, V1, V2 = system.M, system.K, system.V1, system.V2
     n = M.shape[0]
+    q_s = None if q_s is None or not np.any(q_s) else np.asarray(q_s, float)
     x1, x2 = np.zeros(n), np.zeros(n)
-    if d != 0.0:
-        x1[:-1] = -sla.solve(K[:-1, :-1], K[:-1, -1] * d, assume_a="pos")
+    if q_s is not None:
+        x2 = sla.solve(K, q_s, assume_a="pos")
+    if d != 0.0 or q_s is not None:
+        rhs = -K[:-1, -1] * d + (q_s[:-1] if q_s is not None else 0.0)
+        x1[:-1] = sla.solve(K[:-1, :-1], rhs, assume_a="pos") if n > 1 else 0.0
         x1[-1] = d
-    reaction = float(K[-1] @ x1)
-    energy = np.array([0.5 * float(x1 @ K @ x1), 0.5 * float(x2 @ K @ x2)])
+    qs = np.zeros(n) if q_s is None else q_s
+    reaction = float(K[-1] @ x1 - qs[-1])
+    energy = np.array([0.5 * float(x1 @ K @ x1) - float(qs @ x1), 0.5 * float(x2 @ K @ x2) - float(qs @ x2)])
     dx = x1 - x2
-    return Statics(d, x1, x2, reaction, energy, np.array([-reaction, d - x2[-1]]), V2.T @ (M @ dx),
+    return Statics(d, q_s, x1, x2, reaction, energy, np.array([-reaction, d - x2[-1]]), V2.T @ (M @ dx),
                    V1.T @ (M[:-1, :-1] @ -dx[:-1]))

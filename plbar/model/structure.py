@@ -84,6 +84,9 @@ class Structure:
     gap : float
         The stop's position ``d`` on the contact coordinate: the stop holds ``u <= d`` (FORMULATION §9); ``d > 0``
         a clearance, ``d < 0`` an interference (a preload), 0 (the default) the paper.
+    q_s : array_like, shape (n,), optional
+        A constant load beside the harmonic one (gravity, a prestress: FORMULATION §9, affine terms): the structure
+        obeys ``M x'' + C x' + K x = q cos(W t - phi) + q_s + r lambda``.  None (the default): none.
 
     Two structures are equal only if they are the same object (arrays have no hash); :attr:`fingerprint`
     identifies the content.
@@ -98,6 +101,7 @@ class Structure:
     x: np.ndarray | None = None
     origin: object = None
     gap: float = 0.0
+    q_s: np.ndarray | None = None
 
     def __post_init__(self):
         n = np.shape(self.M)[0] if np.ndim(self.M) == 2 or hasattr(self.M, "toarray") else 0
@@ -112,9 +116,11 @@ class Structure:
         q = _vector("q", self.q, n)
         if not np.any(q):
             raise InputError("q = 0: the load amplitude vector must not be zero")
+        q_s = None if self.q_s is None else _vector("q_s", self.q_s, n)
         for name, v in (("M", M), ("K", K), ("contact", r), ("q", q), ("x", x),
                         ("rayleigh", check_rayleigh(self.rayleigh)),
-                        ("restitution", check_restitution(self.restitution)), ("gap", check_gap(self.gap))):
+                        ("restitution", check_restitution(self.restitution)), ("gap", check_gap(self.gap)),
+                        ("q_s", q_s if q_s is not None and np.any(q_s) else None)):
             object.__setattr__(self, name, v)      # the validated, converted inputs; no other state
 
     @property
@@ -135,19 +141,24 @@ class Structure:
             items["restitution"] = self.restitution
         if self.gap:
             items["gap"] = self.gap
+        if self.q_s is not None:
+            items["q_s"] = rng(self.q_s)
         if self.origin is not None:
             items["origin"] = type(self.origin).__name__
         return build("Structure", items)
 
     @property
     def fingerprint(self) -> str:
-        """A digest of what the solvers read (matrices, contact row, load, damping, restitution, gap)."""
+        """A digest of what the solvers read (matrices, contact row, load, damping, restitution, gap, constant
+        load)."""
         import hashlib
 
         h = hashlib.sha256()
         for a in (self.M, self.K, self.contact, self.q):
             h.update(np.ascontiguousarray(a, float).tobytes())
         h.update(repr((self.rayleigh, self.restitution) + ((self.gap,) if self.gap else ())).encode())
+        if self.q_s is not None:
+            h.update(b"q_s" + np.ascontiguousarray(self.q_s, float).tobytes())
         return h.hexdigest()[:16]
 
     def physical(self, y: np.ndarray) -> np.ndarray:
@@ -170,6 +181,8 @@ class Coordinates:
         ``B^T M B``, ``B^T K B``.
     q : ndarray, shape (n,)
         ``B^T q``, the generalised load.
+    q_s : ndarray, shape (n,) or None
+        ``B^T q_s``, the generalised constant load (None: none).
     x : ndarray, shape (n,)
         The positions of the coordinates (the contact coordinate at the position of DOF ``c``).
     B : ndarray, shape (n, n)
@@ -184,6 +197,7 @@ class Coordinates:
     x: np.ndarray
     B: np.ndarray
     identity: bool
+    q_s: np.ndarray | None = None
 
 
 def contact_coordinates(s: Structure) -> Coordinates:
@@ -196,9 +210,10 @@ def contact_coordinates(s: Structure) -> Coordinates:
     B, c, o = _basis(s)
     r = s.contact
     if c == s.n - 1 and r[c] == 1.0 and not np.any(r[o]):
-        return Coordinates(s.M, s.K, s.q, s.x, B, True)
+        return Coordinates(s.M, s.K, s.q, s.x, B, True, s.q_s)
     x = np.concatenate([s.x[o], s.x[c:c + 1]])
-    return Coordinates(B.T @ s.M @ B, B.T @ s.K @ B, B.T @ s.q, x, B, False)
+    return Coordinates(B.T @ s.M @ B, B.T @ s.K @ B, B.T @ s.q, x, B, False,
+                       None if s.q_s is None else B.T @ s.q_s)
 
 
 def _basis(s: Structure) -> tuple[np.ndarray, int, np.ndarray]:

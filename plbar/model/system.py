@@ -288,9 +288,28 @@ class Problem:
         return self.structure.gap if self.structure is not None else 0.0
 
     @property
+    def q_s(self) -> np.ndarray | None:
+        """The constant load (gravity, a prestress) in the system's contact coordinates; None: none."""
+        if self.structure is None or self.structure.q_s is None:
+            return None
+        return self.cached("q_s", lambda p: contact_coordinates(p.structure).q_s)
+
+    @property
     def statics(self) -> Statics:
         """The two states' static equilibria and the constants they add (:mod:`plbar.model.statics`)."""
-        return self.cached("statics", lambda p: statics(p.system, p.gap))
+        return self.cached("statics", lambda p: statics(p.system, p.gap, p.q_s))
+
+    @property
+    def affine(self) -> bool:
+        """True with a gap or a constant load: the motion has a static part (the paper's scan does not apply)."""
+        return not self.statics.zero
+
+    @property
+    def static_part(self) -> str:
+        """What gives the motion a static part, in words (``"gap = 0.5"``, ``"a constant load"``, both); ``""``
+        without."""
+        parts = ([f"gap = {self.gap:g}"] if self.gap else []) + (["a constant load"] if self.q_s is not None else [])
+        return " and ".join(parts)
 
     @property
     def origin(self):
@@ -325,6 +344,8 @@ class Problem:
             items["restitution"] = self.restitution
         if self.gap:
             items["gap"] = self.gap
+        if self.q_s is not None:
+            items["q_s"] = rng(self.q_s)
         return build("Problem", items)
 
     def under(self, q) -> "Problem":
@@ -362,7 +383,7 @@ def with_load_vector(sys: TwoStateSystem, q: np.ndarray, structure: Structure | 
 
 
 def problem(model, load: Load | None = None, q: np.ndarray | None = None, modes=None,
-            rayleigh=None, restitution: float = 0.0, gap: float = 0.0) -> Problem:
+            rayleigh=None, restitution: float = 0.0, gap: float = 0.0, gravity: float = 0.0) -> Problem:
     """The two-state modal problem of a structure: both states' modes, the switch maps and the load.
 
     Parameters
@@ -378,15 +399,18 @@ def problem(model, load: Load | None = None, q: np.ndarray | None = None, modes=
         The bar's coefficient of restitution (:attr:`Problem.restitution`); default 0, the paper's plastic impact.
     gap : float
         The bar's gap at the stop (:attr:`Problem.gap`, :class:`plbar.Structure`); default 0, the paper.
+    gravity : float
+        A uniform acceleration along the bar towards the stop, the weight of its masses ``g b``
+        (:func:`plbar.model.bar_structure`); default 0.
     modes : int or (int, int), optional
         Modal truncation (see :func:`two_state`); default all modes.
     """
     if isinstance(model, Structure):
-        if load is not None or q is not None or rayleigh is not None or restitution or gap:
-            raise InputError("a Structure carries its own load, damping, restitution and gap; give them to "
-                             "plbar.Structure(...), not to plbar.problem")
+        if load is not None or q is not None or rayleigh is not None or restitution or gap or gravity:
+            raise InputError("a Structure carries its own load, damping, restitution, gap and constant load; give "
+                             "them to plbar.Structure(...), not to plbar.problem")
         s = model
     else:
-        s = bar_structure(model, load, q, rayleigh, check_restitution(restitution), gap=gap)
+        s = bar_structure(model, load, q, rayleigh, check_restitution(restitution), gap=gap, gravity=gravity)
     y = contact_coordinates(s)
     return with_load_vector(two_state(y.M, y.K, y.x, modes, s.rayleigh), y.q, s)

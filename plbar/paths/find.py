@@ -87,10 +87,10 @@ def find_paths(prob: Problem, domain: Domain | None = None, grid: tuple[int, int
     """
     if method not in METHODS:
         raise InputError(f"method = {method!r} is not allowed; choose continuation or grid")
-    if prob.gap:
-        raise InputError(f"gap = {prob.gap:g}: the paper's scan of (T1, T2) (Eqs. (15)-(18)) is written for a stop "
-                         "at rest contact (gap 0); with a gap the periodic responses come from the signature search "
-                         "(plbar.solve, plbar run) and the real motion from the survey")
+    if prob.affine:
+        raise InputError(f"{prob.static_part}: the paper's scan of (T1, T2) (Eqs. (15)-(18)) is written for a stop "
+                         "at rest contact (gap 0) and no constant load; with either the periodic responses come from "
+                         "the signature search (plbar.solve, plbar run) and the real motion from the survey")
     t0 = time.perf_counter()
     domain = domain or default_domain(prob)
     n1, n2 = (int(g) for g in grid)

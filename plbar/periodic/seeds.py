@@ -43,7 +43,7 @@ def zero_dwell(prob: Problem, T: float, sig: Signature = ZERO_DWELL) -> list[Orb
     A = ch0.J[rows][:, :nz]                                       # d/dz0 of both (affine in z0)
     cc, cs = ch0.F[rows], ch1.F[rows]
     c0 = np.zeros_like(cc)
-    if prob.gap:                                                  # a gap adds a constant (phi = pi: c0 - cos)
+    if prob.affine:                                # a gap or a constant load adds a constant (phi = pi: c0 - cos)
         Xs[-1] = np.pi
         c0 = 0.5 * (cc + evaluate(prob, sig, T, Xs, jac=False).F[rows])
         cc, cs = cc - c0, cs - c0

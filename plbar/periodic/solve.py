@@ -83,16 +83,17 @@ class Orbit:
 
     @property
     def start(self) -> tuple[np.ndarray, np.ndarray]:
-        """Physical displacement and velocity of every DOF at ``t = 0`` (just after the last impact): the
-        state I modal state ``z0`` through the state I modes, the contact DOF at rest at the wall (stuck); or,
-        after a rebound, the state II modal state through the state II modes."""
-        s = self.prob.system
+        """Physical displacement and velocity of every DOF at ``t = 0`` (just after the last impact), in the
+        contact coordinates: the state I static equilibrium plus the modal state ``z0`` through the state I modes,
+        the contact DOF at rest at the stop (stuck); or, after a rebound, state II's equilibrium plus its modal
+        state through the state II modes (:class:`plbar.model.Statics`; both 0 without a gap or constant load)."""
+        s, st = self.prob.system, self.prob.statics
         z = self.z0
         if self.free_start:
             m = s.w2.size
-            return z[:m] @ s.V2.T, z[m:] @ s.V2.T
+            return st.x2 + z[:m] @ s.V2.T, z[m:] @ s.V2.T
         m = s.w1.size
-        return s.embed(z[:m] @ s.V1.T), s.embed(z[m:] @ s.V1.T)
+        return st.x1 + s.embed(z[:m] @ s.V1.T), s.embed(z[m:] @ s.V1.T)
 
     @cached_property
     def impact_loss(self) -> np.ndarray:

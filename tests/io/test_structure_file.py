@@ -12,6 +12,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -88,9 +90,28 @@ def test_a_structure_file_holds_a_gap(tmp_path):
     assert read_structure(tmp_path / "back.npz").gap == -0.5
 
 
+def test_a_file_s_constant_load(tmp_path):
+    """``q_s`` in a file is the structure's constant load: read back exactly, in the fingerprint, not scaled by
+    ``--amplitude``, and the static equilibrium of state II solves ``K x = q_s``."""
+    st = two_bodies()
+    q_s = np.linspace(0.1, 0.5, st.n)
+    np.savez(tmp_path / "s.npz", M=st.M, K=st.K, r=st.contact, q=st.q, q_s=q_s)
+    back = read_structure(tmp_path / "s.npz")
+    assert np.array_equal(back.q_s, q_s)
+    assert back.fingerprint != read_structure(tmp_path / "s.npz", scale=2.0).fingerprint
+    assert np.array_equal(read_structure(tmp_path / "s.npz", scale=2.0).q_s, q_s)
+    again = read_structure(write_structure(tmp_path / "back.npz", back))
+    assert np.array_equal(again.q_s, q_s) and again.fingerprint == back.fingerprint
+    none = read_structure(write_structure(tmp_path / "none.npz", replace(back, q_s=None)))
+    assert again.fingerprint != none.fingerprint and none.q_s is None
+    prob = plbar.Case(model="matrices", matrices=str(tmp_path / "s.npz")).problem()
+    y = prob.structure.physical(prob.statics.x2)
+    assert np.allclose(back.K @ y, q_s, rtol=1e-12, atol=1e-12 * np.abs(q_s).max())
+
+
 @pytest.mark.parametrize("extra, match", [
     ({"gap": np.array(np.nan)}, "gap"),
-    ({"q_s": np.ones(5)}, "a constant load"),
+    ({"q_s": np.ones(4)}, "q_s must have one entry per DOF"),
     ({"t": np.ones(5)}, "base excitation"),
     ({"x0": np.ones(5)}, "a given start"),
     ({"D": np.ones(5)}, "not an array plbar reads"),

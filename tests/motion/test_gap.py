@@ -16,12 +16,11 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
 
 import plbar
 from plbar.errors import InputError
 from plbar.motion import padded, run
-from plbar.motion.kernel import data as D
+from event_integrator import motion, rest
 
 
 def _gapped(case: plbar.Case, d: float, scale: float = 1.0) -> plbar.Problem:
@@ -29,72 +28,13 @@ def _gapped(case: plbar.Case, d: float, scale: float = 1.0) -> plbar.Problem:
     return plbar.problem(replace(st, gap=d, q=st.q * scale, origin=None))
 
 
-def _phase(rhs, g, t, z, t_end, chunk):
-    """Integrate ``rhs`` from ``(t, z)`` until ``g`` first rises through 0 (or ``t_end``): ``(t, z, hit)``.
-
-    Each step of the dense output is scanned at 64 points (solve_ivp's own events see only a step's ends, and a
-    flight that starts at the stop, ``g = 0``, and returns within one step would go unseen); the crossing is
-    then a root of the dense output, and the state there is integrated to it again from the phase's start."""
-    from scipy.optimize import brentq
-
-    opts = dict(rtol=1e-13, atol=1e-14, method="DOP853")
-    t0, z0 = t, z
-    while t < t_end:
-        b = min(t + chunk, t_end)
-        sol = solve_ivp(rhs, (t, b), z, dense_output=True, **opts)
-        grid = np.concatenate([np.linspace(sol.t[i], sol.t[i + 1], 65)[1:] for i in range(sol.t.size - 1)])
-        gv = g(grid, sol.sol(grid))
-        up = np.flatnonzero((gv[1:] >= 0) & (gv[:-1] < 0))
-        if up.size:
-            te = brentq(lambda u, s=sol: g(u, s.sol(u)), grid[up[0]], grid[up[0] + 1], xtol=1e-15, rtol=1e-15)
-            return te, solve_ivp(rhs, (t0, te), z0, **opts).y[:, -1], True
-        t, z = b, sol.y[:, -1]
-    return t_end, solve_ivp(rhs, (t0, t_end), z0, **opts).y[:, -1], False
-
-
-def ivp_events(st: plbar.Structure, T: float, t_end: float, start_free: bool):
-    """``(times, kinds, losses, x_end)`` of the structure from rest, event-driven with solve_ivp (DOP853)."""
-    M, K, r, q, d = st.M, st.K, st.contact, st.q, st.gap
-    Mi, n, W = np.linalg.inv(M), M.shape[0], 2 * np.pi / T
-    rMr = r @ Mi @ r
-
-    def lam(t, x):                       # the stop's force holding u'' = 0: M x'' = f + r lam (t, x vectorised)
-        return -(r @ Mi @ (np.multiply.outer(q, np.cos(W * t)) - K @ x)) / rMr
-
-    def stuck(t, z):
-        return np.concatenate([z[n:], Mi @ (q * np.cos(W * t) - K @ z[:n] + r * lam(t, z[:n]))])
-
-    def free(t, z):
-        return np.concatenate([z[n:], Mi @ (q * np.cos(W * t) - K @ z[:n])])
-
-    if start_free:
-        x0 = np.zeros(n)
-    else:                                # held at u = d: K x = r lam with r . x = d
-        Ki = np.linalg.inv(K)
-        x0 = Ki @ r * (d / (r @ Ki @ r))
-    z, t, free_now = np.concatenate([x0, np.zeros(n)]), 0.0, start_free
-    times, kinds, losses = [], [], []
-    while t < t_end:
-        if not free_now and lam(t, z[:n]) > 0:
-            free_now = True              # a zero dwell: the reaction pulls at once
-            times.append(t), kinds.append(D.OPENS), losses.append(0.0)
-            continue
-        if free_now:
-            t, z, hit = _phase(free, lambda u, y: r @ y[:n] - d, t, z, t_end, T / 4)
-        else:
-            t, z, hit = _phase(stuck, lambda u, y: lam(u, y[:n]), t, z, t_end, T / 4)
-        if not hit:
-            break
-        if free_now:
-            v = z[n:]
-            vp = v - Mi @ r * (r @ v) / rMr
-            losses.append(0.5 * v @ M @ v - 0.5 * vp @ M @ vp)
-            z = np.concatenate([z[:n], vp])
-            times.append(t), kinds.append(D.IMPACT)
-        else:
-            times.append(t), kinds.append(D.OPENS), losses.append(0.0)
-        free_now = not free_now
-    return np.array(times), np.array(kinds), np.array(losses), z[:n]
+def ivp_events(st: plbar.Structure, T: float, t_end: float, start_free: bool | None = None):
+    """``(times, kinds, losses, x_end)`` of the structure from rest (its static equilibrium: free where that is
+    clear of the stop, else held against it) by the test's integrator; ``start_free`` asserts which."""
+    x0, free = rest(st)
+    assert start_free is None or start_free == free
+    times, kinds, losses, x_end, _ = motion(st, T, t_end, x0, np.zeros(st.n), free)
+    return times, kinds, losses, x_end
 
 
 CASES = {"chain": plbar.Case(), "fe consistent": plbar.Case(model="fe", n=6, element="P1", mass="consistent")}
@@ -153,3 +93,50 @@ def test_a_gap_is_checked():
     for bad in (float("nan"), "0.1", None, float("inf")):
         with pytest.raises(InputError, match="gap"):
             replace(st, gap=bad)
+
+
+#: a constant load (FORMULATION §9, affine terms): (name, gap, q_s as a multiple of M 1, the start state)
+PRELOADS = [("gravity onto the stop, no gap", 0.0, 0.05, 0), ("gravity away from the stop", 0.0, -0.05, 1),
+            ("gravity onto a clearance it does not close", 0.6, 0.02, 1),
+            ("gravity that closes a clearance", 0.1, 0.08, 0),
+            ("gravity onto an interference", -0.2, 0.03, 0)]
+
+
+@pytest.mark.parametrize("name", list(CASES))
+@pytest.mark.parametrize("what,d,g,state", PRELOADS, ids=[p[0] for p in PRELOADS])
+def test_a_constant_load_is_the_integrators(name, what, d, g, state):
+    """A constant load ``q_s = g M 1`` (gravity along the bar) beside the harmonic one, with and without a gap:
+    the simulator's motion from its static equilibrium against the integrator's, event times to 1e-9, the losses,
+    the end state and the energy budget (the constant load's potential in the mechanical energy) to 1e-12."""
+    case = CASES[name]
+    s = 1.0 if name == "chain" else 0.05
+    st = case.problem().structure
+    prob = plbar.problem(replace(st, gap=d * s, q_s=g * s * (st.M @ np.ones(st.n)) / (st.M.sum() / st.n),
+                                 origin=None))
+    pad = padded(prob)
+    assert pad.rest_state == state
+    T, periods = 9.3 if name == "chain" else 2.1, 12
+    r = run(pad, np.array([T]), 0.0, periods, periods)
+    assert r.status[0] == 0
+    times, kinds, losses, x_end = ivp_events(prob.structure, T, periods * T, start_free=state == 1)
+    ev = r.events
+    assert ev.size == times.size > 10
+    assert np.array_equal(ev["kind"], kinds)
+    assert np.max(np.abs(ev["time"] - times)) < 1e-9
+    assert np.max(np.abs(ev["loss"] - losses)) < 1e-9 * max(losses.max(), 1e-300)
+    assert np.max(np.abs(r.strobe_x[0, -1] - x_end)) < 1e-8 * np.abs(x_end).max()
+    assert abs(r.energy_residual[0]) < 1e-12
+
+
+def test_a_constant_load_scales_with_the_load():
+    """Homogeneity with a constant load: ``(lambda d, lambda q, lambda q_s)`` is ``lambda`` times the motion."""
+    T = np.linspace(6.0, 13.0, 8)
+    st = plbar.Case().problem().structure
+    base = replace(st, gap=0.3, q_s=0.04 * (st.M @ np.ones(st.n)), origin=None)
+    a = run(padded(plbar.problem(base)), T, 0.0, 40, 40)
+    for lam in (0.01, 4.0):
+        b = run(padded(plbar.problem(replace(base, gap=lam * base.gap, q=lam * base.q, q_s=lam * base.q_s))),
+                T, 0.0, 40, 40)
+        assert np.array_equal(a.events["kind"], b.events["kind"])
+        assert np.max(np.abs(a.events["time"] - b.events["time"])) < 1e-12 * T.max() * 40
+        assert np.max(np.abs(lam * a.strobe_x - b.strobe_x)) < 1e-12 * lam * np.abs(a.strobe_x).max()

@@ -292,6 +292,10 @@ def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pair
     if case.gap:
         raise InputError(f"gap = {case.gap:g}: sweep-loads follows the paper's scan of (T1, T2), written for no gap; "
                          "the real motion at every load position with a gap: plbar survey --positions S ... --gap D")
+    if case.gravity:
+        raise InputError(f"gravity = {case.gravity:g}: sweep-loads follows the paper's scan of (T1, T2), written for "
+                         "no constant load; the real motion at every load position: plbar survey --positions S ... "
+                         "--gravity G")
     if case.restitution:
         raise InputError(f"restitution = {case.restitution:g}: sweep-loads is the paper's class (one plastic impact "
                          "and a stuck phase per period, Sec. 4.2), which needs e = 0; the real motion at every load "

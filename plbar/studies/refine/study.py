@@ -168,6 +168,9 @@ def _refinable(case: Case) -> None:
     if case.gap:
         raise InputError(f"gap = {case.gap:g}: refine follows families of the paper's scan, written for no gap; the "
                          "real motion on each mesh with a gap: plbar survey -N N1 N2 ... --gap D")
+    if case.gravity:
+        raise InputError(f"gravity = {case.gravity:g}: refine follows families of the paper's scan, written for no "
+                         "constant load; the real motion on each mesh: plbar survey -N N1 N2 ... --gravity G")
     if case.restitution:
         raise InputError(f"restitution = {case.restitution:g}: refine follows families of the paper's class (a "
                          "plastic impact) through N, which need e = 0; the real motion on each mesh with rebounds: "
