@@ -251,6 +251,17 @@ def _summary(lf, fam, wcols, pairs_rows, positions, no_path, times) -> dict:
                      "(a phase scan, docs/load_structure.md section 9); loads with h(q) = 0 have no periodic path")}
 
 
+def _paper_scan_only(case) -> None:
+    """Refuse a case with a static part (a gap, a constant load): sweep-loads follows the paper's scan."""
+    if case.gap:
+        raise InputError(f"gap = {case.gap:g}: sweep-loads follows the paper's scan of (T1, T2), written for no gap; "
+                         "the real motion at every load position with a gap: plbar survey --positions S ... --gap D")
+    if case.gravity:
+        raise InputError(f"gravity = {case.gravity:g}: sweep-loads follows the paper's scan of (T1, T2), written for "
+                         "no constant load; the real motion at every load position: plbar survey --positions S ... "
+                         "--gravity G")
+
+
 def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pairs: bool = True, loads=(),
                 positions_csv: bool = False, **options) -> LoadStudy:
     """One path solve, then every load position, the node pairs and the worst load.
@@ -289,13 +300,7 @@ def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pair
 
     opts = run_options(options, "sweep_loads", executor=False)
     case = Case() if case is None else case
-    if case.gap:
-        raise InputError(f"gap = {case.gap:g}: sweep-loads follows the paper's scan of (T1, T2), written for no gap; "
-                         "the real motion at every load position with a gap: plbar survey --positions S ... --gap D")
-    if case.gravity:
-        raise InputError(f"gravity = {case.gravity:g}: sweep-loads follows the paper's scan of (T1, T2), written for "
-                         "no constant load; the real motion at every load position: plbar survey --positions S ... "
-                         "--gravity G")
+    _paper_scan_only(case)
     if case.restitution:
         raise InputError(f"restitution = {case.restitution:g}: sweep-loads is the paper's class (one plastic impact "
                          "and a stuck phase per period, Sec. 4.2), which needs e = 0; the real motion at every load "
