@@ -27,35 +27,12 @@ from .damping import check_rayleigh, rayleigh_ratio
 from ..errors import InputError
 from .load import Load
 from .matrices import check_matrices
+from .modes import kept_modes, state_modes
 from .statics import Statics, statics
 from .structure import Structure, check_restitution, contact_coordinates
 from ..util.reprs import build, rng
 
 __all__ = ["TwoStateSystem", "Problem", "two_state", "problem", "with_load_vector", "check_restitution"]
-
-#: a stiffness whose smallest eigenvalue is below this times the largest is singular (rigid-body motion)
-SINGULAR_RTOL = 1e-13
-
-
-def _modes(K: np.ndarray, M: np.ndarray, what: str, m: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Natural circular frequencies and mass-normalised modes, sign-fixed (the lowest ``m``, or all).
-
-    A state with no DOF (a single mass held at the stop) has no mode: empty arrays."""
-    if K.shape[0] == 0:
-        return np.zeros(0), np.zeros((0, 0))
-    if m is None or m >= K.shape[0]:
-        lam, V = sla.eigh(K, M)
-    else:
-        lam, V = sla.eigh(K, M, subset_by_index=[0, m - 1])
-    # a singular K gives lam[0] ~ +-eps lam_max; max(K_ii / M_ii) <= lam_max (Rayleigh quotients of unit vectors)
-    top = float(np.max(np.diag(K) / np.diag(M)))
-    if lam[0] <= SINGULAR_RTOL * top:
-        raise InputError(f"the {what} stiffness matrix is not positive definite (smallest eigenvalue {lam[0]:.3g} "
-                         f"of K v = lam M v, against {top:.3g} or more: is the bar held against rigid-body motion?)")
-    k = np.argmax(np.abs(V), axis=0)
-    V = V * np.sign(V[k, np.arange(V.shape[1])])
-    return np.sqrt(lam), V
-
 
 @dataclass(frozen=True)
 class TwoStateSystem:
@@ -194,20 +171,6 @@ class TwoStateSystem:
         return out
 
 
-def _n_modes(modes, n: int) -> tuple[int | None, int | None]:
-    """``modes`` (None, an int for both states or a pair ``(m1, m2)``) as kept mode counts."""
-    if modes is None:
-        return None, None
-    try:
-        m1, m2 = (modes, modes) if np.ndim(modes) == 0 else tuple(modes)
-        m1, m2 = int(m1), int(m2)
-    except (TypeError, ValueError):
-        raise InputError(f"modes = {modes!r} must be a positive integer or a pair (state I, state II)") from None
-    if m1 < 1 or m2 < 1:
-        raise InputError(f"modes = {modes!r} must be positive")
-    return (None if m1 >= n - 1 else m1), (None if m2 >= n else m2)
-
-
 def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray, modes=None, rayleigh=None) -> TwoStateSystem:
     """Build the two-state modal system from free-DOF matrices (contact last).
 
@@ -233,10 +196,10 @@ def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray, modes=None, rayleigh=
     n = M.shape[0]
     if n < 1:
         raise InputError(f"the system needs at least 1 free DOF, got {n}")
-    m1, m2 = _n_modes(modes, n)
+    m1, m2 = kept_modes(modes, n)
     Mrr, Krr = M[:-1, :-1], K[:-1, :-1]
-    w1, V1 = _modes(Krr, Mrr, "state I", m1)
-    w2, V2 = _modes(K, M, "state II", m2)
+    w1, V1 = state_modes(Krr, Mrr, "state I", m1)
+    w2, V2 = state_modes(K, M, "state II", m2)
     # I -> II: x^II = E x^I, eta^II = V2^T M E V1 eta^I (Eq. (8) with I, II exchanged)
     P12 = V2.T @ M[:, :-1] @ V1
     # II -> I positions: x_r = R x^II, eta^I = V1^T M_rr R V2 eta^II (Eq. (9))
