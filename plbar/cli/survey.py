@@ -62,6 +62,7 @@ def _cost(a, case, T) -> str:
     motions = len(T) * (1 + len(set(a.cont or ())))
     if a.positions is not None or a.per_element is not None:
         motions *= len(a.positions) if a.positions is not None else max(DEFAULT_POSITIONS, a.per_element * case.n_eff)
+    motions *= len(a.amplitudes or [None])
     sizes = sorted(set(a.sizes)) if a.sizes and len(a.sizes) > 1 else [None]
     cpu = sum(survey_seconds(case if n is None else _with_n(case, n), motions, a.periods) for n in sizes)
     workers = 1 if a.executor == "serial" and not a.scheduler else (a.workers or os.cpu_count() or 1)
@@ -137,6 +138,8 @@ def _cmd_survey(a) -> int:
     if a.amplitude is not None and (a.positions is not None or a.per_element is not None):
         raise InputError("--amplitude does not apply with --positions/--per-element: a unit force acts at each "
                          "position (xi_eq does not depend on its amplitude); drop --amplitude")
+    if a.amplitudes is not None and (a.positions is not None or a.per_element is not None):
+        raise InputError("--amplitudes and --positions/--per-element are two studies: give one")
     case, _ = case_from_args(a)
     if a.sizes and len(a.sizes) == 1:
         case = _with_n(case, a.sizes[0])
@@ -147,7 +150,7 @@ def _cmd_survey(a) -> int:
     no_continuum = _cost(a, case, T)
     note_no_contact_mass(a, case)
     out = check_creatable(a.out)              # made by the study's claim (removed again if it fails)
-    if a.positions is not None or a.per_element is not None:
+    if a.positions is not None or a.per_element is not None or a.amplitudes is not None:
         return _loads(a, case, T, out)
     if a.sizes and len(a.sizes) > 1:
         return _refine(a, case, T, out, no_continuum)
@@ -155,7 +158,8 @@ def _cmd_survey(a) -> int:
     paths = None
     # the paper's class under it (plastic: with a restitution e > 0 it does not exist; the responses with rebounds
     # are plbar run --restitution E)
-    if plot and not a.no_paths and not case.restitution and not case.gap and (a.paths or case.n_eff <= 12):
+    if plot and not a.no_paths and not case.restitution and not case.gap and not case.gravity and \
+            (a.paths or case.n_eff <= 12):
         paths = solve(replace(case, signatures="paper"), progress=False).paper
     kind = "dask" if a.scheduler else a.executor
     modes = ("rest",) + tuple(dict.fromkeys(a.cont or ()))
@@ -167,27 +171,32 @@ def _cmd_survey(a) -> int:
 
 
 def _loads(a, case, T, out) -> int:
+    """The load study along positions (``--positions``, ``--per-element``) or amplitudes (``--amplitudes``)."""
     from ..studies import get_executor
-    from ..studies.survey import run_survey_loads
+    from ..studies.survey import AMPLITUDES, POSITIONS, run_survey_loads
 
+    axis = POSITIONS if a.amplitudes is None else AMPLITUDES
     if a.cont:
-        raise InputError("--continue sweeps T from one state: give it without --positions/--per-element")
+        raise InputError("--continue sweeps T from one state: give it without --positions/--per-element/"
+                         "--amplitudes")
     kind = "dask" if a.scheduler else a.executor
     sizes = sorted(set(a.sizes)) if a.sizes and len(a.sizes) > 1 else None
+    values = a.positions if a.amplitudes is None else a.amplitudes
     with get_executor(kind, a.scheduler, a.workers) as ex:
-        r = run_survey_loads(case, T, a.positions, a.per_element, sizes, a.periods, a.record, out, executor=ex,
-                             progress=progress(a), overwrite=a.overwrite,
+        r = run_survey_loads(case, T, values, a.per_element, sizes, a.periods, a.record, out, axis=axis,
+                             executor=ex, progress=progress(a), overwrite=a.overwrite,
                              plot=not a.no_plot and importlib.util.find_spec("matplotlib") is not None)
-    lines = [f"plbar survey over load positions: {r.positions.size} positions x {r.T.size} forcing periods"
+    w, col = axis.word, axis.column
+    lines = [f"plbar survey over load {w}s: {r.values.size} {w}s x {r.T.size} forcing periods"
              + (f" x N = {', '.join(str(n) for n in r.sizes)}" if r.sizes.size > 1 else "")
              + f", {r.summary['periods']} periods each, {r.summary['seconds']:.1f} s"]
     for n, d in r.summary["by_N"].items():
         k = d["kinds"]
-        mean = np.asarray(d["mean_xi_eq_per_position"])
+        mean = np.asarray(d[f"mean_xi_eq_per_{w}"])
         lines.append(f"  N = {n}: {k['periodic']} periodic, {k['irregular']} irregular"
                      + (f", {k['failed']} failed" if k["failed"] else "")
-                     + f"; mean xi_eq over T by position {mean.min():.4g} .. {mean.max():.4g}, largest at s = "
-                       f"{d['position_of_largest_mean_xi_eq']:g}")
+                     + f"; mean xi_eq over T by {w} {mean.min():.4g} .. {mean.max():.4g}, largest at {col} = "
+                       f"{d[f'{w}_of_largest_mean_xi_eq']:g}")
     if r.summary["energy_residual_max"] is not None:                 # None: every motion failed
         lines.append(f"  energy budget closes to {r.summary['energy_residual_max']:.1e} of the work")
     lines.append("  wrote " + ", ".join(str(f) for v in r.files.values() for f in (v if isinstance(v, list) else [v])))
@@ -284,6 +293,10 @@ def register(sub) -> None:
                    help="unit-force positions 0 < S <= L, as in sweep-loads (the case's load is replaced)")
     g.add_argument("--per-element", type=int, default=None, metavar="K",
                    help="K positions per element (every node and points between) [enough for 20 in all]")
+    g = s.add_argument_group("load amplitudes (the survey at every one: survey_amplitudes.csv and the (T, A) map)")
+    g.add_argument("--amplitudes", type=float, nargs="+", default=None, metavar="A",
+                   help="factors A > 0 on the case's load (with a gap or gravity the response depends on them; "
+                        "without, xi_eq does not)")
     s.add_argument("--no-plot", action="store_true", help="skip survey.png/.pdf")
     s.add_argument("--no-paths", action="store_true", help="do not solve the exact branches under the figure")
     s.add_argument("--paths", action="store_true",

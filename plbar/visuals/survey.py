@@ -120,46 +120,53 @@ def survey_damping_plot(levels: dict, out, name: str = "survey_damping", units: 
     return _save(fig, out, name)
 
 
-def _cells(table: dict, N, column: str):
+def _cells(table: dict, N, column: str, axis: str = "s"):
     sel = table["N"] == N
-    s, T = np.unique(table["s"][sel]), np.unique(table["T"][sel])
+    s, T = np.unique(table[axis][sel]), np.unique(table["T"][sel])
     g = np.full((s.size, T.size), np.nan, dtype=object if column == "kind" else float)
-    g[np.searchsorted(s, table["s"][sel]), np.searchsorted(T, table["T"][sel])] = table[column][sel]
+    g[np.searchsorted(s, table[axis][sel]), np.searchsorted(T, table["T"][sel])] = table[column][sel]
     return s, T, g
 
 
-def survey_loads_plot(table: dict, out, name: str = "survey_loads", title: str = "", units: str = "") -> list[Path]:
-    """``xi_eq`` and ``xi_w`` of the real motion over (forcing period, load position), one row per size ``N``.
+def survey_loads_plot(table: dict, out, name: str = "survey_loads", title: str = "", units: str = "",
+                      column: str = "s", label: str = "load position s") -> list[Path]:
+    """``xi_eq`` and ``xi_w`` of the real motion over (forcing period, load position), one row per size ``N``; or
+    over (forcing period, amplitude factor) with ``column = "A"``.
 
-    ``table``: the columns of ``survey_loads.csv``.  Colour: the value of the cell (the motion from rest under a
-    unit force at ``s``); white dots: the periodic cells; red crosses: failed ones (a chattering contact); the
-    black line: the worst position of each forcing period (the largest value over ``s``).  ``units``: the bar's
-    units (:func:`plbar.visuals.style.unit_note`), said on the axes.
+    ``table``: the columns of ``survey_loads.csv`` (``survey_amplitudes.csv``).  Colour: the value of the cell (the
+    motion from rest under a unit force at ``s``, or the load times ``A``); white dots: the periodic cells; red
+    crosses: failed ones (a chattering contact); the black line: the worst position (amplitude) of each forcing
+    period (the largest value over the axis).  ``units``: the bar's units (:func:`plbar.visuals.style.unit_note`),
+    said on the axes (an amplitude factor has none).
     """
     plt = _plt()
     sizes = np.unique(table["N"])
     fig, ax = plt.subplots(len(sizes), 2, figsize=(12.0, 3.6 * len(sizes) + 0.6), squeeze=False, sharex=True)
     for r, n in enumerate(sizes):
-        for c, (col, label) in enumerate((("xi_eq", r"$\xi_{eq}$ of the motion (Eq. 22, dimensionless)"),
+        for c, (col, cbar) in enumerate((("xi_eq", r"$\xi_{eq}$ of the motion (Eq. 22, dimensionless)"),
                                           ("xi_w", r"$\xi_\omega$ (the forcing's frequency, dimensionless)"))):
-            s, T, g = _cells(table, n, col)
-            _, _, kind = _cells(table, n, "kind")
+            s, T, g = _cells(table, n, col, column)
+            _, _, kind = _cells(table, n, "kind", column)
             a = ax[r, c]
             vmax = float(np.nanquantile(g, 0.99)) if np.isfinite(g).any() else 1.0
             mesh = a.pcolormesh(_edges(T), _edges(s), g, cmap="viridis", vmin=0.0, vmax=max(vmax, 1e-12),
                                 shading="flat", rasterized=True)
-            fig.colorbar(mesh, ax=a, label=label, extend="max")
+            fig.colorbar(mesh, ax=a, label=cbar, extend="max")
             ii, jj = np.nonzero(kind == "periodic")
             a.plot(T[jj], s[ii], ".", ms=1.6, color="w", alpha=0.8, label="periodic (settled) motion")
             ii, jj = np.nonzero(kind == "failed")
             if ii.size:
                 a.plot(T[jj], s[ii], "x", ms=3, color="tab:red", label="failed (chattering contact)")
             worst = np.nanargmax(np.where(np.isfinite(g), g, -np.inf), axis=0)
+            word = "position" if column == "s" else "amplitude"
             a.plot(T, s[worst], "-", color="k", lw=0.9, drawstyle="steps-mid",
-                   label="position of the largest value per T")
-            a.set_ylabel(with_units(f"load position s (N = {int(n)})", units))
+                   label=f"{word} of the largest value per T")
+            if column != "s":
+                a.set_yscale("log" if s.size > 1 and s.min() > 0 and s.max() / s.min() > 10 else "linear")
+            a.set_ylabel(with_units(f"{label} (N = {int(n)})", units if column == "s" else ""))
             if r == 0:
-                a.set_title(("what the bar does from rest, load at s" + (f": {title}" if title else ""))
+                what = "load at s" if column == "s" else "load times A"
+                a.set_title((f"what the bar does from rest, {what}" + (f": {title}" if title else ""))
                             if c == 0 else "")
     ax[-1, 0].legend(loc="upper left", bbox_to_anchor=(0.0, -0.18), fontsize=7, ncol=3, frameon=False)
     for a in ax[-1]:
