@@ -126,3 +126,12 @@ def test_inherent_damping_example(tmp_path):
     assert fe[2.0][0] == pytest.approx(0.0711, abs=1e-3)
     for ext in ("png", "pdf"):
         assert (tmp_path / f"xi_rayleigh.{ext}").stat().st_size > 10_000
+
+
+def test_impact_oscillator_example(tmp_path):
+    """COCO's impact oscillator (issue 41): the orbit the test's own integrator finds
+    (tests/periodic/test_peer_coco_impact.py: impact velocity 1.69573294, phase 0.07595216), stable, one branch."""
+    out = _run("impact_oscillator.py", tmp_path)
+    assert "impact velocity 1.695733" in out and "forcing phase at the impact 0.075952" in out
+    assert "|mu| = 0.58432 (stable)" in out and out.count("branch ") == 1
+    assert (tmp_path / "impact_oscillator.png").is_file()
