@@ -17,8 +17,8 @@ imports flow one way (``python -m plbar.util.layout`` prints the graph):
 from .app import Case, Result, solve, write_results
 from .check import simulate
 from .errors import CaseFileError, InputError, OutputExistsError, PlbarError
-from .model import (Bar, Load, Problem, Structure, TwoStateSystem, assemble, bar_structure, chain, graded_nodes,
-                    node, point, problem, rayleigh_from_ratio, two_state, uniform_bar, uniform_nodes)
+from .model import (Bar, Load, Problem, Structure, TwoStateSystem, assemble, bar_structure, base_excitation, chain,
+                    graded_nodes, node, point, problem, rayleigh_from_ratio, two_state, uniform_bar, uniform_nodes)
 from .paths import Branch, Domain, Paths, default_domain, find_paths
 from .response import Orbits, Response, damping, find_response, impact_loss, orbits
 from .util.version import __version__
@@ -26,6 +26,7 @@ from .util.version import __version__
 __all__ = [
     "Bar", "assemble", "chain", "graded_nodes", "uniform_bar", "uniform_nodes", "Case", "damping",
     "impact_loss", "CaseFileError", "InputError", "OutputExistsError", "PlbarError", "Load", "node", "point",
+    "base_excitation",
     "Orbits", "orbits", "Branch", "Domain", "Paths", "default_domain", "find_paths", "Result", "solve",
     "write_results", "Response", "find_response", "Problem", "Structure", "bar_structure", "TwoStateSystem", "problem",
     "two_state", "simulate", "rayleigh_from_ratio", "__version__",

@@ -71,6 +71,9 @@ def _check_continuum(case) -> None:
     if case.gap:
         raise InputError(f"model = 'continuum' has no gap at the stop yet, got gap = {case.gap:g}; use model = 'fe' "
                          "(or 'chain') for a gap")
+    if case.base:
+        raise InputError(f"model = 'continuum' has no base excitation yet, got base = {case.base:g}; use model = "
+                         "'fe' (or 'chain') for a shaking support")
     if case.gravity:
         raise InputError(f"model = 'continuum' has no constant load yet, got gravity = {case.gravity:g}; use model "
                          "= 'fe' (or 'chain') for gravity")

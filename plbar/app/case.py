@@ -129,6 +129,11 @@ class Case:
         the structure starts in its static equilibrium (free, or held against the stop).  Default 0.  Like a gap,
         it makes the response depend on the amplitude, and the same commands take it.  A structure file gives its
         own constant load (``q_s``).
+    base : float
+        A base excitation: the support's acceleration amplitude ``a_g`` along the bar (towards the stop > 0), the
+        effective load ``-M t a_g cos(W t - phi)`` in coordinates relative to the support
+        (:func:`plbar.base_excitation`), beside any forces; the stop moves with the support and every response is
+        relative to it.  Default 0: none (with no force either, the default load acts).
     """
 
     model: str = "chain"
@@ -162,6 +167,7 @@ class Case:
     matrices_digest: str | None = None
     gap: float = 0.0
     gravity: float = 0.0
+    base: float = 0.0
 
     def __post_init__(self):
         if self.model == "matrices" or self.matrices is not None:
@@ -178,6 +184,8 @@ class Case:
         object.__setattr__(self, "rayleigh", check_rayleigh(self.rayleigh))
         object.__setattr__(self, "restitution", check_restitution(self.restitution))
         object.__setattr__(self, "gap", check_gap(self.gap))
+        object.__setattr__(self, "base", finite("base", self.base, "a finite number (the support's acceleration "
+                                                "amplitude along the bar)"))
         object.__setattr__(self, "gravity", finite("gravity", self.gravity,
                                                    "a finite number (an acceleration along the bar, > 0 towards "
                                                    "the stop)"))
@@ -206,12 +214,12 @@ class Case:
         if self.modes is not None and self.modes > bar.n_dofs and self.model != "continuum":
             raise InputError(f"modes = {self.modes} is more than the {bar.n_dofs} degrees of freedom of this bar; "
                              f"give at most {bar.n_dofs} (--modes M), or none for the full model")
-        if not self.load_nodes and not self.load_points:     # the default load: a fixed physical position
+        if not self.load_nodes and not self.load_points and not self.base:   # the default load: a fixed position
             if self.model == "chain":
                 object.__setattr__(self, "load_nodes", ((1, 1.0),))
             else:
                 object.__setattr__(self, "load_points", ((DEFAULT_FE_LOAD * bar.length, 1.0),))
-        ld = Load(points=self.load_points, nodes=self.load_nodes)      # validates types and signs
+        ld = Load(points=self.load_points, nodes=self.load_nodes, base=self.base)   # validates types and signs
         ld.check(bar)
         object.__setattr__(self, "load_nodes", ld.nodes)
         object.__setattr__(self, "load_points", ld.points)
@@ -290,7 +298,7 @@ class Case:
     def load(self) -> Load:
         """The load of this case (validated when the case was made)."""
         self.bar()
-        return Load(points=self.load_points, nodes=self.load_nodes)
+        return Load(points=self.load_points, nodes=self.load_nodes, base=self.base)
 
     def problem(self) -> Problem:
         """Assemble the bar, solve both eigenproblems and attach the load (the expensive step: call once)."""
@@ -339,6 +347,8 @@ class Case:
             drop += ("gap",)
         if not d["gravity"]:
             drop += ("gravity",)
+        if not d["base"]:
+            drop += ("base",)
         if d["rayleigh"] is None:
             drop += ("rayleigh",)
         else:

@@ -209,19 +209,26 @@ def _table(ctx: _Ctx, data: dict, name: str) -> dict:
     return {k: ctx.value(name, k, v) for k, v in t.items()}
 
 
-def _loads(ctx: _Ctx, loads) -> tuple[list, list]:
-    """The ``[[load]]`` tables as nodal forces and point forces (none: the default load of :class:`Case`)."""
+def _loads(ctx: _Ctx, loads) -> tuple[list, list, float]:
+    """The ``[[load]]`` tables as nodal forces, point forces and a base acceleration (none: the default load of
+    :class:`Case`)."""
     if not isinstance(loads, list) or not all(isinstance(x, dict) for x in loads):
         raise ctx.err("", "load must be an array of tables: write each force as [[load]] with node = K or at = S")
-    nodes, points = [], []
+    nodes, points, base = [], [], 0.0
     for i, raw in enumerate(loads, 1):
         ctx.keys("load", raw)
         ld = {k: ctx.value("load", k, v) for k, v in raw.items()}
+        if "base" in ld:
+            if len(ld) > 1:
+                raise ctx.err(f"load #{i}", "base = A (the support's acceleration) stands alone in its [[load]]")
+            base += ld["base"]
+            continue
         if ("node" in ld) == ("at" in ld):
-            raise ctx.err(f"load #{i}", "give exactly one of node = K (a free DOF) or at = S (a position)")
+            raise ctx.err(f"load #{i}", "give exactly one of node = K (a free DOF) or at = S (a position), or "
+                          "base = A (a shaking support)")
         amp = ld.get("amplitude", 1.0)
         (nodes if "node" in ld else points).append((ld["node"] if "node" in ld else ld["at"], amp))
-    return nodes, points
+    return nodes, points, base
 
 
 def _mesh_path(ctx: _Ctx, name: str, base: Path | None, key: str = "mesh_file") -> str:
@@ -265,7 +272,7 @@ def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
     if not isinstance(title, str):
         raise ctx.err("", f"title = {_fmt(title)} has the wrong type ({_tname(title)}); expected a string")
     bar = _table(ctx, data, "bar")                 # every type first, then what is missing
-    nodes, points = _loads(ctx, data.get("load", []))
+    nodes, points, base = _loads(ctx, data.get("load", []))
     search = _table(ctx, data, "search")
     out = _table(ctx, data, "output")
     for sec in REQUIRED:
@@ -278,7 +285,7 @@ def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
             bar[key] = _mesh_path(ctx, bar[key], base, key)
     _damping_keys(ctx, bar)
     try:        # Case is the one validator of values (ranges, the mesh, the load against the bar)
-        case = Case(load_nodes=tuple(nodes), load_points=tuple(points), label=title, **bar, **search)
+        case = Case(load_nodes=tuple(nodes), load_points=tuple(points), label=title, base=base, **bar, **search)
     except InputError as exc:
         raise CaseFileError(f"{fname}: {exc}") from None
     try:
@@ -356,6 +363,8 @@ def dump_case(case, output: OutputSettings | None = None) -> str:
         lines.append(f"gravity = {_fmt(float(case.gravity))}")
     for k, a in case.load_nodes:
         lines += ["", "[[load]]", f"node = {int(k)}", f"amplitude = {_fmt(float(a))}"]
+    if case.base:
+        lines += ["", "[[load]]", f"base = {_fmt(float(case.base))}"]
     for s, a in case.load_points:
         lines += ["", "[[load]]", f"at = {_fmt(float(s))}", f"amplitude = {_fmt(float(a))}"]
     lines += ["", "[search]", f"grid = {_fmt(list(case.grid))}"]

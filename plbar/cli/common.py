@@ -43,7 +43,8 @@ CASE_OPTIONS = {"model": "--model", "elements": "-N/--elements", "element": "--e
                 "signatures": "--signatures", "rayleigh": "--rayleigh", "damping_ratio": "--damping-ratio",
                 "damping_at": "--damping-at", "restitution": "--restitution", "gap": "--gap", "gravity": "--gravity",
                 "length": "--length",
-                "EA": "--EA", "rhoA": "--rhoA", "amplitude": "--amplitude", "matrices": "--matrices"}
+                "EA": "--EA", "rhoA": "--rhoA", "amplitude": "--amplitude", "matrices": "--matrices",
+                "base": "--base"}
 
 
 def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None:
@@ -160,6 +161,9 @@ def _load_args(p: argparse.ArgumentParser, load_help: str) -> None:
     g.add_argument("--amplitude", type=float, default=None, metavar="Q",
                    help="the amplitude of every force (a force: N in SI; the response is linear in it, xi_eq "
                         "does not depend on it) [1]")
+    g.add_argument("--base", type=float, default=None, metavar="A",
+                   help="shake the support: its acceleration amplitude A along the bar (> 0 towards the stop), the "
+                        "load -M t A cos(W t); responses relative to the support (with no force given, this alone)")
 
 
 def _damping_args(p: argparse.ArgumentParser, at: bool) -> None:
@@ -233,7 +237,7 @@ def case_from_args(a):
               signatures=getattr(a, "signatures", None), modes=a.modes, end_mass=a.end_mass,
               end_mass_absolute=a.end_mass_absolute, rayleigh=_rayleigh(a),
               restitution=getattr(a, "restitution", None), gap=getattr(a, "gap", None),
-              gravity=getattr(a, "gravity", None))
+              gravity=getattr(a, "gravity", None), base=getattr(a, "base", None))
     case = Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None})
     if not hasattr(a, "sizes") and case.structure is None:   # sizes (-N): each size's case is checked where made
         refuse_contact_load(case, nodes)

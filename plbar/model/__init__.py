@@ -11,7 +11,7 @@ modal load (Eq. (3)), in the contact coordinates of :func:`contact_coordinates`.
 from .bar import (ELEMENTS, MASSES, Assembled, Bar, assemble, chain, graded_nodes, uniform_bar,
                   uniform_nodes)
 from .damping import check_rayleigh, rayleigh_from_ratio, rayleigh_ratio
-from .load import Load, node, point
+from .load import Load, base_excitation, node, point
 from .builders import BarOrigin, bar_structure
 from .statics import Statics, check_gap, statics
 from .structure import Coordinates, Structure, check_restitution, contact_coordinates
@@ -20,6 +20,7 @@ from .linear import STIFFNESSES, LinearModel, SteadyResponse, linear_model, stea
 
 __all__ = ["ELEMENTS", "MASSES", "Assembled", "Bar", "assemble", "chain", "graded_nodes", "uniform_bar",
            "uniform_nodes", "check_rayleigh", "rayleigh_from_ratio", "rayleigh_ratio", "Load", "node", "point",
+           "base_excitation",
            "Problem", "TwoStateSystem", "problem", "two_state", "with_load_vector", "check_restitution",
            "BarOrigin", "bar_structure", "Coordinates", "Structure", "contact_coordinates", "STIFFNESSES",
            "LinearModel", "SteadyResponse", "linear_model", "steady_response", "Statics", "check_gap", "statics"]

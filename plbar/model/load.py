@@ -1,9 +1,16 @@
-"""Harmonic loads: point forces anywhere on the bar, nodal forces, and sums.
+"""Harmonic loads: point forces anywhere on the bar, nodal forces, a shaking support, and sums.
 
 The load amplitude vector ``q0`` enters Eq. (1) as ``q0 cos(w t - phi)``.  A
 point force at ``s`` is distributed through the element shape functions
 (``Basis.point_source``); for P1 this is the paper's linear split between the
 two neighbouring DOFs (Sec. 4.2).
+
+A base excitation (FORMULATION §9) is the support's acceleration ``a_g cos(w t - phi)`` along the bar: in
+coordinates relative to the support the structure obeys ``M x'' + C x' + K x = -M t a_g cos(w t - phi)``, with
+``t`` the free DOFs' displacement under a unit rigid motion of the support (ones for the bar: ``M t`` is
+:attr:`plbar.model.Assembled.body`, the clamp's columns included).  The stop moves with the support, so the
+contact coordinate, the gap and every reported response are relative to it; damping acts on the relative
+velocities (Rayleigh damping of the structure's deformation).
 """
 
 from __future__ import annotations
@@ -16,7 +23,7 @@ from ..util.check import finite, integer, pairs, show
 from .bar import Assembled, Bar
 from ..errors import InputError
 
-__all__ = ["Load", "point", "node"]
+__all__ = ["Load", "point", "node", "base_excitation"]
 
 #: smallest allowed load position, relative to the bar length (closer is "at the clamp")
 MIN_POSITION = 1e-9
@@ -44,10 +51,14 @@ class Load:
     nodes : tuple of (k, amplitude)
         Forces on free DOF ``k`` (1-based, sorted from the clamp, as in the
         paper; the contact DOF is the last one).
+    base : float
+        The support's acceleration amplitude ``a_g`` (a base excitation, module docstring), positive along the bar
+        towards the stop; 0: none.
     """
 
     points: tuple[tuple[float, float], ...] = ()
     nodes: tuple[tuple[int, float], ...] = ()
+    base: float = 0.0
 
     def __post_init__(self):
         pts = []
@@ -60,23 +71,25 @@ class Load:
         nds = []
         for k, a in pairs("load nodes", self.nodes, "(k, amplitude)"):
             nds.append((integer("load node", k, 1), _amplitude(a)))
-        if not pts and not nds:
-            raise InputError("the load is empty; give at least one point force or nodal force")
-        if all(a == 0.0 for _, a in pts + nds):
+        base = _amplitude(self.base) if self.base is not None else 0.0
+        if not pts and not nds and not base:
+            raise InputError("the load is empty; give at least one point force, nodal force or base acceleration")
+        if all(a == 0.0 for _, a in pts + nds) and not base:
             raise InputError("every load amplitude is 0.0; give a non-zero amplitude")
         object.__setattr__(self, "points", tuple(pts))
         object.__setattr__(self, "nodes", tuple(nds))
+        object.__setattr__(self, "base", base)
 
     def __add__(self, other: "Load") -> "Load":
         if not isinstance(other, Load):
             return NotImplemented
-        return Load(self.points + other.points, self.nodes + other.nodes)
+        return Load(self.points + other.points, self.nodes + other.nodes, self.base + other.base)
 
     def scaled(self, factor: float) -> "Load":
         """The same load times ``factor``."""
         factor = finite("load factor", factor)
         return Load(tuple((s, a * factor) for s, a in self.points),
-                    tuple((k, a * factor) for k, a in self.nodes))
+                    tuple((k, a * factor) for k, a in self.nodes), self.base * factor)
 
     def check(self, bar: Bar) -> None:
         """Raise unless every force acts on ``bar``: positions in ``(0, L]`` away from the clamp, DOFs in range."""
@@ -99,7 +112,9 @@ class Load:
             q += a * asm.load_vector(min(s, bar.length))
         for k, a in self.nodes:
             q[k - 1] += a
-        scale = sum(abs(a) for _, a in self.points + self.nodes)
+        if self.base:
+            q -= self.base * asm.body
+        scale = sum(abs(a) for _, a in self.points + self.nodes) + abs(self.base) * float(np.abs(asm.body).max())
         if not np.all(np.isfinite(q)):
             raise InputError(f"the load vector is not finite ({self.describe()}); amplitudes must be "
                              f"at most {MAX_AMPLITUDE:g} in magnitude")
@@ -110,7 +125,7 @@ class Load:
 
     def describe(self) -> str:
         parts = [f"{a:g} at s={s:g}" for s, a in self.points] + [f"{a:g} on DOF {k}" for k, a in self.nodes]
-        return " + ".join(parts)
+        return " + ".join(parts + ([f"a base acceleration {self.base:g}"] if self.base else []))
 
 
 def point(s: float, amplitude: float = 1.0) -> Load:
@@ -121,3 +136,8 @@ def point(s: float, amplitude: float = 1.0) -> Load:
 def node(k: int, amplitude: float = 1.0) -> Load:
     """A force of ``amplitude`` on free DOF ``k`` (1-based from the clamp)."""
     return Load(nodes=((k, amplitude),))
+
+
+def base_excitation(acceleration: float = 1.0) -> Load:
+    """The support shaken along the bar with the acceleration amplitude ``acceleration`` (module docstring)."""
+    return Load(base=acceleration)

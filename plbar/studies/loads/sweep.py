@@ -256,6 +256,9 @@ def _paper_scan_only(case) -> None:
     if case.gap:
         raise InputError(f"gap = {case.gap:g}: sweep-loads follows the paper's scan of (T1, T2), written for no gap; "
                          "the real motion at every load position with a gap: plbar survey --positions S ... --gap D")
+    if case.base:
+        raise InputError(f"base = {case.base:g}: sweep-loads sweeps a unit force over the bar, and a shaking support "
+                         "is not a force at a position; the periodic responses under the base: plbar run --base A")
     if case.gravity:
         raise InputError(f"gravity = {case.gravity:g}: sweep-loads follows the paper's scan of (T1, T2), written for "
                          "no constant load; the real motion at every load position: plbar survey --positions S ... "

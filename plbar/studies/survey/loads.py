@@ -84,11 +84,19 @@ def _at(case: Case, s: float) -> Case:
 
 
 def _scaled(case: Case, A: float) -> Case:
-    """The case with its load times ``A`` (every force; a structure file's ``q``)."""
+    """The case with its load times ``A`` (every force and a base acceleration; a structure file's ``q``)."""
     if case.matrices is not None:
         return replace(case, load_scale=case.load_scale * float(A))
     return replace(case, load_nodes=tuple((k, a * float(A)) for k, a in case.load_nodes),
-                   load_points=tuple((p, a * float(A)) for p, a in case.load_points))
+                   load_points=tuple((p, a * float(A)) for p, a in case.load_points), base=case.base * float(A))
+
+
+def _positions(case: Case, positions) -> np.ndarray:
+    if case.base:
+        raise InputError(f"base = {case.base:g}: a load study over positions puts a unit force at each one in "
+                         "place of the case's load, and a shaking support is not a force at a position; drop the "
+                         "base or survey it alone (or over --amplitudes)")
+    return _check_positions(case, positions)
 
 
 def _check_amplitudes(case: Case, amplitudes) -> np.ndarray:
@@ -127,7 +135,7 @@ class Axis:
 
 
 #: the load study over positions (a unit force at ``s``) and over amplitudes (the case's load times ``A``)
-POSITIONS = Axis("s", "position", _at, lambda case, v: _check_positions(case, v), "survey_loads", "load position s")
+POSITIONS = Axis("s", "position", _at, _positions, "survey_loads", "load position s")
 AMPLITUDES = Axis("A", "amplitude", _scaled, _check_amplitudes, "survey_amplitudes", "load amplitude factor A")
 _AXES = {a.column: a for a in (POSITIONS, AMPLITUDES)}
 #: what a load study owns in its folder
