@@ -135,3 +135,12 @@ def test_impact_oscillator_example(tmp_path):
     assert "impact velocity 1.695733" in out and "forcing phase at the impact 0.075952" in out
     assert "|mu| = 0.58432 (stable)" in out and out.count("branch ") == 1
     assert (tmp_path / "impact_oscillator.png").is_file()
+
+
+def test_cantilever_stop_example(tmp_path):
+    """A cantilever against a tip stop with a clearance (issue 41): xi_eq over (T, A / d); more of the motions
+    reach the stop as A / d grows, none of them damp at A / d = 1 below the resonance band, and the figure."""
+    out = _run("cantilever_stop.py", tmp_path, "--quick")
+    hits = [int(line.split(":")[1].split("of")[0]) for line in out.splitlines() if "motions reach the stop" in line]
+    assert len(hits) == 3 and hits == sorted(hits) and hits[-1] == 7
+    assert (tmp_path / "cantilever_stop.png").is_file()
