@@ -142,3 +142,20 @@ def test_phase_roots():
         else:
             assert r.size == 2 and np.all((0 <= r) & (r < 2 * np.pi))
             assert np.allclose(a0 + a * np.cos(r) + b * np.sin(r), 0.0, atol=1e-12)
+
+
+def test_the_command_line_takes_the_oscillator(tmp_path):
+    """A structure file of one DOF (``M = K = C / 0.1 = [[1]]``, ``contact = 0``, the gap and the restitution):
+    ``plbar run --model matrices`` lists the one 1R branch, up to T = T0_II = 2 pi."""
+    import csv
+
+    from plbar.cli import main
+
+    f = tmp_path / "coco.npz"
+    np.savez(f, M=np.eye(1), K=K * np.eye(1), contact=0, q=np.array([A]), rayleigh=np.array([C, 0.0]),
+             restitution=np.array(E), gap=np.array(D))
+    assert main(["run", "--model", "matrices", "--matrices", str(f), "--no-plot", "--quiet",
+                 "--out", str(tmp_path / "o")]) == 0
+    rows = list(csv.DictReader(open(tmp_path / "o" / "paths.csv")))
+    assert {r["signature"] for r in rows} == {"1R"} and len({r["branch"] for r in rows}) == 1
+    assert max(float(r["T"]) for r in rows) == pytest.approx(T, rel=1e-12)
