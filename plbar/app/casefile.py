@@ -272,7 +272,7 @@ def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
     if not isinstance(title, str):
         raise ctx.err("", f"title = {_fmt(title)} has the wrong type ({_tname(title)}); expected a string")
     bar = _table(ctx, data, "bar")                 # every type first, then what is missing
-    nodes, points, base = _loads(ctx, data.get("load", []))
+    nodes, points, shake = _loads(ctx, data.get("load", []))
     search = _table(ctx, data, "search")
     out = _table(ctx, data, "output")
     for sec in REQUIRED:
@@ -285,7 +285,7 @@ def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
             bar[key] = _mesh_path(ctx, bar[key], base, key)
     _damping_keys(ctx, bar)
     try:        # Case is the one validator of values (ranges, the mesh, the load against the bar)
-        case = Case(load_nodes=tuple(nodes), load_points=tuple(points), label=title, base=base, **bar, **search)
+        case = Case(load_nodes=tuple(nodes), load_points=tuple(points), label=title, base=shake, **bar, **search)
     except InputError as exc:
         raise CaseFileError(f"{fname}: {exc}") from None
     try:
