@@ -20,11 +20,12 @@ from ..paths import Domain, default_domain
 from ..util.check import choice, finite, integer, interval, number, pairs, positive, show
 from ..util.check import grid as check_grid
 from .applies import FE_ONLY, check_applies
+from .beamcase import beam_dict, beam_fields
 from .given import SIGNATURES, matrices_fields, structure_dict, structure_fields
 
 __all__ = ["Case", "MODELS", "SIGNATURES"]
 
-MODELS = ("chain", "fe", "continuum", "matrices", "structure")
+MODELS = ("chain", "fe", "continuum", "beam", "matrices", "structure")
 #: grid steps per travel time L / c of the continuum's characteristics (its ``n``) when not given
 CONTINUUM_STEPS = 32
 #: default load of an FE bar: a unit point force at this fraction of the length (mid-bar, whatever the mesh)
@@ -129,6 +130,10 @@ class Case:
         the structure starts in its static equilibrium (free, or held against the stop).  Default 0.  Like a gap,
         it makes the response depend on the amplitude, and the same commands take it.  A structure file gives its
         own constant load (``q_s``).
+    EI, supports, contact_at
+        ``model = "beam"`` (:mod:`plbar.app.beamcase`): the beam's bending stiffness [1], its supports
+        (``clamped-free``, ``pinned-pinned``, ``clamped-clamped``) and the stop's position on it (default the tip
+        of a cantilever, mid-span otherwise).
     base : float
         A base excitation: the support's acceleration amplitude ``a_g`` along the bar (towards the stop > 0), the
         effective load ``-M t a_g cos(W t - phi)`` in coordinates relative to the support
@@ -168,8 +173,13 @@ class Case:
     gap: float = 0.0
     gravity: float = 0.0
     base: float = 0.0
+    EI: float = 1.0
+    supports: str = "clamped-free"
+    contact_at: float | None = None
 
     def __post_init__(self):
+        if self.model == "beam":
+            return self._set(beam_fields(self))
         if self.model == "matrices" or self.matrices is not None:
             return self._set(matrices_fields(self))
         if self.structure is not None or self.model == "structure":
@@ -235,7 +245,7 @@ class Case:
     def n_eff(self) -> int:
         """Masses of the chain / elements of the FE bar (a mesh file's own count; default 5 / 8)."""
         if self.structure is not None:
-            return self.structure.n
+            return self.n if self.model == "beam" else self.structure.n
         if self.mesh_file is not None and self.model != "chain":
             return self.bar().n_elements
         return self.n if self.n is not None else {"chain": 5, "fe": 8, "continuum": CONTINUUM_STEPS}[self.model]
@@ -329,6 +339,8 @@ class Case:
         no ``m, k``, and a mesh file stands for ``n``, ``grading`` and ``length``; ``rayleigh`` appears only for a
         damped case, ``restitution`` only where it is not 0.
         """
+        if self.model == "beam":
+            return beam_dict(self)
         if self.structure is not None:
             return structure_dict(self)
         d = asdict(self)

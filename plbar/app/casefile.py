@@ -279,7 +279,7 @@ def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
         if sec not in data:
             raise ctx.err("", f"missing required section [{sec}]")
     if "model" not in bar:
-        raise ctx.err("bar", 'missing required key "model"; choose "chain", "fe", "continuum" or "matrices"')
+        raise ctx.err("bar", 'missing required key "model"; choose "chain", "fe", "continuum", "beam" or "matrices"')
     for key in ("mesh_file", "matrices"):
         if key in bar:
             bar[key] = _mesh_path(ctx, bar[key], base, key)
@@ -340,6 +340,8 @@ def dump_case(case, output: OutputSettings | None = None) -> str:
         keys = ()
     elif case.model == "chain":
         keys = ("m", "k")
+    elif case.model == "beam":
+        keys = ("length", "EI", "rhoA", "supports", "contact_at")
     else:
         keys = ("element", "mass", "length", "EA", "rhoA", "grading")
     for k in keys:

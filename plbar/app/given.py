@@ -17,7 +17,8 @@ from ..model import Structure, check_gap, check_rayleigh, check_restitution
 from ..util.check import choice, integer, interval, positive, show
 from ..util.check import grid as check_grid
 
-__all__ = ["BAR_OPTIONS", "SIGNATURES", "bar_options", "structure_fields", "matrices_fields", "structure_dict"]
+__all__ = ["BAR_OPTIONS", "SIGNATURES", "bar_options", "structure_fields", "matrices_fields", "structure_dict",
+           "search_dict", "search_fields"]
 
 SIGNATURES = ("default", "paper", "all")    #: which periodic responses a solve finds (see Case.signatures)
 #: the options of a bar (and its load, damping, restitution, gap, gravity): none applies to a structure given by its
@@ -47,7 +48,7 @@ def structure_fields(case) -> dict:
     if bar:
         raise InputError(f"{bar[0]} does not apply to a structure given by its matrices (plbar.Structure: "
                          "its load, damping, restitution and gap are its own)")
-    return {"model": "structure", **_search(case, case.structure)}
+    return {"model": "structure", **search_fields(case, case.structure)}
 
 
 def matrices_fields(case) -> dict:
@@ -79,10 +80,10 @@ def matrices_fields(case) -> dict:
         raise InputError(f"structure file {path!r} changed (digest {digest}, expected {case.matrices_digest}): "
                          "a study begun on the old content cannot go on; rerun it with --overwrite")
     return {"model": "matrices", "matrices": path, "matrices_digest": digest, "structure": st, "load_scale": scale,
-            **_search(case, st)}
+            **search_fields(case, st)}
 
 
-def _search(case, st: Structure) -> dict:
+def search_fields(case, st: Structure) -> dict:
     """The search options checked, the structure's damping and restitution."""
     choice("method", case.method, ("continuation", "grid"))
     choice("signatures", case.signatures, SIGNATURES)
@@ -96,11 +97,16 @@ def _search(case, st: Structure) -> dict:
     return out
 
 
+def search_dict(case) -> dict:
+    """The search options of a case as plain data (in a structure's, a file's or a beam's ``to_dict``)."""
+    return {"grid": list(case.grid), "T1": case.T1, "T2": case.T2, "method": case.method,
+            "signatures": case.signatures, "modes": case.modes}
+
+
 def structure_dict(case) -> dict:
     """:meth:`plbar.app.Case.to_dict` of a structure: a file's case rebuilds from it (path and digest); a given
     structure is named by its fingerprint."""
-    search = {"grid": list(case.grid), "T1": case.T1, "T2": case.T2, "method": case.method,
-              "signatures": case.signatures, "modes": case.modes}
+    search = search_dict(case)
     if case.model == "matrices":
         d = {"model": "matrices", "matrices": case.matrices, "matrices_digest": case.matrices_digest, **search}
         if case.rayleigh is not None:

@@ -14,13 +14,15 @@ FORMATS = ("pvd", "xdmf", "both")
 #: expected types: "int", "float" (int accepted), "str", "bool", ("choice", values), "pair", "grid", "pairs"
 SCHEMA = {
     "": {"title": "str", "bar": "table", "load": "tables", "search": "table", "output": "table"},
-    "bar": {"model": ("choice", ("chain", "fe", "continuum", "matrices")), "matrices": "str",
+    "bar": {"model": ("choice", ("chain", "fe", "continuum", "beam", "matrices")), "matrices": "str",
             "load_scale": "float", "n": "int", "element": ("choice", ("P1", "P2")),
             "mass": ("choice", MASSES), "length": "float", "EA": "float", "rhoA": "float",
             "m": "float", "k": "float", "grading": "float", "mesh_file": "str", "point_masses": "pairs",
             "end_mass": "float", "end_mass_absolute": "bool", "modes": "int", "rayleigh": "pair",
             "damping_ratio": "float", "damping_at": "pair", "restitution": "float", "gap": "float",
-            "gravity": "float"},
+            "gravity": "float", "EI": "float", "supports": ("choice", ("clamped-free", "pinned-pinned",
+                                                                          "clamped-clamped")),
+            "contact_at": "float"},
     "load": {"node": "int", "at": "float", "amplitude": "float", "base": "float"},
     "search": {"grid": "grid", "T1": "pair", "T2": "pair", "method": ("choice", ("continuation", "grid")),
                "signatures": ("choice", ("default", "paper", "all"))},
@@ -38,7 +40,8 @@ HELP = {
          "search": "where to look for paths (optional)", "output": "what to write (optional)"},
     "bar": {"model": "the paper's chain of N masses (L = N), a finite-element bar, or the exact uniform bar by "
                      "characteristics (survey, export, render; n its steps per L/c; with Rayleigh damping by exact "
-                     "modes per contact state, `modes` of them, default 1024: survey only), or another FE "
+                     "modes per contact state, `modes` of them, default 1024: survey only), an Euler-Bernoulli beam "
+                     "against a stop (`beam`: `EI`, `supports`, `contact_at`; run and survey), or another FE "
                      "program's structure (`matrices`: run and survey); required",
             "matrices": "a structure file (.npz of `M`, `K`, the contact `r` or integer `contact`, the load `q`; "
                         "optional `C` of Rayleigh form or `rayleigh`, `restitution`, `x`), relative to the TOML "
@@ -67,7 +70,12 @@ HELP = {
             "gap": "the stop's distance from the contact at rest, d (the contact stays <= d): > 0 a clearance, < 0 an "
                    "interference held by the stop; the response then depends on the amplitude over the gap [0]",
             "gravity": "a uniform acceleration g along the bar, > 0 towards the stop: the weight of the bar's masses "
-                       "under g, beside the harmonic load; the bar starts in its static equilibrium [0]"},
+                       "under g, beside the harmonic load; the bar starts in its static equilibrium [0]",
+            "EI": "model = \"beam\": the bending stiffness E I [1]",
+            "supports": "model = \"beam\": clamped-free (a cantilever), pinned-pinned or clamped-clamped "
+                        "[clamped-free]",
+            "contact_at": "model = \"beam\": the stop's position on the beam [the tip of a cantilever, else "
+                          "mid-span]"},
     "load": {"node": "a force on free DOF K (1-based from the clamp); or `at`",
              "at": "a point force at position s in (0, L]; or `node`",
              "amplitude": "its amplitude, a force (N in SI) [1]",

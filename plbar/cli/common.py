@@ -44,7 +44,7 @@ CASE_OPTIONS = {"model": "--model", "elements": "-N/--elements", "element": "--e
                 "damping_at": "--damping-at", "restitution": "--restitution", "gap": "--gap", "gravity": "--gravity",
                 "length": "--length",
                 "EA": "--EA", "rhoA": "--rhoA", "amplitude": "--amplitude", "matrices": "--matrices",
-                "base": "--base"}
+                "base": "--base", "EI": "--EI", "supports": "--supports", "contact_at": "--contact-at"}
 
 
 def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None:
@@ -75,10 +75,11 @@ def case_args(p: argparse.ArgumentParser, load_help: str = "the case's load", si
     g = p.add_argument_group("model")
     g.add_argument("--case", default=None, metavar="FILE.toml",
                    help="a TOML case file (examples/cases/); then no model, load or search option may be given")
-    g.add_argument("--model", choices=("chain", "fe", "continuum", "matrices"), default=None,
+    g.add_argument("--model", choices=("chain", "fe", "continuum", "beam", "matrices"), default=None,
                    help="the paper's chain (L = N), a finite-element bar (L = 1, or --length), the exact uniform "
-                        "bar by characteristics (survey, export, render; -N: its steps per L/c [32]), or another "
-                        "FE program's structure (--matrices FILE.npz; run and survey) [chain]")
+                        "bar by characteristics (survey, export, render; -N: its steps per L/c [32]), an "
+                        "Euler-Bernoulli beam against a stop (--EI, --supports, --contact-at; run and survey), or "
+                        "another FE program's structure (--matrices FILE.npz; run and survey) [chain]")
     g.add_argument("--matrices", default=None, metavar="FILE.npz", help="--model matrices: a .npz of M, K, the "
                    "contact (r, or a DOF contact), the load q; optional C (Rayleigh) or rayleigh, restitution, x")
     if sizes is None:
@@ -146,8 +147,14 @@ def _section_args(g) -> None:
     g.add_argument("--EA", type=float, default=None, metavar="EA",
                    help="axial stiffness E A (a force: N in SI; FE or continuum) [1]")
     g.add_argument("--rhoA", type=float, default=None, metavar="RHOA",
-                   help="mass per length rho A (kg/m in SI; FE or continuum); the wave speed is "
+                   help="mass per length rho A (kg/m in SI; FE, continuum or beam); the wave speed is "
                         "c = sqrt(EA/rhoA) [1]")
+    g.add_argument("--EI", type=float, default=None, metavar="EI",
+                   help="the beam's bending stiffness E I (--model beam) [1]")
+    g.add_argument("--supports", choices=("clamped-free", "pinned-pinned", "clamped-clamped"), default=None,
+                   help="the beam's supports (--model beam) [clamped-free: a cantilever]")
+    g.add_argument("--contact-at", type=float, default=None, metavar="S",
+                   help="the stop's position on the beam (--model beam) [the tip of a cantilever, else mid-span]")
 
 
 def _load_args(p: argparse.ArgumentParser, load_help: str) -> None:
@@ -237,7 +244,8 @@ def case_from_args(a):
               signatures=getattr(a, "signatures", None), modes=a.modes, end_mass=a.end_mass,
               end_mass_absolute=a.end_mass_absolute, rayleigh=_rayleigh(a),
               restitution=getattr(a, "restitution", None), gap=getattr(a, "gap", None),
-              gravity=getattr(a, "gravity", None), base=getattr(a, "base", None))
+              gravity=getattr(a, "gravity", None), base=getattr(a, "base", None), EI=getattr(a, "EI", None),
+              supports=getattr(a, "supports", None), contact_at=getattr(a, "contact_at", None))
     case = Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None})
     if not hasattr(a, "sizes") and case.structure is None:   # sizes (-N): each size's case is checked where made
         refuse_contact_load(case, nodes)

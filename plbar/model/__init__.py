@@ -13,12 +13,14 @@ from .bar import (ELEMENTS, MASSES, Assembled, Bar, assemble, chain, graded_node
 from .damping import check_rayleigh, rayleigh_from_ratio, rayleigh_ratio
 from .load import Load, base_excitation, node, point
 from .builders import BarOrigin, bar_structure
+from .beam import SUPPORTS, Beam, BeamAssembled, BeamOrigin, assemble_beam, beam_structure, uniform_beam
 from .statics import Statics, check_gap, statics
 from .structure import Coordinates, Structure, check_restitution, contact_coordinates
 from .system import Problem, TwoStateSystem, problem, two_state, with_load_vector
 from .linear import STIFFNESSES, LinearModel, SteadyResponse, linear_model, steady_response
 
-__all__ = ["ELEMENTS", "MASSES", "Assembled", "Bar", "assemble", "chain", "graded_nodes", "uniform_bar",
+__all__ = ["SUPPORTS", "Beam", "BeamAssembled", "BeamOrigin", "assemble_beam", "beam_structure", "uniform_beam",
+           "ELEMENTS", "MASSES", "Assembled", "Bar", "assemble", "chain", "graded_nodes", "uniform_bar",
            "uniform_nodes", "check_rayleigh", "rayleigh_from_ratio", "rayleigh_ratio", "Load", "node", "point",
            "base_excitation",
            "Problem", "TwoStateSystem", "problem", "two_state", "with_load_vector", "check_restitution",

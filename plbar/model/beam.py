@@ -120,7 +120,15 @@ class BeamAssembled:
         return self.x.size
 
     def row(self, s: float) -> np.ndarray:
-        """The shape functions at ``s`` over the free DOFs: ``w(s) = row . x``, and a unit force's load vector."""
+        """The shape functions at ``s`` over the free DOFs: ``w(s) = row . x``, and a unit force's load vector; at a
+        node (to 1e-12 of the length), that node's deflection exactly (the probe's round-off on its neighbours
+        dropped)."""
+        xn = self.basis.mesh.p[0]
+        k = int(np.argmin(np.abs(xn - s)))
+        if abs(xn[k] - s) <= 1e-12 * (xn.max() - xn.min()):
+            full = np.zeros(self.basis.N)
+            full[self.basis.nodal_dofs[0, k]] = 1.0
+            return full[self.free]
         return np.asarray(self.basis.probes(np.array([[float(s)]])).toarray()).ravel()[self.free]
 
 

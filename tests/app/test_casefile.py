@@ -89,7 +89,7 @@ def _err(tmp_path, text, name="case.toml"):
     (GOOD.replace("grid = [40, 40]", "grd = [40, 40]"), '[search] unknown key "grd"; did you mean "grid"?'),
     (GOOD.replace("[bar]", "[bra]"), 'unknown key "bra"; did you mean "bar"?'),
     (GOOD.replace('model = "fe"', 'model = "chian"'),
-     '[bar] model = "chian" is not allowed; choose chain, fe, continuum or matrices'),
+     '[bar] model = "chian" is not allowed; choose chain, fe, continuum, beam or matrices'),
     (GOOD.replace('model = "fe"', ""), '[bar] missing required key "model"'),
     (GOOD.replace("[[load]]", "[load]"), "load must be an array of tables"),
     (GOOD.replace("node = 2", "node = 2\nat = 0.5"), "[load #1] give exactly one of node = K"),
