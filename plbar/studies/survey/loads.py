@@ -100,9 +100,9 @@ def _positions(case: Case, positions) -> np.ndarray:
 
 
 def _check_amplitudes(case: Case, amplitudes) -> np.ndarray:
-    if case.structure is not None:
-        raise InputError("an amplitude study needs a case file, a bar or a structure file (its tasks carry the case "
-                         "as data), not a plbar.Structure in memory")
+    if case.model == "structure":
+        raise InputError("an amplitude study needs a case file, a bar, a beam or a structure file (its tasks carry "
+                         "the case as data), not a plbar.Structure in memory")
     try:
         A = np.unique(np.asarray(amplitudes, float).ravel())
     except (TypeError, ValueError):
@@ -367,6 +367,6 @@ def run_survey_loads(case: Case, T=None, positions=None, per_element: int | None
         from ...visuals.style import unit_note
 
         files["figure"] = survey_loads_plot(table, folder, axis.stem, title=case_title(case),
-                                            units=unit_note(case.bar()) if case.matrices is None else "",
+                                            units=unit_note(case.bar()) if case.structure is None else "",
                                             column=axis.column, label=axis.label)
     return SurveyLoads(case, table, summary, files, axis.column)
