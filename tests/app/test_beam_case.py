@@ -49,3 +49,18 @@ def test_the_command_line(tmp_path):
 def test_what_a_beam_refuses(bad, why):
     with pytest.raises(InputError, match=why):
         plbar.Case(model="beam", **bad)
+
+
+def test_the_amplitude_study_of_a_beam_depends_on_the_amplitude_over_the_gap():
+    """Homogeneity on the beam (FORMULATION §9): the cells (d, A) and (4 d, 4 A) are one motion, xi_eq equal and the
+    loss times 16 (1e-9)."""
+    from dataclasses import replace
+
+    from plbar.studies.survey import AMPLITUDES, survey_loads
+
+    c = plbar.Case(**CASE)
+    a = survey_loads(c, [3.0, 3.5], [1.0, 4.0], periods=100, record=10, axis=AMPLITUDES).table
+    b = survey_loads(replace(c, gap=0.2), [3.0, 3.5], [4.0, 16.0], periods=100, record=10, axis=AMPLITUDES).table
+    assert list(a["kind"]) == list(b["kind"])
+    assert np.allclose(b["xi_eq"], a["xi_eq"], rtol=1e-9, atol=1e-15)
+    assert np.allclose(b["loss_per_T"], 16 * a["loss_per_T"], rtol=1e-9, atol=1e-15)
