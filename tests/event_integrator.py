@@ -91,3 +91,21 @@ def motion(st, T: float, t_end: float, x0, v0, free: bool, phi: float = 0.0):
             times.append(t), kinds.append(OPENS), losses.append(0.0)
             free = True
     return np.array(times), np.array(kinds), np.array(losses), z[:n], z[n:]
+
+
+def assert_same_motion(st, r, T: float, periods: int, b: int = 0, state: int | None = None) -> None:
+    """plbar's run ``r`` (trajectory ``b``, from rest over ``periods`` forcing periods ``T``) is this integrator's
+    motion of ``st`` from its static equilibrium: the same events (kinds; times to 1e-9), the losses (1e-9), the end
+    state (1e-8) and plbar's energy budget closing to 1e-12; ``state`` (0 held, 1 free) asserts the start."""
+    assert r.status[b] == 0
+    x0, free = rest(st)
+    assert state is None or free == (state == 1)
+    times, kinds, losses, x_end, _ = motion(st, T, periods * T, x0, np.zeros(st.n), free)
+    ev = r.events[r.events["traj"] == b] if "traj" in r.events.dtype.names else r.events
+    assert ev.size == times.size > 2 * periods
+    assert np.array_equal(ev["kind"], kinds)
+    assert np.max(np.abs(ev["time"] - times)) < 1e-9
+    assert np.max(np.abs(ev["loss"] - losses)) < 1e-9 * max(losses.max(), 1e-300)
+    x_sim = st.physical(r.strobe_x[b, -1])
+    assert np.max(np.abs(x_sim - x_end)) < 1e-8 * np.abs(x_end).max()
+    assert abs(r.energy_residual[b]) < 1e-12

@@ -6,7 +6,7 @@ from __future__ import annotations
 from ..errors import InputError
 from ..util.check import show
 
-__all__ = ["FE_ONLY", "FLAGS", "check_applies"]
+__all__ = ["FE_ONLY", "FLAGS", "STATIC_PARTS", "check_applies", "refuse_static_part"]
 
 #: the options of an FE bar and their defaults: on a chain, any other value is refused (it would be ignored)
 FE_ONLY = {"element": "P1", "mass": "lumped", "EA": 1.0, "rhoA": 1.0, "grading": 1.0, "mesh_file": None,
@@ -14,6 +14,19 @@ FE_ONLY = {"element": "P1", "mass": "lumped", "EA": 1.0, "rhoA": 1.0, "grading":
 #: the command-line spelling of the Case fields named in messages
 FLAGS = {"n": "-N", "element": "--element", "mass": "--mass", "grading": "--grading", "mesh_file": "--mesh-file",
          "length": "--length", "EA": "--EA", "rhoA": "--rhoA", "point_masses": "no CLI option"}
+
+
+#: what gives a case's motion a static part: (field, in words, its flag); the paper's scan is written for neither
+STATIC_PARTS = (("gap", "gap at the stop", "--gap D"), ("gravity", "constant load", "--gravity G"))
+
+
+def refuse_static_part(case, what: str, instead: str) -> None:
+    """Refuse a gap or a constant load where ``what`` (a study of the paper's scan) is written for neither:
+    ``"gap = 0.5: <what>, written for no gap and no constant load; <instead> --gap D"``."""
+    for name, _, flag in STATIC_PARTS:
+        if getattr(case, name):
+            raise InputError(f"{name} = {getattr(case, name):g}: {what}, written for no gap and no constant load; "
+                             f"{instead} {flag}")
 
 
 def _flag(name: str) -> str:
@@ -68,15 +81,10 @@ def _check_continuum(case) -> None:
     if case.restitution:
         raise InputError(f"model = 'continuum' has a plastic contact (restitution 0), got {case.restitution:g}; "
                          "use model = 'fe' for e > 0")
-    if case.gap:
-        raise InputError(f"model = 'continuum' has no gap at the stop yet, got gap = {case.gap:g}; use model = 'fe' "
-                         "(or 'chain') for a gap")
-    if case.base:
-        raise InputError(f"model = 'continuum' has no base excitation yet, got base = {case.base:g}; use model = "
-                         "'fe' (or 'chain') for a shaking support")
-    if case.gravity:
-        raise InputError(f"model = 'continuum' has no constant load yet, got gravity = {case.gravity:g}; use model "
-                         "= 'fe' (or 'chain') for gravity")
+    for name, words, _ in STATIC_PARTS + (("base", "base excitation", "--base A"),):
+        if getattr(case, name):
+            raise InputError(f"model = 'continuum' has no {words} yet, got {name} = {getattr(case, name):g}; use "
+                             "model = 'fe' (or 'chain')")
     if case.load_nodes or len(case.load_points) > 1:
         raise InputError("model = 'continuum' takes one point load (--load-at S), not DOF loads (--load-node) "
                          "nor several points")

@@ -19,7 +19,7 @@ from plbar.errors import InputError
 from plbar.model.beam import beam_structure, uniform_beam
 from plbar.motion import padded, run
 
-from event_integrator import motion, rest
+from event_integrator import assert_same_motion
 
 #: beta_n L of the classical beams (the roots of their frequency equations)
 BETA = {"clamped-free": [1.875104068711961, 4.694091132974175, 7.854757438237613],
@@ -92,17 +92,8 @@ def _hits_a_tip_stop(n: int, periods: int):
     prob = plbar.problem(st)
     T = 3.5                                    # above the fundamental free period 2 pi / 2.016
     r = run(padded(prob), np.array([T]), 0.0, periods, periods)
-    assert r.status[0] == 0
-    x0, free = rest(st)
-    times, kinds, losses, x_end, _ = motion(st, T, periods * T, x0, np.zeros(st.n), free)
-    ev = r.events
-    assert ev.size == times.size > 8 * periods
-    assert np.array_equal(ev["kind"], kinds)
-    assert np.max(np.abs(ev["time"] - times)) < 1e-9
-    assert np.max(np.abs(ev["loss"] - losses)) < 1e-9 * losses.max()
-    x_sim = st.physical(r.strobe_x[0, -1])
-    assert np.max(np.abs(x_sim - x_end)) < 1e-8 * np.abs(x_end).max()
-    assert abs(r.energy_residual[0]) < 1e-12
+    assert r.events.size > 8 * periods
+    assert_same_motion(st, r, T, periods)
 
 
 def test_a_cantilever_hitting_a_tip_stop_is_the_integrators():

@@ -41,6 +41,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ...app.applies import refuse_static_part
 from ...errors import InputError
 from ...util.outputs import check_folder, clear_owned
 from ...util.reprs import build, rng
@@ -252,17 +253,13 @@ def _summary(lf, fam, wcols, pairs_rows, positions, no_path, times) -> dict:
 
 
 def _paper_scan_only(case) -> None:
-    """Refuse a case with a static part (a gap, a constant load): sweep-loads follows the paper's scan."""
-    if case.gap:
-        raise InputError(f"gap = {case.gap:g}: sweep-loads follows the paper's scan of (T1, T2), written for no gap; "
-                         "the real motion at every load position with a gap: plbar survey --positions S ... --gap D")
+    """Refuse a case with a static part (a gap, a constant load) or a shaking support: sweep-loads follows the
+    paper's scan and sweeps a unit force."""
+    refuse_static_part(case, "sweep-loads follows the paper's scan of (T1, T2)",
+                       "the real motion at every load position: plbar survey --positions S ...")
     if case.base:
         raise InputError(f"base = {case.base:g}: sweep-loads sweeps a unit force over the bar, and a shaking support "
                          "is not a force at a position; the periodic responses under the base: plbar run --base A")
-    if case.gravity:
-        raise InputError(f"gravity = {case.gravity:g}: sweep-loads follows the paper's scan of (T1, T2), written for "
-                         "no constant load; the real motion at every load position: plbar survey --positions S ... "
-                         "--gravity G")
 
 
 def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pairs: bool = True, loads=(),

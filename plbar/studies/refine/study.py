@@ -20,6 +20,7 @@ from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 from ...app import Case
+from ...app.applies import refuse_static_part
 from ...errors import InputError
 from ...model import ELEMENTS, MASSES
 from ...util.check import show
@@ -165,12 +166,8 @@ def refine_study(cases, ns, families=("T0_II/2",), settings: TrackSettings | Non
 
 def _refinable(case: Case) -> None:
     """Refuse what a refinement cannot honour (one line each, saying what to do instead)."""
-    if case.gap:
-        raise InputError(f"gap = {case.gap:g}: refine follows families of the paper's scan, written for no gap; the "
-                         "real motion on each mesh with a gap: plbar survey -N N1 N2 ... --gap D")
-    if case.gravity:
-        raise InputError(f"gravity = {case.gravity:g}: refine follows families of the paper's scan, written for no "
-                         "constant load; the real motion on each mesh: plbar survey -N N1 N2 ... --gravity G")
+    refuse_static_part(case, "refine follows families of the paper's scan",
+                       "the real motion on each mesh: plbar survey -N N1 N2 ...")
     if case.restitution:
         raise InputError(f"restitution = {case.restitution:g}: refine follows families of the paper's class (a "
                          "plastic impact) through N, which need e = 0; the real motion on each mesh with rebounds: "
