@@ -4,7 +4,8 @@ The classic impacting structure of the experiments (Moon & Shaw 1983, Wagg & Bis
 cantilever (EI = rhoA = L = 1, 6 Hermite elements, a tip mass 0.5), a stop a clearance ``d = 0.05`` from its tip,
 a harmonic force ``A cos(2 pi t / T)`` at mid-span.  For every forcing period around the fundamental free one
 (``2 pi / 2.016 = 3.12``) and every amplitude over the gap ``A / d`` in 1 .. 64, the motion from rest
-(400 periods, the last 40 characterise it) and its ``xi_eq`` (Eq. 22 on the motion, plbar.studies.survey).  With a
+(400 periods, the last 40 characterise it) and its ``xi_eq`` (Eq. 22 on the motion): the amplitude study of
+``plbar survey --model beam ... --amplitudes``, from Python.  With a
 gap the answer depends on ``A / d`` (FORMULATION §9, homogeneity), the curve engineers work with.
 
 Prints, per ``A / d``: how many motions reach the stop, the median and largest ``xi_eq``; draws the
@@ -22,8 +23,7 @@ from pathlib import Path
 import numpy as np
 
 import plbar
-from plbar.model.beam import beam_structure, uniform_beam
-from plbar.studies.survey.points import survey_chunk
+from plbar.studies.survey import AMPLITUDES, survey_loads
 
 QUICK = "--quick" in sys.argv
 ARGS = [a for a in sys.argv[1:] if not a.startswith("--")]
@@ -33,14 +33,11 @@ RATIOS = np.array([1.0, 4.0, 16.0]) if QUICK else 2.0 ** np.arange(0, 7)
 T = np.linspace(2.0, 5.0, 7 if QUICK else 61)
 PERIODS, RECORD = (200, 20) if QUICK else (400, 40)
 
-beam = uniform_beam(6, point_masses=((1.0, 0.5),))
-XI = np.empty((RATIOS.size, T.size))
-HIT = np.empty((RATIOS.size, T.size), bool)
-for i, ratio in enumerate(RATIOS):
-    st = beam_structure(beam, forces=((0.5, ratio * GAP),), gap=GAP)
-    rows, _ = survey_chunk(plbar.Case(structure=st), T, PERIODS, RECORD)
-    XI[i] = [r["xi_eq"] for r in rows]
-    HIT[i] = [r["impacts_per_T"] > 0 for r in rows]
+# the force at mid-span has the amplitude A = (A / d) d: a unit factor on a force of amplitude d
+case = plbar.Case(model="beam", n=6, end_mass=0.5, end_mass_absolute=True, gap=GAP, load_points=((0.5, GAP),))
+study = survey_loads(case, T, RATIOS, periods=PERIODS, record=RECORD, axis=AMPLITUDES)
+XI = study.grid("xi_eq")                                   # (amplitudes, forcing periods)
+HIT = study.grid("impacts_per_T") > 0
 
 
 def main() -> None:
