@@ -11,14 +11,15 @@ continuation in ``(T^I, T^II)``, :func:`plbar.find_paths`, made branches of this
 4. a stuck phase shrinking to zero continues in the signature with that pair of zero dwell;
    where a branch stops being admissible (a premature switch), the switches the bar makes
    instead seed the neighbouring signature (:func:`.seeds.split`), on the paper's branches too;
-5. any extra seeds (a simulation's periodic motions: :func:`.seeds.from_motion`); a seed of the paper's
-   class off its branches (outside the paper's search domain) is followed here too.
+5. any extra seeds (a simulation's periodic motions: :func:`.seeds.from_motion`); and first of all the curve
+   through each of the paper's branches, whose points off them (outside the paper's search domain, past the scan's
+   ends) are branches of the paper's class found here.
 
-Every curve is followed both ways in ``T`` (:func:`.follow.follow`), each point is
-replayed by the certified simulator (:func:`.verify.admissible`) and gets its
-Floquet multipliers (:mod:`.floquet`); a branch is a maximal run of admissible
-points.  Curves met twice (from two seeds, or as two rotations of one orbit)
-are kept once.
+Every curve is followed both ways in ``T`` (:func:`.follow.follow`: to the window's edge, to a zero duration, or
+round a loop once), each point is replayed by the certified simulator (:func:`.verify.admissible`) and gets its
+Floquet multipliers (:mod:`.floquet`); a branch is a maximal run of admissible points.  A seed on a curve already
+followed (from another seed, or as another rotation of one orbit) is not followed again
+(:class:`.followed.Followed`: on a chord, or the same orbit by Newton), so every curve is listed once.
 """
 
 from __future__ import annotations
