@@ -17,25 +17,13 @@ import sys
 import numpy as np
 
 import plbar
-from plbar.periodic import PAPER, monodromy, multipliers, orbit_at, polish
+from plbar.periodic import monodromy, multipliers, polish
 from plbar.periodic.solve import NotConverged
 
 
 def _candidates(res, label):
     """``(sig, orbits)`` of every branch of the result with canonical signature ``label``."""
-    prob = res.prob
-    out = []
-    if label == "1P":
-        for b in res.branches:
-            o = b.orbits
-            orbs = [orbit_at(prob, PAPER, float(o.T[i]), np.concatenate([o.eta0[i], o.v0[i],
-                                                                         [o.T1[i], o.T2[i], o.phi[i]]]))
-                    for i in range(len(b))]
-            out.append((PAPER, orbs))
-    for h in [b for b in res.branches if not b.paper]:
-        if h.label == label:
-            out.append((h.sig, list(h.orbits)))
-    return out
+    return [(h.sig, list(h.orbits)) for h in res.branches if h.label == label]   # the paper's class too: one record
 
 
 def covered(res, T: float, label: str, loss: float):
