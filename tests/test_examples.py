@@ -144,3 +144,11 @@ def test_cantilever_stop_example(tmp_path):
     hits = [int(line.split(":")[1].split("of")[0]) for line in out.splitlines() if "motions reach the stop" in line]
     assert len(hits) == 3 and hits == sorted(hits) and hits[-1] == 7
     assert (tmp_path / "cantilever_stop.png").is_file()
+
+
+def test_base_excited_cantilever_example(tmp_path):
+    """A base-excited cantilever against a tip stop (issue 41): more motions reach the stop as a_g / d grows."""
+    out = _run("base_excited_cantilever.py", tmp_path, "--quick")
+    hits = [int(line.split(":")[1].split("of")[0]) for line in out.splitlines() if "motions reach the stop" in line]
+    assert len(hits) == 3 and hits == sorted(hits) and hits[-1] == 7
+    assert (tmp_path / "base_excited_cantilever.png").is_file()
