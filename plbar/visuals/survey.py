@@ -158,8 +158,9 @@ def survey_loads_plot(table: dict, out, name: str = "survey_loads", title: str =
             if ii.size:
                 a.plot(T[jj], s[ii], "x", ms=3, color="tab:red", label="failed (chattering contact)")
             worst = np.nanargmax(np.where(np.isfinite(g), g, -np.inf), axis=0)
+            some = np.nanmax(np.where(np.isfinite(g), g, -np.inf), axis=0) > 0     # no line where every cell is 0
             word = "position" if column == "s" else "amplitude"
-            a.plot(T, s[worst], "-", color="k", lw=0.9, drawstyle="steps-mid",
+            a.plot(T, np.where(some, s[worst], np.nan), "-", color="k", lw=0.9, drawstyle="steps-mid",
                    label=f"{word} of the largest value per T")
             if column != "s":
                 a.set_yscale("log" if s.size > 1 and s.min() > 0 and s.max() / s.min() > 10 else "linear")
