@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import asdict, dataclass, field, fields, replace
 from functools import lru_cache
 
 import numpy as np
@@ -233,6 +233,12 @@ class Case:
         ld.check(bar)
         object.__setattr__(self, "load_nodes", ld.nodes)
         object.__setattr__(self, "load_points", ld.points)
+
+    def __repr__(self) -> str:
+        """The model and the fields that differ from their defaults (what makes this case this case)."""
+        items = [f"{f.name}={getattr(self, f.name)!r}" for f in fields(self)
+                 if f.name == "model" or (f.repr and f.compare and getattr(self, f.name) != f.default)]
+        return f"Case({', '.join(items)})"
 
     def _set(self, values: dict) -> None:
         for name, v in values.items():
