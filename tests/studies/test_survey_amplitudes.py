@@ -74,3 +74,15 @@ def test_the_command(tmp_path, capsys):
     assert "two studies" in capsys.readouterr().err
     with pytest.raises(InputError, match="positive"):
         _study(plbar.Case(), [0.0])
+
+
+def test_a_structure_in_memory_is_refused_by_name_with_the_way_in(tmp_path):
+    """A survey's tasks rebuild the case from data: a plbar.Structure in memory says how to give it instead (it
+    failed in every task with "unexpected keyword argument 'dofs'"); the structure file it names works."""
+    from plbar.io import write_structure
+
+    st = replace(plbar.Case().problem().structure, origin=None)
+    with pytest.raises(InputError, match="structure file"):
+        survey(plbar.Case(structure=st), [9.0], periods=100, record=10)
+    f = write_structure(tmp_path / "s.npz", st)
+    assert survey(plbar.Case(model="matrices", matrices=str(f)), [9.0], periods=100, record=10).table["T"].size == 1

@@ -100,9 +100,6 @@ def _positions(case: Case, positions) -> np.ndarray:
 
 
 def _check_amplitudes(case: Case, amplitudes) -> np.ndarray:
-    if case.model == "structure":
-        raise InputError("an amplitude study needs a case file, a bar, a beam or a structure file (its tasks carry "
-                         "the case as data), not a plbar.Structure in memory")
     try:
         A = np.unique(np.asarray(amplitudes, float).ravel())
     except (TypeError, ValueError):

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ...app import Case
+from ...errors import InputError
 from ...motion import padded
 from ...util.files import write_json
 from ...util.version import code_hash
@@ -32,7 +33,14 @@ _FE_ONLY = ("element", "mass", "length", "EA", "rhoA", "grading", "mesh_file", "
 
 
 def case_fields(case: Case) -> dict:
-    """The fields of ``case`` that define its bar, load and modes, as JSON (a task round-trips through it)."""
+    """The fields of ``case`` that define its bar, load and modes, as JSON (a task round-trips through it).
+
+    A :class:`plbar.Structure` in memory has no such fields (its matrices are its own): refused by name, with the way
+    to give it (a structure file, ``--model matrices``), rather than failing in every task."""
+    if case.model == "structure":
+        raise InputError("a study's tasks carry the case as data, and a plbar.Structure given in memory cannot "
+                         "travel: write it to a structure file (plbar.io.write_structure(path, structure)) and "
+                         "give plbar.Case(model='matrices', matrices=path) (--model matrices --matrices FILE)")
     d = json.loads(json.dumps(case.to_dict(), default=list))
     for k in _FE_ONLY if d["model"] == "chain" else _CHAIN_ONLY:
         d.pop(k, None)
