@@ -46,8 +46,8 @@ def beam_fields(case) -> dict:
     length, EI, rhoA = positive("length", case.length), positive("EI", case.EI), positive("rhoA", case.rhoA)
     supports = choice("supports", case.supports, SUPPORTS)
     me = case.end_mass if case.end_mass_absolute else case.end_mass * rhoA * length
-    pts = tuple(pairs("load_points", case.load_points, "(s, amplitude)")) or \
-        (((0.5 if supports == "clamped-free" else 0.25) * length, 1.0),) if not case.base else ()
+    default = () if case.base else (((0.5 if supports == "clamped-free" else 0.25) * length, 1.0),)
+    pts = tuple(pairs("load_points", case.load_points, "(s, amplitude)")) or default
     s = (length if supports == "clamped-free" else 0.5 * length) if case.contact_at is None else case.contact_at
     st = _structure(n, length, EI, rhoA, supports, float(me), tuple((float(x), float(a)) for x, a in pts),
                     float(s), case.rayleigh, case.restitution, case.gap, case.gravity, case.base)

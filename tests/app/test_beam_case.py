@@ -25,6 +25,10 @@ def test_the_case_is_the_beam():
         assert np.array_equal(getattr(st, k), getattr(ref, k)), k
     assert st.gap == 0.05 and c.contact_at == 1.0 and c.n_eff == 6
     assert plbar.Case(**c.to_dict()) == c and loads_case(dump_case(c))[0] == c
+    both = plbar.Case(model="beam", base=0.5, load_points=((0.5, 2.0),))     # a base and a force: both act
+    assert both.load_points == ((0.5, 2.0),) and plbar.Case(model="beam", base=0.5).load_points == ()
+    b = uniform_beam(8)
+    assert np.array_equal(both.structure.q, beam_structure(b, forces=((0.5, 2.0),), base=0.5).q)
     pinned = plbar.Case(model="beam", supports="pinned-pinned")
     assert pinned.contact_at == 0.5 and pinned.load_points == ((0.25, 1.0),)    # the defaults off the stop
 
