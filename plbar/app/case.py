@@ -32,6 +32,14 @@ CONTINUUM_STEPS = 32
 DEFAULT_FE_LOAD = 0.5
 
 
+def _refuse_zero(ld: Load) -> None:
+    """A case answers forced responses (xi_eq, the survey): a load of zero amplitude has none (a
+    :class:`plbar.Load` takes it, for a free motion from a given start)."""
+    if all(a == 0.0 for _, a in ld.points + ld.nodes) and not ld.base:
+        raise InputError("every load amplitude is 0.0; give a non-zero amplitude (a case's answers are forced "
+                         "responses)")
+
+
 @dataclass(frozen=True)
 class Case:
     """Everything that defines a run.
@@ -230,6 +238,7 @@ class Case:
             else:
                 object.__setattr__(self, "load_points", ((DEFAULT_FE_LOAD * bar.length, 1.0),))
         ld = Load(points=self.load_points, nodes=self.load_nodes, base=self.base)   # validates types and signs
+        _refuse_zero(ld)
         ld.check(bar)
         object.__setattr__(self, "load_nodes", ld.nodes)
         object.__setattr__(self, "load_points", ld.points)

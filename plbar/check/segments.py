@@ -89,7 +89,8 @@ def _model(prob) -> _Model:
         zeta = (modal_ratios(C[:-1, :-1], V1, w1), modal_ratios(C, V2, w2))
         rho_v = (C[-1, :-1] - H @ C[:-1, :-1]) @ V1
     f1, f2 = V1.T @ q[:-1], V2.T @ q
-    floor = (float(np.sum(np.abs((rho @ V1) * f1) / w1**2) + abs(r_q)), float(np.sum(np.abs(V2[-1] * f2) / w2**2)))
+    floor = (float(np.sum(np.abs((rho @ V1) * f1) / w1**2) + abs(r_q)),
+             float(np.sum(np.abs(V2[-1] * f2) / _nonzero(w2)**2)))
     return _Model(M, K, q, (w1, w2), (V1, V2), (B1, B2), (f1, f2), rho @ V1, r_q,
                   Mrr_inv @ M[:-1, :], np.linalg.inv(M), Mrr_inv, zeta, rho_v, floor)
 
@@ -129,8 +130,20 @@ def duhamel(w, W, tau):
     cs = np.cos(sig)
     C = np.sin(sig) * s / (w + W)
     Cp = (W * cs * s + np.sin(w * tau)) / (w + W)
-    S = (np.sin(W * tau) - W * cs * s) / (w * (w + W))
+    S = (np.sin(W * tau) - W * cs * s) / (_nonzero(w) * (w + W))
+    if np.any(w == 0):      # a rigid-body mode: S -> (tau - sin(W tau) / W) / W
+        S = np.where(w == 0, (tau - np.sin(W * tau) / W) / W, S)
     return C, Cp, S, W * C
+
+
+def _nonzero(w):
+    """``w`` with its zeros (rigid-body modes) replaced by 1, for a quotient whose limit is taken apart."""
+    return np.where(w == 0, 1.0, w)
+
+
+def _sin_over(w, t):
+    """``sin(w t) / w``, ``t`` where ``w = 0`` (a rigid-body mode's free flow ``eta0 + v0 t``)."""
+    return np.where(w == 0, t, np.sin(w * t) / _nonzero(w))
 
 
 def modal_flow(w, f, W, theta, tau, eta, v, zeta=None):
@@ -159,7 +172,7 @@ def modal_flow(w, f, W, theta, tau, eta, v, zeta=None):
     co, si = np.cos(w * t), np.sin(w * t)
     C, Cp, S, Sp = duhamel(w, W, t)
     ct, st = np.cos(theta), np.sin(theta)
-    e = co * eta + si / w * v + f * (ct * C - st * S)
+    e = co * eta + _sin_over(w, t) * v + f * (ct * C - st * S)
     u = -w * si * eta + co * v + f * (ct * Cp - st * Sp)
     return e, u
 
@@ -171,8 +184,10 @@ def _modal_displacement(w, f, W, theta, tau, eta, v):
     sig = 0.5 * (w + W) * t
     s = t * np.sinc(0.5 * (w - W) * t / np.pi)
     C = np.sin(sig) * s / (w + W)
-    S = (np.sin(W * t) - W * np.cos(sig) * s) / (w * (w + W))
-    return np.cos(w * t) * eta + np.sin(w * t) / w * v + f * (np.cos(theta) * C - np.sin(theta) * S)
+    S = (np.sin(W * t) - W * np.cos(sig) * s) / (_nonzero(w) * (w + W))
+    if np.any(w == 0):
+        S = np.where(w == 0, (t - np.sin(W * t) / W) / W, S)
+    return np.cos(w * t) * eta + _sin_over(w, t) * v + f * (np.cos(theta) * C - np.sin(theta) * S)
 
 
 @dataclass(frozen=True)

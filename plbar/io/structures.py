@@ -102,6 +102,10 @@ def _read(path: str, _mtime: int, _size: int, rayleigh, restitution, scale: floa
         if k not in arrays:
             raise InputError(f"{where} has no {k!r} (it needs M, K, q and the contact: r or contact)")
     r = _contact(where, arrays)
+    q = np.asarray(arrays["q"], float)
+    if q.size and not np.any(q):     # a file is a case's structure, whose answers are forced responses
+        raise InputError(f"{where}: q = 0: the load amplitude vector must not be zero (a case's answers are "
+                         "forced responses)")
     damping = _damping(where, arrays) if rayleigh is None else rayleigh
     e = float(arrays["restitution"]) if restitution is None and "restitution" in arrays else (restitution or 0.0)
     d = float(arrays["gap"]) if gap is None and "gap" in arrays else (gap or 0.0)

@@ -74,8 +74,6 @@ class Load:
         base = _amplitude(self.base) if self.base is not None else 0.0
         if not pts and not nds and not base:
             raise InputError("the load is empty; give at least one point force, nodal force or base acceleration")
-        if all(a == 0.0 for _, a in pts + nds) and not base:
-            raise InputError("every load amplitude is 0.0; give a non-zero amplitude")
         object.__setattr__(self, "points", tuple(pts))
         object.__setattr__(self, "nodes", tuple(nds))
         object.__setattr__(self, "base", base)

@@ -1,7 +1,10 @@
 """The modes of one contact state: natural frequencies and mass-normalised mode shapes, and which are kept.
 
-:func:`state_modes` solves ``K v = w^2 M v`` (``V^T M V = I``, each mode's largest component positive) and refuses a
-stiffness that is not definite (a state with rigid-body motion); :func:`kept_modes` reads a modal truncation.
+:func:`state_modes` solves ``K v = w^2 M v`` (``V^T M V = I``, each mode's largest component positive).  A stiffness
+that is not definite is refused, unless the state may move as a rigid body (``rigid=True``: the free state of a
+free body, the floating part of a cracked bar), whose rigid-body modes then have ``w = 0`` exactly and span the
+null space of ``K`` (FORMULATION §9, free bodies): their flow is ``eta0 + v0 t`` plus the forced part, the limit
+``w -> 0`` of every closed form.  :func:`kept_modes` reads a modal truncation.
 """
 
 from __future__ import annotations
@@ -17,10 +20,13 @@ __all__ = ["SINGULAR_RTOL", "kept_modes", "state_modes"]
 SINGULAR_RTOL = 1e-13
 
 
-def state_modes(K: np.ndarray, M: np.ndarray, what: str, m: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+def state_modes(K: np.ndarray, M: np.ndarray, what: str, m: int | None = None,
+                rigid: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Natural circular frequencies and mass-normalised modes, sign-fixed (the lowest ``m``, or all).
 
-    A state with no DOF (a single mass held at the stop) has no mode: empty arrays."""
+    A state with no DOF (a single mass held at the stop) has no mode: empty arrays.  ``rigid``: a semi-definite
+    ``K`` is allowed, its rigid-body modes (eigenvalues within round-off of 0) get ``w = 0`` exactly and are
+    re-orthonormalised in ``M`` over that null space; a stiffness with a negative eigenvalue is still refused."""
     if K.shape[0] == 0:
         return np.zeros(0), np.zeros((0, 0))
     if m is None or m >= K.shape[0]:
@@ -29,12 +35,37 @@ def state_modes(K: np.ndarray, M: np.ndarray, what: str, m: int | None = None) -
         lam, V = sla.eigh(K, M, subset_by_index=[0, m - 1])
     # a singular K gives lam[0] ~ +-eps lam_max; max(K_ii / M_ii) <= lam_max (Rayleigh quotients of unit vectors)
     top = float(np.max(np.diag(K) / np.diag(M)))
+    if rigid and lam[0] <= SINGULAR_RTOL * top:
+        return _with_rigid(K, M, lam, V, top, what)
     if lam[0] <= SINGULAR_RTOL * top:
         raise InputError(f"the {what} stiffness matrix is not positive definite (smallest eigenvalue {lam[0]:.3g} "
                          f"of K v = lam M v, against {top:.3g} or more: is the bar held against rigid-body motion?)")
+    return np.sqrt(lam), _signed(V)
+
+
+def _signed(V: np.ndarray) -> np.ndarray:
+    """Each column with its largest component positive."""
     k = np.argmax(np.abs(V), axis=0)
-    V = V * np.sign(V[k, np.arange(V.shape[1])])
-    return np.sqrt(lam), V
+    return V * np.sign(V[k, np.arange(V.shape[1])])
+
+
+def _with_rigid(K, M, lam, V, top, what):
+    """:func:`state_modes` of a semi-definite ``K``: ``w = 0`` on the null space (:data:`SINGULAR_RTOL`).
+
+    The null space is recomputed from ``K`` itself (an SVD, which separates it to round-off of ``|K|``) and made
+    ``M``-orthonormal, so the rigid modes hold ``K v = 0`` to round-off of the stiffness, not of ``eigh``'s
+    eigenvalue gap."""
+    if lam[0] < -1e-8 * top:
+        raise InputError(f"the {what} stiffness matrix is indefinite (eigenvalue {lam[0]:.3g} of K v = lam M v)")
+    r = int(np.sum(lam <= SINGULAR_RTOL * top))
+    _, sv, Vt = np.linalg.svd(K)
+    Z = Vt[-r:].T                                   # the null space of K (smallest singular values)
+    G = Z.T @ M @ Z
+    Z = Z @ np.linalg.inv(np.linalg.cholesky(G)).T  # M-orthonormal: Z^T M Z = I
+    # the elastic modes M-orthogonal to the rigid ones (eigh's are, to round-off); keep them as eigh gave them
+    E = V[:, r:] - Z @ (Z.T @ M @ V[:, r:])
+    w = np.concatenate([np.zeros(r), np.sqrt(lam[r:])])
+    return w, _signed(np.hstack([Z, E]))
 
 
 def kept_modes(modes, n: int) -> tuple[int | None, int | None]:

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
+from ..errors import InputError
 from ..util.check import finite
 
 __all__ = ["Statics", "check_gap", "rest_state", "statics"]
@@ -96,6 +97,21 @@ def rest_state(margin) -> int:
     return 1 if margin[1] > 0.0 else 0
 
 
+def _free_equilibrium(system, q_s: np.ndarray) -> np.ndarray:
+    """``x2`` with ``K x2 = q_s``: a solve where ``K`` is definite; least squares, less its rigid-body part, where the
+    free state has rigid-body modes (a free body), which the constant load must not push (else there is no
+    equilibrium: the body accelerates)."""
+    if not system.rigid:
+        return sla.solve(system.K, q_s, assume_a="pos")
+    Z = system.V2[:, system.w2 == 0.0]                 # the rigid-body modes (the lowest: kept by a truncation)
+    if np.any(np.abs(Z.T @ q_s) > 1e-12 * np.sum(np.abs(q_s)) * np.max(np.abs(Z))):
+        raise InputError("the constant load (gravity, a prestress) pushes the free state's rigid-body motion: a "
+                         "free body then accelerates without an equilibrium, which plbar does not model yet; "
+                         "give a constant load that the free state can hold, or none")
+    x = np.linalg.lstsq(system.K, q_s, rcond=None)[0]
+    return x - Z @ (Z.T @ (system.M @ x))             # no rigid-body part (any equilibrium would do)
+
+
 def statics(system, gap: float = 0.0, q_s=None) -> Statics:
     """The :class:`Statics` of a :class:`plbar.model.TwoStateSystem` with its stop at ``u = gap`` and the constant
     load ``q_s`` (in the system's coordinates; None or zeros: none)."""
@@ -105,7 +121,7 @@ def statics(system, gap: float = 0.0, q_s=None) -> Statics:
     q_s = None if q_s is None or not np.any(q_s) else np.asarray(q_s, float)
     x1, x2 = np.zeros(n), np.zeros(n)
     if q_s is not None:
-        x2 = sla.solve(K, q_s, assume_a="pos")
+        x2 = _free_equilibrium(system, q_s)
     if d != 0.0 or q_s is not None:
         rhs = -K[:-1, -1] * d + (q_s[:-1] if q_s is not None else 0.0)
         x1[:-1] = sla.solve(K[:-1, :-1], rhs, assume_a="pos") if n > 1 else 0.0

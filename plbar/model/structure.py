@@ -66,12 +66,15 @@ class Structure:
     ----------
     M, K : array_like or scipy.sparse matrix, shape (n, n)
         Mass and stiffness over the free DOFs: finite, symmetric (to a relative ``1e-8``), ``M`` positive
-        definite; the stiffness with the contact held and free must be positive definite (checked where the
-        modes are computed).  Stored dense (the modal solvers are dense).
+        definite; the stiffness with the contact held must be positive definite, and free positive
+        semi-definite (a free body, a cracked bar's floating part: its rigid-body modes move with ``w = 0``;
+        checked where the modes are computed).  Stored dense (the modal solvers are dense).
     contact : array_like, shape (n,)
         The contact row ``r``: the contact coordinate is ``u = r . x``, held at ``u <= 0`` by the stop.
     q : array_like, shape (n,)
-        The load amplitude vector (the force ``q cos(W t - phi)``, Eq. (1)); finite and not zero.
+        The load amplitude vector (the force ``q cos(W t - phi)``, Eq. (1)); finite.  Zero is allowed (a free
+        motion from a given start, a body thrown at the stop): the simulators take it; the periodic solvers find
+        no forced response in it.
     rayleigh : (float, float), optional
         Inherent Rayleigh damping ``C = alpha M + beta K`` (FORMULATION §8); None: undamped (the paper).
     restitution : float
@@ -114,8 +117,6 @@ class Structure:
         if not np.any(r):
             raise InputError("contact = 0: the contact row must have a non-zero entry (u = r . x)")
         q = _vector("q", self.q, n)
-        if not np.any(q):
-            raise InputError("q = 0: the load amplitude vector must not be zero")
         q_s = None if self.q_s is None else _vector("q_s", self.q_s, n)
         for name, v in (("M", M), ("K", K), ("contact", r), ("q", q), ("x", x),
                         ("rayleigh", check_rayleigh(self.rayleigh)),

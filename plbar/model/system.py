@@ -101,8 +101,14 @@ class TwoStateSystem:
         a, b = ab if ab is not None else (0.0, 0.0)
         object.__setattr__(self, "alpha", a)
         object.__setattr__(self, "beta", b)
+        if a and self.rigid:
+            raise InputError(f"Rayleigh damping with alpha = {a:g} > 0 on a structure whose free state moves as a "
+                             "rigid body: the mass-proportional part damps the rigid-body motion itself (an "
+                             "infinite damping ratio at w = 0), which plbar does not model; use alpha = 0 "
+                             "(stiffness-proportional damping only)")
         object.__setattr__(self, "zeta1", rayleigh_ratio(a, b, self.w1))
-        object.__setattr__(self, "zeta2", rayleigh_ratio(a, b, self.w2))
+        object.__setattr__(self, "zeta2", np.where(self.w2 > 0, rayleigh_ratio(a, b, np.where(self.w2 > 0, self.w2,
+                                                                                              1.0)), 0.0))
         Mc = self.M[-1, :-1] @ self.V1
         r_v = (a * Mc + b * (self.K[-1, :-1] @ self.V1)) - 2.0 * Mc * self.zeta1 * self.w1
         object.__setattr__(self, "r_v", r_v if ab is not None else np.zeros_like(self.w1))
@@ -133,6 +139,11 @@ class TwoStateSystem:
         """The Rayleigh damping ratio at circular frequency ``W``: ``alpha / (2 W) + beta W / 2``."""
         return rayleigh_ratio(self.alpha, self.beta, W)
     @property
+    def rigid(self) -> int:
+        """The number of rigid-body modes of state II (``w = 0``: a free body, a cracked bar's floating part)."""
+        return int(np.sum(self.w2 == 0.0))
+
+    @property
     def truncated(self) -> bool:
         """True if only the lowest modes of a state are kept (rectangular ``V1`` or ``V2``)."""
         return self.w1.size < self.n - 1 or self.w2.size < self.n
@@ -161,8 +172,10 @@ class TwoStateSystem:
     @property
     def T0(self) -> tuple[float, float]:
         """Fundamental periods ``(T0^I, T0^II)``; ``T0^I = 0`` where state I has no DOF (a single mass held at the
-        stop: infinitely stiff, no period of its own)."""
-        return (2 * np.pi / self.w1[0] if self.w1.size else 0.0), 2 * np.pi / self.w2[0]
+        stop: infinitely stiff, no period of its own); ``T0^II`` is that of the first elastic mode where state II
+        has rigid-body modes (infinite where it has no other)."""
+        w2 = self.w2[self.w2 > 0]
+        return (2 * np.pi / self.w1[0] if self.w1.size else 0.0), (2 * np.pi / w2[0] if w2.size else np.inf)
 
     def embed(self, xr: np.ndarray) -> np.ndarray:
         """State I physical vector(s) ``(..., n-1)`` to full DOFs ``(..., n)`` with ``x_c = 0``."""
@@ -178,8 +191,9 @@ def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray, modes=None, rayleigh=
     ----------
     M, K : ndarray, shape (n, n)
         Mass and stiffness over the free DOFs, the contact DOF last: finite and symmetric
-        (to a relative ``1e-8``), ``M`` positive definite, and the stiffness of each state
-        (``K`` and ``K_rr``, the contact held) positive definite; else :class:`~plbar.errors.InputError`.
+        (to a relative ``1e-8``), ``M`` positive definite, the stiffness with the contact held (``K_rr``)
+        positive definite and that of the free state (``K``) positive semi-definite (a free body: its rigid-body
+        modes have ``w = 0``, :func:`plbar.model.modes.state_modes`); else :class:`~plbar.errors.InputError`.
     x : ndarray, shape (n,)
         DOF positions (for output only).
     modes : int or (int, int), optional
@@ -199,7 +213,7 @@ def two_state(M: np.ndarray, K: np.ndarray, x: np.ndarray, modes=None, rayleigh=
     m1, m2 = kept_modes(modes, n)
     Mrr, Krr = M[:-1, :-1], K[:-1, :-1]
     w1, V1 = state_modes(Krr, Mrr, "state I", m1)
-    w2, V2 = state_modes(K, M, "state II", m2)
+    w2, V2 = state_modes(K, M, "state II", m2, rigid=True)
     # I -> II: x^II = E x^I, eta^II = V2^T M E V1 eta^I (Eq. (8) with I, II exchanged)
     P12 = V2.T @ M[:, :-1] @ V1
     # II -> I positions: x_r = R x^II, eta^I = V1^T M_rr R V2 eta^II (Eq. (9))

@@ -12,7 +12,7 @@
 
 from .model import CHATTER, FREE, IMPACT, OK, OPENS, REBOUND, STALLED, STICK, STUCK, Padded, padded
 from .compile import COMPILE_NOTE, Elsewhere, compile_elsewhere, compiled
-from .run import Run, Start, Stopped, energy, halt_flag, prepare, rest, run
+from .run import Run, Start, Stopped, energy, given, halt_flag, prepare, rest, run
 from .series import Series, boundary_mismatch, motion_series
 from .steady import BATCHES, DRIFT_TOL, KINDS, M_MAX, PERIODIC_TOL, T_CRIT, Steady, periodicity, steady, trend
 
@@ -47,6 +47,7 @@ __all__ = [
            "compile_elsewhere",
            "compiled",
            "energy",
+           "given",
            "padded",
            "periodicity",
            "prepare",

@@ -219,7 +219,8 @@ def padded(prob: Problem) -> Padded:
     open_pos, open_vel, impact_pos, impact_vel = (np.asarray(a, float) for a in maps)
     st = prob.statics
     g0 = np.asarray(st.margin, float)
-    size = np.sum(np.abs(c * f) / (w * w), axis=1) + np.abs(rq) + np.abs(g0)
+    # a rigid-body mode (w = 0) has no static response: its share of the size is its forced one at w = 1
+    size = np.sum(np.abs(c * f) / np.where(w > 0, w * w, 1.0), axis=1) + np.abs(rq) + np.abs(g0)
     offsets = np.vstack([_pad(st.open_offset, (m,)), _pad(st.impact_offset, (m,))])
     damped = bool(getattr(s, "damped", False))
     zeta = np.vstack([_pad(s.zeta1, (m,)), _pad(s.zeta2, (m,))]) if damped else None

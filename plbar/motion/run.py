@@ -15,9 +15,9 @@ from ..util.record import Record, events, messages
 from ..util.reprs import build, listing, rng
 from ..util.threads import map_chunks, n_threads, off_main
 from .compile import kind
-from .model import OK, Padded, padded
+from .model import FREE, OK, STUCK, Padded, padded
 
-__all__ = ["Run", "Start", "Stopped", "energy", "prepare", "rest", "run", "halt_flag"]
+__all__ = ["Run", "Start", "Stopped", "energy", "given", "prepare", "rest", "run", "halt_flag"]
 
 
 class Stopped(Exception):
@@ -46,6 +46,37 @@ def rest(pad: Padded, B: int) -> Start:
     """``B`` structures at rest: in the static equilibrium (:attr:`Padded.rest_state`): against the stop with no
     reaction (no gap, the paper), held by it (an interference), or free (a clearance)."""
     return Start(np.full(B, pad.rest_state), np.zeros((B, pad.m)), np.zeros((B, pad.m)))
+
+
+def given(prob: Problem, x, v) -> Start:
+    """One structure started from the physical state ``x, v`` (in ``prob``'s contact coordinates: the contact
+    coordinate ``u`` last, :func:`plbar.model.contact_coordinates`), for :func:`run`: free (state II) where ``u < d``
+    (the stop's gap), or at the stop and leaving it (``v_c < 0``); held (state I) at the stop with ``v_c = 0``.  A
+    start past the stop, or at it and moving into it, is refused (:class:`plbar.errors.InputError`).  The modal
+    coordinates are those of ``x - x_s``, ``x_s`` the state's static equilibrium (FORMULATION §9), padded as
+    :func:`plbar.motion.padded` pads them."""
+    s, st = prob.system, prob.statics
+    n = s.n
+    m = max(s.w1.size, s.w2.size)
+    x, v = (np.asarray(a, float) for a in (x, v))
+    if x.shape != (n,) or v.shape != (n,) or not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+        raise InputError(f"a start needs finite x and v with one entry per DOF, shape ({n},); got shapes "
+                         f"{x.shape}, {v.shape}")
+    d, u, vc = st.gap, x[-1], v[-1]
+    tol = 1e-12 * max(abs(d), float(np.max(np.abs(x))), 1e-300)
+    if u > d + tol or (u >= d - tol and vc > 0.0):
+        raise InputError(f"the start is past the stop or moving into it (u = {u:.6g}, v_c = {vc:.6g}, the stop at "
+                         f"u = {d:.6g}): start on the free side, or at the stop at rest or leaving it")
+    eta, vel = np.zeros((1, m)), np.zeros((1, m))
+    if u < d - tol or vc < 0.0:
+        state, M = FREE, s.M
+        eta[0, :s.w2.size] = s.V2.T @ (M @ (x - st.x2))
+        vel[0, :s.w2.size] = s.V2.T @ (M @ v)
+    else:
+        state, M = STUCK, s.M[:-1, :-1]
+        eta[0, :s.w1.size] = s.V1.T @ (M @ (x - st.x1)[:-1])
+        vel[0, :s.w1.size] = s.V1.T @ (M @ v[:-1])
+    return Start(np.array([state]), eta, vel)
 
 
 @dataclass(frozen=True, kw_only=True)

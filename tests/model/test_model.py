@@ -158,6 +158,15 @@ def test_mesh_file_case_matches_generated_bar():
 _M3, _K3, _X3 = np.eye(3), np.array([[2.0, -1, 0], [-1, 2, -1], [0, -1, 1]]), np.arange(1.0, 4.0)
 
 
+def test_a_free_free_structure_has_a_rigid_body_mode_in_its_free_state():
+    """A semi-definite free state (singular to round-off) is a free body (docs/free_body.md): ``w = 0`` exactly."""
+    K = 7.1 * np.array([[1.0, -1, 0], [-1, 2, -1], [0, -1, 1]])
+    s = two_state(3.3 * _M3, K, _X3)
+    assert s.rigid == 1 and s.w2[0] == 0.0 and s.w2[1] > 0 and s.w1[0] > 0
+    assert np.max(np.abs(K @ s.V2[:, 0])) < 1e-14 * np.abs(K).max()
+    assert np.isfinite(s.T0[1])
+
+
 @pytest.mark.parametrize("M,K,x,match", [
     (_M3, np.array([[2.0, -1, 0], [-1.5, 2, -1], [0, -1, 1]]), _X3, "K is not symmetric"),
     (_M3 + 1e-3 * np.triu(np.ones((3, 3)), 1), _K3, _X3, "M is not symmetric"),
@@ -172,8 +181,8 @@ _M3, _K3, _X3 = np.eye(3), np.array([[2.0, -1, 0], [-1, 2, -1], [0, -1, 1]]), np
     (np.diag([1.0, 0.0, 1.0]), _K3, _X3, "the mass matrix is not positive definite"),
     (_M3, np.array([[1.0, -1, 0], [-1, 1, 0], [0, 0, 1]]), _X3,
      "the state I stiffness matrix is not positive definite"),
-    (3.3 * _M3, 7.1 * np.array([[1.0, -1, 0], [-1, 2, -1], [0, -1, 1]]), _X3,   # free-free: singular to round-off
-     "the state II stiffness matrix is not positive definite"),
+    (_M3, np.array([[1.0, -1, 0], [-1, 2, -1], [0, -1, 0.1]]), _X3,   # a negative eigenvalue with the contact free
+     "the state II stiffness matrix is indefinite"),
     ("M", _K3, _X3, "M must be a square array of numbers"),
 ])
 def test_two_state_refuses_bad_matrices_in_one_line(M, K, x, match):

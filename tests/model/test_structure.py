@@ -165,7 +165,6 @@ def test_the_order_of_the_dofs_does_not_matter():
 @pytest.mark.parametrize("bad, match", [
     (dict(contact=np.zeros(5)), "contact row"),
     (dict(contact=np.ones(4)), "shape"),
-    (dict(q=np.zeros(5)), "q = 0"),
     (dict(restitution=2.0), "restitution"),
     (dict(rayleigh=(-1.0, 0.0)), "rayleigh|alpha|damping"),
 ])

@@ -107,12 +107,14 @@ def taylor(modes, damp, eta, vel, load, s, K, d, scale):
     rem = (abs(rq) + abs(rs)) * wk
     for j in range(m):
         amp = sqrt((w[j] * eta[j]) ** 2 + vel[j] ** 2) + abs(f[j]) * s
+        # |eta| over the step: amp / w, or for a rigid-body mode (w = 0) |eta| + amp s (it enters only times w^2)
+        b0 = amp / w[j] if w[j] != 0.0 else abs(eta[j]) + amp * s
         if damp is None:
-            sm = Scaled(c[j], 0.0, w[j] / Om, f[j] / (Om * Om), 0.0, eta[j], vel[j] / Om, amp / w[j], amp / Om)
+            sm = Scaled(c[j], 0.0, w[j] / Om, f[j] / (Om * Om), 0.0, eta[j], vel[j] / Om, b0, amp / Om)
             rem += _mode(sm, Wr, ca, sa, K, False, d, scale)
         else:
             sm = Scaled(c[j], damp.cv[j] * Om, w[j] / Om, f[j] / (Om * Om), 2.0 * damp.zeta[j] * w[j] / Om, eta[j],
-                        vel[j] / Om, amp / w[j], amp / Om)
+                        vel[j] / Om, b0, amp / Om)
             rem += _mode(sm, Wr, ca, sa, K, True, d, scale)
     return rem, Om
 

@@ -38,6 +38,7 @@ __all__ = [
     "phi1",
     "roots",
     "sinc",
+    "sinw",
 ]
 
 SERIES = 20   #: terms of the phi_1 and kernel series (|x| < 1: error below 1e-19)
@@ -48,6 +49,13 @@ DIRECT = 0.7  #: below this |(w - W) u / 2| its sine is taken directly (the angl
 def sinc(x):
     """``sin(x) / x`` with the value 1 at 0."""
     return sin(x) / x if x != 0.0 else 1.0
+
+
+@jit
+def sinw(si, w, u):
+    """``sin(w u) / w`` from ``si = sin(w u)``: ``u`` at ``w = 0`` (a rigid-body mode, whose free flow is
+    ``eta0 + v0 u``; every other closed form here holds at ``w = 0`` as it is)."""
+    return si / w if w != 0.0 else u
 
 
 @jit
@@ -79,7 +87,7 @@ def kernels_at(w, W, u, ca, sa, hf):
     wp = w + W
     csn = (ca * cW - sa * sW) * snc
     si = 2.0 * sa * ca
-    return (sa * cW + ca * sW) * snc / wp, (si / w - csn) / wp, (w * csn + sWu) / wp, 1.0 - 2.0 * sa * sa, si
+    return (sa * cW + ca * sW) * snc / wp, (sinw(si, w, u) - csn) / wp, (w * csn + sWu) / wp, 1.0 - 2.0 * sa * sa, si
 
 
 @jit
@@ -97,7 +105,7 @@ def flow_at(mode, ld, u, z, ca, sa, hf):
     C, S, Cp, co, si = kernels_at(w, W, u, ca, sa, hf)
     ec, es = f * (c0 * C - s0 * S), f * (s0 * C + c0 * S)
     vc, vs = f * (c0 * Cp - s0 * W * C), f * (s0 * Cp + c0 * W * C)
-    return (co * eta0 + si / w * v0 + ec * cphi + es * sphi,
+    return (co * eta0 + sinw(si, w, u) * v0 + ec * cphi + es * sphi,
             -w * si * eta0 + co * v0 + vc * cphi + vs * sphi)
 
 
