@@ -356,7 +356,10 @@ def with_load_vector(sys: TwoStateSystem, q: np.ndarray, structure: Structure | 
     f1 = sys.V1.T @ q[:-1]
     f2 = sys.V2.T @ q
     r_q = float(sys.MV1_c @ f1 - q[-1])
-    return Problem(sys, q, f1, f2, r_q, structure)
+    prob = Problem(sys, q, f1, f2, r_q, structure)
+    if sys.rigid and structure is not None:
+        _ = prob.statics        # a free body's statics refuse a constant load on its rigid motion: now, by name
+    return prob
 
 
 def problem(model, load: Load | None = None, q: np.ndarray | None = None, modes=None,
