@@ -116,7 +116,7 @@ class Load:
         if not np.all(np.isfinite(q)):
             raise InputError(f"the load vector is not finite ({self.describe()}); amplitudes must be "
                              f"at most {MAX_AMPLITUDE:g} in magnitude")
-        if not np.max(np.abs(q)) > 1e-12 * scale:
+        if scale and not np.max(np.abs(q)) > 1e-12 * scale:      # (no force at all: a free motion, taken)
             raise InputError(f"the load vector is zero: the forces {self.describe()} cancel; "
                              "give a load with a non-zero resultant on the free DOFs")
         return q

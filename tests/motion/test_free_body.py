@@ -194,3 +194,20 @@ def test_a_start_past_the_stop_is_refused():
     bad[-1] = 1e-5
     with pytest.raises(InputError, match="past the stop"):
         given(prob, bad, yv)
+
+
+def test_a_bar_under_no_load_moves_freely_from_a_given_start():
+    """The issue's example ``plbar.problem(bar, plbar.point(0.5, 0.0))`` is taken: a clamped bar released
+    stretched away from the stop; both simulators agree, and the energy is the start's less the impact losses."""
+    bar = plbar.Bar(np.linspace(0.0, 1.0, 9))
+    prob = plbar.problem(bar, plbar.point(0.5, 0.0))
+    n = prob.system.n
+    x0, v0 = -0.01 * np.linspace(0.0, 1.0, n + 1)[1:], np.zeros(n)
+    sim = plbar.simulate(prob, 1.0, 0.0, x0, v0, state=2, n_periods=3)
+    r = run(prob, np.array([1.0]), periods=3, record=3, start=given(prob, x0, v0))
+    assert sim.work == 0.0 and r.work[0] == 0.0
+    assert np.array_equal(sim.events["kind"], r.events["kind"]) and sim.events.size >= 3
+    assert np.max(np.abs(sim.events["time"] - r.events["time"])) < 1e-10
+    lost = sim.events["loss"][sim.events["kind"] == 2].sum()
+    assert lost > 0 and abs(sim.energy0 - lost - sim.energy) < 1e-12 * sim.energy0
+    assert abs(r.energy_residual[0]) < 1e-13
