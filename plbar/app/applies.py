@@ -10,10 +10,11 @@ __all__ = ["FE_ONLY", "FLAGS", "STATIC_PARTS", "check_applies", "refuse_static_p
 
 #: the options of an FE bar and their defaults: on a chain, any other value is refused (it would be ignored)
 FE_ONLY = {"element": "P1", "mass": "lumped", "EA": 1.0, "rhoA": 1.0, "grading": 1.0, "mesh_file": None,
-           "point_masses": ()}
+           "point_masses": (), "crack_at": None, "supports": "clamped-free"}
 #: the command-line spelling of the Case fields named in messages
 FLAGS = {"n": "-N", "element": "--element", "mass": "--mass", "grading": "--grading", "mesh_file": "--mesh-file",
-         "length": "--length", "EA": "--EA", "rhoA": "--rhoA", "point_masses": "no CLI option"}
+         "length": "--length", "EA": "--EA", "rhoA": "--rhoA", "point_masses": "no CLI option",
+         "crack_at": "--crack-at", "supports": "--supports"}
 
 
 #: what gives a case's motion a static part: (field, in words, its flag); the paper's scan is written for neither
@@ -68,7 +69,8 @@ def check_applies(case) -> None:
 def _check_continuum(case) -> None:
     """What the continuum solver takes (:mod:`plbar.continuum`): a uniform undamped bar, plastic contact, one
     point load; an option it would ignore is refused."""
-    fe = [(k, getattr(case, k)) for k in ("element", "mass", "grading", "mesh_file", "point_masses")
+    fe = [(k, getattr(case, k)) for k in ("element", "mass", "grading", "mesh_file", "point_masses", "crack_at",
+                                          "supports")
           if getattr(case, k) != FE_ONLY[k]]
     if fe:
         k, v = fe[0]

@@ -23,7 +23,7 @@ __all__ = ["beam_fields", "beam_dict", "NOT_FOR_A_BEAM"]
 
 #: the bar's options that mean nothing for a beam (refused where given)
 NOT_FOR_A_BEAM = ("element", "mass", "EA", "m", "k", "grading", "mesh_file", "point_masses", "load_nodes",
-                  "load_scale", "matrices")
+                  "load_scale", "matrices", "crack_at")
 #: elements of a beam when not given
 BEAM_ELEMENTS = 8
 

@@ -147,6 +147,10 @@ class Case:
         effective load ``-M t a_g cos(W t - phi)`` in coordinates relative to the support
         (:func:`plbar.base_excitation`), beside any forces; the stop moves with the support and every response is
         relative to it.  Default 0: none (with no force either, the default load acts).
+    crack_at : float, optional
+        ``model = "fe"``: a breathing crack at this interior vertex (:mod:`plbar.model.crack`): the contact is the
+        crack's faces (open in tension, the outer part floating), the end ``x = L`` is free.  Default None: no crack,
+        the stop at ``x = L``.  With ``supports = "clamped-clamped"`` the end ``x = L`` is clamped too.
     """
 
     model: str = "chain"
@@ -184,6 +188,7 @@ class Case:
     EI: float = 1.0
     supports: str = "clamped-free"
     contact_at: float | None = None
+    crack_at: float | None = None
 
     def __post_init__(self):
         if self.model == "beam":
@@ -307,18 +312,19 @@ class Case:
         mass = "consistent" if self.mass == "redistributed" else self.mass
         if self.model == "chain":
             return chain(self.n_eff, self.m, self.k)
+        kw = dict(crack_at=self.crack_at, supports=self.supports)
         if self.mesh_file:
             from ..io.meshfile import read_nodes
 
             nodes = read_nodes(self.mesh_file)
             try:
                 return Bar(nodes, self.element, mass, self.EA, self.rhoA, self.point_masses,
-                           f"fe-{self.element}-{self.mass}-{len(nodes) - 1}")
+                           f"fe-{self.element}-{self.mass}-{len(nodes) - 1}", **kw)
             except InputError as exc:
                 raise InputError(f"mesh file {self.mesh_file!r}: {exc}") from None
         nodes = graded_nodes(self.n_eff, self.length, self.grading)
         return Bar(nodes, self.element, mass, self.EA, self.rhoA, self.point_masses,
-                   f"fe-{self.element}-{self.mass}-{len(nodes) - 1}")
+                   f"fe-{self.element}-{self.mass}-{len(nodes) - 1}", **kw)
 
     def load(self) -> Load:
         """The load of this case (validated when the case was made)."""
@@ -368,14 +374,8 @@ class Case:
             drop += ("element", "mass", "grading", "mesh_file", "point_masses")
         if self.mesh_file is not None:
             drop += ("n", "grading", "length")
-        if not d["restitution"]:
-            drop += ("restitution",)
-        if not d["gap"]:
-            drop += ("gap",)
-        if not d["gravity"]:
-            drop += ("gravity",)
-        if not d["base"]:
-            drop += ("base",)
+        drop += tuple(k for k in ("restitution", "gap", "gravity", "base") if not d[k])
+        drop += ("crack_at",) if d["crack_at"] is None else ()
         if d["rayleigh"] is None:
             drop += ("rayleigh",)
         else:

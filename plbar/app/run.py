@@ -124,6 +124,15 @@ def _structure_text(case: Case) -> str:
     return f"{dofs} (contact row {case.structure.contact.tolist()})" if n <= 6 else dofs
 
 
+#: the answer of :func:`solve` for a structure whose free state floats (:attr:`plbar.TwoStateSystem.floating`)
+NO_PERIODIC_CONTACT = ("no periodic response with a contact exists: the free state moves as a rigid body that every "
+                       "contact pushes away from the stop (a cracked bar's outer part, a free body), and no constant "
+                       "load pushes it back, so over a period the contact's impulse must vanish (the rigid mode's "
+                       "momentum balance, docs/crack.md); the motion from rest (plbar survey) leaves the stop for "
+                       "good. Clamp the far end (supports = 'clamped-clamped', --supports clamped-clamped) for a "
+                       "crack that keeps breathing")
+
+
 def solve(case: Case | Structure | None = None, progress: bool = False) -> Result:
     """Solve ``case`` (default: the paper's chain N = 5, unit force on DOF 1): every periodic response.
 
@@ -156,6 +165,8 @@ def solve(case: Case | Structure | None = None, progress: bool = False) -> Resul
     check_grid(case.grid, stacklevel=3)
     t0 = time.perf_counter()
     prob = case.problem()
+    if prob.system.floating:
+        raise InputError(NO_PERIODIC_CONTACT)
     domain = case.domain(prob)
     note = search_note(case) if progress and case.signatures != "paper" else None
     if note:

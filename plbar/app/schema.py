@@ -22,7 +22,7 @@ SCHEMA = {
             "damping_ratio": "float", "damping_at": "pair", "restitution": "float", "gap": "float",
             "gravity": "float", "EI": "float", "supports": ("choice", ("clamped-free", "pinned-pinned",
                                                                           "clamped-clamped")),
-            "contact_at": "float"},
+            "contact_at": "float", "crack_at": "float"},
     "load": {"node": "int", "at": "float", "amplitude": "float", "base": "float"},
     "search": {"grid": "grid", "T1": "pair", "T2": "pair", "method": ("choice", ("continuation", "grid")),
                "signatures": ("choice", ("default", "paper", "all"))},
@@ -75,7 +75,9 @@ HELP = {
             "supports": "model = \"beam\": clamped-free (a cantilever), pinned-pinned or clamped-clamped "
                         "[clamped-free]",
             "contact_at": "model = \"beam\": the stop's position on the beam [the tip of a cantilever, else "
-                          "mid-span]"},
+                          "mid-span]",
+            "crack_at": "model = \"fe\": a breathing crack at this vertex: the contact is the crack's faces (open in "
+                        "tension), the end x = L is free [none: the stop at x = L]"},
     "load": {"node": "a force on free DOF K (1-based from the clamp); or `at`",
              "at": "a point force at position s in (0, L]; or `node`",
              "amplitude": "its amplitude, a force (N in SI) [1]",

@@ -44,7 +44,8 @@ CASE_OPTIONS = {"model": "--model", "elements": "-N/--elements", "element": "--e
                 "damping_at": "--damping-at", "restitution": "--restitution", "gap": "--gap", "gravity": "--gravity",
                 "length": "--length",
                 "EA": "--EA", "rhoA": "--rhoA", "amplitude": "--amplitude", "matrices": "--matrices",
-                "base": "--base", "EI": "--EI", "supports": "--supports", "contact_at": "--contact-at"}
+                "base": "--base", "EI": "--EI", "supports": "--supports", "contact_at": "--contact-at",
+                "crack_at": "--crack-at"}
 
 
 def output_args(p: argparse.ArgumentParser, default_out: str, what: str) -> None:
@@ -152,9 +153,13 @@ def _section_args(g) -> None:
     g.add_argument("--EI", type=float, default=None, metavar="EI",
                    help="the beam's bending stiffness E I (--model beam) [1]")
     g.add_argument("--supports", choices=("clamped-free", "pinned-pinned", "clamped-clamped"), default=None,
-                   help="the beam's supports (--model beam) [clamped-free: a cantilever]")
+                   help="the beam's supports (--model beam), or a cracked FE bar's (clamped-free, "
+                        "clamped-clamped; with --crack-at) [clamped-free: a cantilever]")
     g.add_argument("--contact-at", type=float, default=None, metavar="S",
                    help="the stop's position on the beam (--model beam) [the tip of a cantilever, else mid-span]")
+    g.add_argument("--crack-at", type=float, default=None, metavar="S",
+                   help="a breathing crack at the FE bar's vertex S: the contact is the crack's faces (open in "
+                        "tension), the end x = L is free (--model fe) [none: the stop at x = L]")
 
 
 def _load_args(p: argparse.ArgumentParser, load_help: str) -> None:
@@ -205,11 +210,26 @@ NO_CONTACT_MASS = ("plbar: note: this FE bar has no mass of its own at the conta
                    "give --end-mass M for a physical contact mass")
 
 
+#: its form for a cracked bar, whose faces never carry a mass of their own (docs/crack.md)
+CRACK_NO_MASS = ("plbar: note: a crack's faces have no mass of their own: its xi_eq is a mesh artefact, the loss of "
+                 "the faces' shares of their elements' mass, and it vanishes under refinement (as h: docs/crack.md)")
+#: the note of a survey whose free state floats (plbar.TwoStateSystem.floating)
+FLOATING = ("plbar: note: the free state moves as a rigid body that every contact pushes away (a cracked bar's outer "
+            "part): no periodic motion has a contact (docs/crack.md), so each motion from rest leaves the stop for "
+            "good; its long run is a free flight, counted as irregular")
+
+
 def note_no_contact_mass(a, case) -> None:
-    """Print :data:`NO_CONTACT_MASS` once for an FE case with no point mass on its contact node (unless quiet)."""
+    """Print :data:`NO_CONTACT_MASS` once for an FE case with no point mass on its contact node (unless quiet); for a
+    cracked bar :data:`CRACK_NO_MASS`, and :data:`FLOATING` where its outer part floats."""
     if case.model != "fe" or getattr(a, "quiet", False) or getattr(a, "json", False):
         return
     bar = case.bar()
+    if bar.crack_at is not None:
+        message(CRACK_NO_MASS)
+        if case.problem().system.floating:
+            message(FLOATING)
+        return
     x = np.asarray(bar.nodes, float)
     if not any(int(np.argmin(np.abs(x - xp))) == x.size - 1 and mp > 0 for xp, mp in bar.point_masses):
         message(NO_CONTACT_MASS)
@@ -245,7 +265,8 @@ def case_from_args(a):
               end_mass_absolute=a.end_mass_absolute, rayleigh=_rayleigh(a),
               restitution=getattr(a, "restitution", None), gap=getattr(a, "gap", None),
               gravity=getattr(a, "gravity", None), base=getattr(a, "base", None), EI=getattr(a, "EI", None),
-              supports=getattr(a, "supports", None), contact_at=getattr(a, "contact_at", None))
+              supports=getattr(a, "supports", None), contact_at=getattr(a, "contact_at", None),
+              crack_at=getattr(a, "crack_at", None))
     case = Case(load_nodes=nodes, load_points=points, **{k: v for k, v in kw.items() if v is not None})
     if not hasattr(a, "sizes") and case.structure is None:   # sizes (-N): each size's case is checked where made
         refuse_contact_load(case, nodes)

@@ -80,10 +80,12 @@ def _names(d: dict) -> str:
 
 
 def _mesh(prob):
-    """Sorted points, cells, cell type and per-cell EA, rhoA of ``prob``'s bar."""
+    """Sorted points, cells, cell type, per-cell EA, rhoA of ``prob``'s bar, and each free DOF's point."""
     bar, asm = prob.bar, prob.asm
     if bar is None or asm is None:
         raise InputError("export needs a Problem built from a Bar (plbar.problem or Case.problem)")
+    if bar.crack_at is not None:
+        return _split_mesh(bar, asm)
     xd = np.asarray(asm.basis.doflocs[0], float)
     pts = np.sort(xd)
     if pts[0] != 0.0 or pts.size != asm.n + 1 or not np.array_equal(pts[1:], asm.x):
@@ -96,7 +98,30 @@ def _mesh(prob):
         cells, ctype = np.c_[2 * i, 2 * i + 2, 2 * i + 1], "line3"
     EA = np.broadcast_to(np.asarray(bar.EA, float), (ne,))
     rA = np.broadcast_to(np.asarray(bar.rhoA, float), (ne,))
-    return pts, cells, ctype, EA, rA
+    return pts, cells, ctype, EA, rA, np.arange(1, asm.n + 1)
+
+
+def _split_mesh(bar, asm):
+    """:func:`_mesh` of a cracked bar (:mod:`plbar.model.crack`): every basis DOF a point, sorted as the free DOFs
+    are (the crack's inner face before its outer one), the cells the basis' own elements (the two faces are two
+    points of no common cell: the opening shows), a far clamp a point held at 0."""
+    xd = np.asarray(asm.basis.doflocs[0], float)
+    order = np.argsort(xd, kind="stable")
+    at = np.empty(xd.size, int)
+    at[order] = np.arange(xd.size)
+    ed = at[np.asarray(asm.basis.element_dofs)]           # (2 or 3, elements): the ends, then the midside (P2)
+    ed = ed[:, np.argsort(xd[order][ed[0]], kind="stable")]
+    ne = ed.shape[1]
+    EA = np.broadcast_to(np.asarray(bar.EA, float), (ne,))
+    rA = np.broadcast_to(np.asarray(bar.rhoA, float), (ne,))
+    return xd[order], ed.T.copy(), "line" if bar.element == "P1" else "line3", EA, rA, at[asm.free]
+
+
+def _full(a: np.ndarray, at: np.ndarray, n_points: int) -> np.ndarray:
+    """Free-DOF values ``a`` (K, n) on every point (the clamps' 0)."""
+    out = np.zeros((a.shape[0], n_points))
+    out[:, at] = a
+    return out
 
 
 def _strains(u, pts, cells, ctype):
@@ -212,12 +237,11 @@ def response_data(orbit, info: dict | None = None, periods: int = 1, steps: int 
     return _sampled(orb.prob, t_abs, _Samples(t_abs, t_loc, x, v, state, margin, ek, ep), full)
 
 
-def _nodal_kinetic(prob, v) -> np.ndarray:
-    """Each node's share of the kinetic energy, ``v_i (M v)_i / 2`` (the clamp 0): it sums to ``v^T M v / 2``
-    (Eq. (12)) for any mass matrix, consistent or lumped, with point masses and the chain's."""
-    M = prob.system.M
+def _nodal_kinetic(M, v) -> np.ndarray:
+    """Each DOF's share of the kinetic energy, ``v_i (M v)_i / 2``: it sums to ``v^T M v / 2`` (Eq. (12)) for any
+    mass matrix, consistent or lumped, with point masses and the chain's."""
     Mv = (M @ v.T).T if not hasattr(M, "toarray") else np.asarray(M @ v.T).T
-    return np.concatenate([np.zeros((v.shape[0], 1)), 0.5 * v * Mv], axis=1)
+    return 0.5 * v * Mv
 
 
 class _Samples(NamedTuple):
@@ -237,16 +261,19 @@ class _Samples(NamedTuple):
 def _sampled(prob, times, sm: _Samples, info, extra=None) -> ResponseData:
     """The fields of the sampled states ``sm`` on the mesh of ``prob`` (``times`` the series' own)."""
     t_abs, t_loc, x, v, state, margin, ek, ep = sm
-    pts, cells, ctype, EA, rA = _mesh(prob)
+    pts, cells, ctype, EA, rA, at = _mesh(prob)
     K = t_loc.size
-    u = np.concatenate([np.zeros((K, 1)), x], axis=1)
-    vel = np.concatenate([np.zeros((K, 1)), v], axis=1)
+    opening = x[:, -1]                       # the contact coordinate u, last (FORMULATION §9)
+    M = prob.system.M
+    if prob.bar.crack_at is not None:        # a crack's contact coordinates are not its DOFs: x = B y
+        x, v, M = prob.structure.physical(x), prob.structure.physical(v), prob.structure.M
+    u, vel = _full(x, at, pts.size), _full(v, at, pts.size)
     em, sen, ped, ked = _densities(u, vel, pts, cells, ctype, EA, rA)
     inI = state == 1
     zero = np.zeros(K)
     field = {
         "time": t_abs, "phase_time": t_loc, "state": state.astype(np.int32),
-        "contact_reaction": np.where(inI, margin, zero), "gap": np.where(inI, zero, -u[:, -1]),
+        "contact_reaction": np.where(inI, margin, zero), "gap": np.where(inI, zero, -opening),
         "kinetic_energy": ek, "potential_energy": ep, **(extra or {}),
     }
     zeros2 = np.zeros_like(u)
@@ -255,7 +282,7 @@ def _sampled(prob, times, sm: _Samples, info, extra=None) -> ResponseData:
         "velocity": vel, "velocity_vec": np.stack([vel, zeros2, zeros2], axis=-1),
         "kinetic_energy_density": ked, "potential_energy_density": ped,
         "stress_nodal": nodal_stress(u, pts, cells, ctype, EA),
-        "kinetic_energy_nodal": _nodal_kinetic(prob, v),
+        "kinetic_energy_nodal": _full(_nodal_kinetic(M, v), at, pts.size),
     }
     cell = {"strain": em, "stress": EA * em, "strain_energy": sen}
     return ResponseData(pts, cells, ctype, times, point, cell, field, dict(info, cell_type=ctype))

@@ -5,6 +5,12 @@ node (FORMULATION §1).  :func:`assemble` builds the stiffness ``K`` and mass
 ``M`` over the free DOFs with scikit-fem, ordered by position so that free DOF
 ``k`` (1-based, as in the paper) is the ``k``-th DOF from the clamp and the
 contact DOF is the last one.
+
+A cracked bar (``crack_at = s``, issue 41 item 3) has no stop: its node at ``s`` is two coincident nodes, the
+crack's faces (the inner one ends the elements on ``[0, s]``, the outer one starts those on ``[s, L]``: the
+mesh is split there, so no element couples them), and the contact is their relative displacement, which closes
+the crack (:meth:`Assembled.contact_row`); the end ``x = L`` is free.  Held, the faces move together and the bar
+is whole; open, the outer part floats (a rigid-body mode, FORMULATION §9).
 """
 
 from __future__ import annotations
@@ -16,11 +22,14 @@ import numpy as np
 from ..util.check import choice, finite, integer, pairs, positive, show
 from ..util.reprs import build, rng
 from ..errors import InputError
+from .crack import crack_position, split_mesh
 
-__all__ = ["Bar", "Assembled", "assemble", "chain", "uniform_bar", "graded_nodes", "uniform_nodes",
+__all__ = ["BAR_SUPPORTS", "Bar", "Assembled", "assemble", "chain", "uniform_bar", "graded_nodes", "uniform_nodes",
            "redistributed_block"]
 
 ELEMENTS = ("P1", "P2")
+#: a bar's supports: clamped at x = 0, and at x = L free (the stop there, or a crack's free end) or clamped
+BAR_SUPPORTS = ("clamped-free", "clamped-clamped")
 MASSES = ("lumped", "consistent", "redistributed")
 
 
@@ -132,6 +141,11 @@ class Bar:
         Concentrated masses at vertices.
     name : str
         A label for reports.
+    crack_at : float, optional
+        A breathing crack at the interior vertex ``s`` (module docstring): the contact is the crack, the end
+        ``x = L`` is free.  None (the default): no crack, the stop at ``x = L``.
+    supports : {"clamped-free", "clamped-clamped"}
+        The end ``x = L`` free (the default) or clamped too (a cracked bar only: its contact is the crack).
     """
 
     nodes: np.ndarray
@@ -142,6 +156,8 @@ class Bar:
     point_masses: tuple[tuple[float, float], ...] = ()
     name: str = "bar"
     paper_chain: bool = field(default=False, compare=False)
+    crack_at: float | None = None
+    supports: str = "clamped-free"
 
     def __post_init__(self):
         x = _nodes(self.nodes)
@@ -166,6 +182,12 @@ class Bar:
                                  f"of the mesh in (0, {x[-1]:g}]")
             pm.append((float(x[j[0]]), mp))
         object.__setattr__(self, "point_masses", tuple(pm))
+        choice("supports", self.supports, BAR_SUPPORTS)
+        if self.crack_at is not None:
+            object.__setattr__(self, "crack_at", crack_position(x, self.crack_at, self.mass, pm, self.supports))
+        elif self.supports != "clamped-free":
+            raise InputError(f"supports = {self.supports!r}: a bar clamped at both ends has no stop; its contact "
+                             "can only be a crack (crack_at = S, --crack-at S)")
         if self.mass == "redistributed" and not any(xp == x[-1] for xp, _ in pm):
             raise InputError("mass = 'redistributed' leaves the contact node without the bar's inertia, so it "
                              "needs an end mass there: give end_mass > 0 (--end-mass M, or a point mass at "
@@ -195,12 +217,16 @@ class Bar:
 
     @property
     def n_dofs(self) -> int:
-        """Free DOFs (every node but the clamp; P2 adds a midside node per element)."""
-        return self.n_elements * (1 if self.element == "P1" else 2)
+        """Free DOFs (every node but the clamp; P2 adds a midside node per element; a crack adds its second face)."""
+        return (self.n_elements * (1 if self.element == "P1" else 2) + (self.crack_at is not None)
+                - (self.supports == "clamped-clamped"))
 
     def describe(self) -> str:
         return (f"{self.name}: {self.n_elements} {self.element} elements, {self.mass} mass, L = {self.length:g}"
-                + (f", point masses {list(self.point_masses)}" if self.point_masses else ""))
+                + (f", point masses {list(self.point_masses)}" if self.point_masses else "")
+                + (f", a crack at x = {self.crack_at:g}" if self.crack_at is not None else "")
+                + (", clamped at both ends" if self.supports == "clamped-clamped" else ""))
+
 
 
 def uniform_bar(n_elements: int, *, length: float = 1.0, element: str = "P1", mass: str = "lumped",
@@ -285,6 +311,9 @@ class Assembled:
         The load of a unit uniform acceleration along the bar (gravity ``g = 1``; a support's rigid motion): the
         whole mass matrix, the clamped DOF's columns included, times ones, over the free DOFs.  For a consistent
         mass it is the body force's load vector (the shape functions sum to 1); for a lumped one its row sums.
+    crack : int, optional
+        A cracked bar's inner face: the index of its sorted free DOF (the outer face is the next one); None:
+        no crack.
     """
 
     K: np.ndarray
@@ -293,6 +322,7 @@ class Assembled:
     basis: object
     free: np.ndarray
     body: np.ndarray
+    crack: int | None = None
 
     @property
     def n(self) -> int:
@@ -302,6 +332,16 @@ class Assembled:
         elem = type(getattr(self.basis, "elem", None)).__name__
         return build("Assembled", {"n": self.n, "x": rng(self.x), "K": f"{self.K.shape}",
                                    "M": f"{self.M.shape}", "basis": f"{type(self.basis).__name__} ({elem})"})
+
+    def contact_row(self) -> np.ndarray:
+        """The contact row ``r`` (FORMULATION §9): the last DOF ``e_{n-1}`` against the stop, or the crack's
+        ``e_i - e_o`` (inner face ``i``, outer ``o``: ``r . x`` grows as the faces close)."""
+        r = np.zeros(self.n)
+        if self.crack is None:
+            r[-1] = 1.0
+        else:
+            r[self.crack], r[self.crack + 1] = 1.0, -1.0
+        return r
 
     def load_vector(self, s: float) -> np.ndarray:
         """Consistent load vector of a unit point force at ``s`` (shape functions)."""
@@ -320,7 +360,7 @@ def assemble(bar: Bar) -> Assembled:
     import skfem
     from skfem import BilinearForm, asm
 
-    mesh = skfem.MeshLine(np.asarray(bar.nodes))
+    mesh = skfem.MeshLine(np.asarray(bar.nodes)) if bar.crack_at is None else split_mesh(bar.nodes, bar.crack_at)
     elem = skfem.ElementLineP1() if bar.element == "P1" else skfem.ElementLineP2()
     basis = skfem.Basis(mesh, elem)
     nq = basis.X.shape[-1]
@@ -350,7 +390,9 @@ def assemble(bar: Bar) -> Assembled:
     for xp, mp in bar.point_masses:
         j = int(np.argmin(np.abs(xd - xp)))
         M[j, j] += mp
-    free = np.flatnonzero(xd > 0.0)
-    free = free[np.argsort(xd[free], kind="stable")]
+    free = np.flatnonzero((xd > 0.0) & ((xd < bar.length) if bar.supports == "clamped-clamped" else True))
+    free = free[np.argsort(xd[free], kind="stable")]     # a crack's inner face (a lower DOF index) before its outer
     xf = xd[free]
-    return Assembled(K[np.ix_(free, free)], M[np.ix_(free, free)], xf, basis, free, M.sum(axis=1)[free])
+    crack = None if bar.crack_at is None else int(np.flatnonzero(xf == bar.crack_at)[0])
+    return Assembled(K[np.ix_(free, free)], M[np.ix_(free, free)], xf, basis, free, M.sum(axis=1)[free], crack)
+

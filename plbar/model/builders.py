@@ -65,8 +65,7 @@ def bar_structure(bar: Bar, load: Load | None = None, q=None, rayleigh=None, res
             raise InputError(f"load vector q must be finite, non-zero and of length {a.n}")
     else:
         raise InputError("give a load (plbar.point / plbar.node) or a load vector q")
-    r = np.zeros(a.n)
-    r[-1] = 1.0
+    r = a.contact_row()
     g = finite("gravity", gravity, "a finite number (an acceleration along the bar, > 0 towards the stop)")
     q_s = g * a.body if g else None
     return Structure(a.M, a.K, r, qv, rayleigh, restitution, a.x, BarOrigin(bar, load, a), gap, q_s)

@@ -98,6 +98,12 @@ class Load:
             if s < MIN_POSITION * L:
                 raise InputError(f"load position s = {show(s)} is at the clamped end x = 0; it must lie in "
                                  f"[{MIN_POSITION:g} L, L] = [{MIN_POSITION * L:g}, {L:g}]")
+            if bar.supports == "clamped-clamped" and s > L * (1 - MIN_POSITION):
+                raise InputError(f"load position s = {show(s)} is at the clamped end x = L of a bar clamped at both "
+                                 f"ends; it must lie in [{MIN_POSITION:g} L, (1 - {MIN_POSITION:g}) L]")
+            if bar.crack_at is not None and s == bar.crack_at:
+                raise InputError(f"load position s = {show(s)} is at the crack, on both faces; put the force on one "
+                                 "side of it")
         for k, _ in self.nodes:
             if not 1 <= k <= bar.n_dofs:
                 raise InputError(f"load node = {k} is out of range; free DOFs are numbered 1..{bar.n_dofs}")

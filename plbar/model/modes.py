@@ -14,7 +14,7 @@ import scipy.linalg as sla
 
 from ..errors import InputError
 
-__all__ = ["SINGULAR_RTOL", "kept_modes", "state_modes"]
+__all__ = ["SINGULAR_RTOL", "floats", "kept_modes", "state_modes"]
 
 #: a stiffness whose smallest eigenvalue is below this times the largest is singular (rigid-body motion)
 SINGULAR_RTOL = 1e-13
@@ -80,3 +80,21 @@ def kept_modes(modes, n: int) -> tuple[int | None, int | None]:
     if m1 < 1 or m2 < 1:
         raise InputError(f"modes = {modes!r} must be positive")
     return (None if m1 >= n - 1 else m1), (None if m2 >= n else m2)
+
+
+def floats(w: np.ndarray, V: np.ndarray) -> bool:
+    """True if a rigid-body mode (``w = 0``) of the free state moves the contact coordinate (the last row of ``V``):
+    a cracked bar's floating part, a body thrown at the stop.  Then **no periodic motion has a contact**.
+
+    Over one period of a periodic motion the momentum ``p = v^T M x'`` of a rigid mode ``v`` (``K v = 0``, and
+    ``C v = 0``: Rayleigh ``alpha = 0``, the only damping taken with rigid modes) returns to its value, and
+    ``p' = v^T q cos(W t - phi) + v^T q_s + v_c lam``: the harmonic force integrates to 0 over the period and
+    ``v^T q_s = 0`` (a constant load on the rigid motion is refused, :func:`plbar.model.statics.statics`), so
+    ``v_c int lam dt = 0`` while ``lam <= 0`` (the stop only pushes, impulses included): the contact force and every
+    impulse vanish.  Every contact pushes the floating part away, and nothing brings it back on average.
+    """
+    k = int(np.sum(w == 0.0))
+    if not k:
+        return False
+    R = V[:, :k]
+    return bool(np.any(np.abs(R[-1]) > 1e-9 * np.abs(R).max(axis=0)))

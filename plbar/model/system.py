@@ -27,7 +27,7 @@ from .damping import check_rayleigh, rayleigh_ratio
 from ..errors import InputError
 from .load import Load
 from .matrices import check_matrices
-from .modes import kept_modes, state_modes
+from .modes import floats, kept_modes, state_modes
 from .statics import Statics, statics
 from .structure import Structure, check_restitution, contact_coordinates
 from ..util.reprs import build, rng
@@ -138,10 +138,13 @@ class TwoStateSystem:
     def rayleigh_ratio(self, W):
         """The Rayleigh damping ratio at circular frequency ``W``: ``alpha / (2 W) + beta W / 2``."""
         return rayleigh_ratio(self.alpha, self.beta, W)
-    @property
-    def rigid(self) -> int:
-        """The number of rigid-body modes of state II (``w = 0``: a free body, a cracked bar's floating part)."""
-        return int(np.sum(self.w2 == 0.0))
+
+    rigid = property(lambda self: int(np.sum(self.w2 == 0.0)),
+                     doc="The number of rigid-body modes of state II (``w = 0``: a free body, a cracked bar's part).")
+
+    floating = property(lambda self: floats(self.w2, self.V2),
+                        doc="True if a rigid-body mode of state II moves the contact: no periodic motion has a "
+                            "contact then (:func:`plbar.model.modes.floats`).")
 
     @property
     def truncated(self) -> bool:

@@ -35,7 +35,7 @@ import numpy as np
 from . import damped as _damped
 from .records import Forcing, Modes, broadcast
 
-__all__ = ["free_flow", "flow_matrix", "kernels", "forced_coeffs", "segment", "psi", "psi_closed_form",
+__all__ = ["sin_over", "free_flow", "flow_matrix", "kernels", "forced_coeffs", "segment", "psi", "psi_closed_form",
            "psi_quadrature", "sinc", "gauss", "CANCEL_LIMIT"]
 
 
@@ -47,6 +47,22 @@ def sinc(x):
     """
     x = np.asarray(x, float)
     return np.divide(np.sin(x), x, out=np.ones_like(x), where=x != 0)
+
+
+def sin_over(w, tau, si=None):
+    """``sin(w tau) / w``, and its limit ``tau`` where ``w = 0`` (a rigid-body mode of a free body or a cracked bar's
+    floating part: its free flow is ``eta0 + v0 tau``, FORMULATION §9).
+
+    ``si`` is ``sin(w tau)`` if the caller has it.  Where every ``w`` is non-zero it is ``si / w`` itself (the same
+    bits as before rigid modes were taken).
+    """
+    si = np.sin(w * tau) if si is None else si
+    w = np.asarray(w, float)
+    if np.all(w != 0.0):
+        return si / w
+    shape = np.broadcast(w, tau, si).shape
+    out = np.array(np.broadcast_to(tau, shape), float)
+    return np.divide(si, w, out=out, where=np.broadcast_to(w != 0.0, shape))
 
 
 def free_flow(w, tau, zeta=None):
@@ -71,7 +87,7 @@ def free_flow(w, tau, zeta=None):
         return _damped.flow_matrix(w, zeta, tau)
     wt = w * tau
     co, si = np.cos(wt), np.sin(wt)
-    return co, si / w, -w * si, si
+    return co, sin_over(w, tau, si), -w * si, si
 
 
 def flow_matrix(w, tau, zeta=None):
@@ -91,7 +107,7 @@ def kernels(w, W, tau, swt=None, zeta=None):
     Parameters
     ----------
     w : array_like
-        Natural circular frequency of the mode(s), > 0.
+        Natural circular frequency of the mode(s), >= 0 (0: a rigid-body mode).
     W : array_like
         Forcing circular frequency, > 0.
     tau : array_like
@@ -115,7 +131,7 @@ def kernels(w, W, tau, swt=None, zeta=None):
     sig = wp * ht
     csn = np.cos(sig) * snc
     C = np.sin(sig) * snc / wp
-    S = ((np.sin(w * tau) if swt is None else swt) / w - csn) / wp
+    S = (sin_over(w, tau, swt) - csn) / wp
     Cp = (w * csn + np.sin(W * tau)) / wp
     return C, S, Cp
 

@@ -105,12 +105,14 @@ class Orbits(Batch):
         tau = np.asarray(tau, float)
         W = self.W[:, None]
         th = W * ts[:, None] - self.phi[:, None]                      # (P, 1)
-        near = np.abs(w[None, :] - W) * span[:, None] < 0.05          # (P, n)
+        # near resonance, and a rigid-body mode (w = 0: eta0 + v0 tau), take the exact kernels
+        near = (np.abs(w[None, :] - W) * span[:, None] < 0.05) | (w == 0.0)[None, :]   # (P, n)
         d = w[None, :] ** 2 - W ** 2
         g = np.where(near, 0.0, f / np.where(near, 1.0, d))           # particular amplitudes
         ct, st = np.cos(th), np.sin(th)
         alpha = np.where(near, 0.0, e0 - g * ct) * c                  # (P, n)
-        beta = np.where(near, 0.0, v0 / w + g * (W / w) * st) * c
+        wn = np.where(w == 0.0, 1.0, w)
+        beta = np.where(near, 0.0, v0 / wn + g * (W / wn) * st) * c
         gsum = (g * c).sum(axis=1)[:, None]                           # (P, 1)
         wt = tau[..., None] * w                                        # (P, K, n)
         co, si = np.cos(wt), np.sin(wt)

@@ -32,7 +32,8 @@ def _kern(w: float, W: float, t: float):
     sig = wp * ht
     csn = cos(sig) * snc
     co, si = cos(w * t), sin(w * t)
-    return sin(sig) * snc / wp, (si / w - csn) / wp, (w * csn + sin(W * t)) / wp, co, si
+    so = si / w if w != 0.0 else t                   # sin(w t) / w, t for a rigid-body mode
+    return sin(sig) * snc / wp, (so - csn) / wp, (w * csn + sin(W * t)) / wp, co, si, so
 
 
 def _psi(w: float, f: float, W: float, thc: float, ths: float, t: float, eta0: float, v0: float):
@@ -87,8 +88,8 @@ def _state_I(k: Small, W: float, T1: float, c: float, sn: float, eta0, v0):
     e, v = [], []
     for j in range(k.m1):
         w, f = k.w1[j], k.f1[j]
-        C, S, Cp, co, si = _kern(w, W, T1)
-        e.append(co * eta0[j] + si / w * v0[j] + f * (C * c + S * sn))
+        C, S, Cp, co, si, so = _kern(w, W, T1)
+        e.append(co * eta0[j] + so * v0[j] + f * (C * c + S * sn))
         v.append(-w * si * eta0[j] + co * v0[j] + f * (Cp * c + W * C * sn))
     return e, v
 
@@ -99,10 +100,10 @@ def _state_II(k: Small, W: float, T1: float, T2: float, c: float, sn: float, es,
     eT, vT = [], []
     for j in range(len(k.w2)):
         w, f = k.w2[j], k.f2[j]
-        C, S, Cp, co, si = _kern(w, W, T2)
+        C, S, Cp, co, si, so = _kern(w, W, T2)
         ec, es_ = c0 * C - s0 * S, s0 * C + c0 * S
         vc, vs_ = c0 * Cp - s0 * W * C, s0 * Cp + c0 * W * C
-        eT.append(co * es[j] + si / w * vs[j] + f * (ec * c + es_ * sn))
+        eT.append(co * es[j] + so * vs[j] + f * (ec * c + es_ * sn))
         vT.append(-w * si * es[j] + co * vs[j] + f * (vc * c + vs_ * sn))
     return eT, vT
 
