@@ -369,7 +369,7 @@ class Case:
         d["n"] = self.n_eff
         d["length"] = self.bar().length
         d.pop("label")
-        drop = tuple(FE_ONLY) if self.model == "chain" else ("m", "k")
+        drop = tuple(k for k in FE_ONLY if k != "supports") if self.model == "chain" else ("m", "k")
         if self.model == "continuum":
             drop += ("element", "mass", "grading", "mesh_file", "point_masses")
         if self.mesh_file is not None:

@@ -72,8 +72,8 @@ HELP = {
             "gravity": "a uniform acceleration g along the bar, > 0 towards the stop: the weight of the bar's masses "
                        "under g, beside the harmonic load; the bar starts in its static equilibrium [0]",
             "EI": "model = \"beam\": the bending stiffness E I [1]",
-            "supports": "model = \"beam\": clamped-free (a cantilever), pinned-pinned or clamped-clamped "
-                        "[clamped-free]",
+            "supports": "model = \"beam\": clamped-free (a cantilever), pinned-pinned or clamped-clamped; a cracked "
+                        "FE bar (`crack_at`): clamped-free or clamped-clamped [clamped-free]",
             "contact_at": "model = \"beam\": the stop's position on the beam [the tip of a cantilever, else "
                           "mid-span]",
             "crack_at": "model = \"fe\": a breathing crack at this vertex: the contact is the crack's faces (open in "
