@@ -57,7 +57,8 @@ RECIPES = (
         ("fig_4_energies", "fig4_energies.png"), ("fig_5_6_damping", "fig5_loss_damping.png"),
         ("fig_7_load_responses", "fig7_load_responses.png"), ("fig_8_xi_per_load", "fig8_xi_per_load.png"),
         ("real_motion", "survey.png"), ("impact_oscillator", "impact_oscillator.png"),
-        ("cantilever_stop", "cantilever_stop.png"), ("base_excited_cantilever", "base_excited_cantilever.png"))),
+        ("cantilever_stop", "cantilever_stop.png"), ("base_excited_cantilever", "base_excited_cantilever.png"),
+        ("cracked_bar", "cracked_bar.png"))),
     ((PLBAR + ("survey", "--gap", "1", "--amplitudes", "0.25", "0.5", "1", "2", "4", "8", "16", "--periods", "400",
                "--out", "{out}", "-q"),), {"survey_amplitudes.png": "survey_amplitudes.png"}),
 )
