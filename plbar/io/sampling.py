@@ -15,8 +15,10 @@ from typing import NamedTuple
 import numpy as np
 
 from ..errors import InputError, PlbarError
+from ..model import BeamOrigin
 from ..motion import Series
 from ..util.reprs import build, rng
+from .beamfields import beam_fields
 
 __all__ = ["ResponseData", "response_data", "motion_data", "nodal_stress", "FIELD_KEYS", "POINT_FIELDS",
            "CELL_FIELDS"]
@@ -261,21 +263,24 @@ class _Samples(NamedTuple):
 def _sampled(prob, times, sm: _Samples, info, extra=None) -> ResponseData:
     """The fields of the sampled states ``sm`` on the mesh of ``prob`` (``times`` the series' own)."""
     t_abs, t_loc, x, v, state, margin, ek, ep = sm
+    inI, zero = state == 1, np.zeros(t_loc.size)
+    opening = prob.gap - x[:, -1] if prob.gap else -x[:, -1]   # d - u, u the contact coordinate (FORMULATION §9)
+    field = {
+        "time": t_abs, "phase_time": t_loc, "state": state.astype(np.int32),
+        "contact_reaction": np.where(inI, margin, zero), "gap": np.where(inI, zero, opening),
+        "kinetic_energy": ek, "potential_energy": ep, **(extra or {}),
+    }
+    origin = prob.origin
+    if isinstance(origin, BeamOrigin):       # a beam: deflection, slope, moment, shear (plbar.io.beamfields)
+        st = prob.structure
+        pts, cells, point, cell = beam_fields(origin.beam, origin.asm, st.physical(x), st.physical(v), st.M)
+        return ResponseData(pts, cells, "line", times, point, cell, field, dict(info, cell_type="line"))
     pts, cells, ctype, EA, rA, at = _mesh(prob)
-    K = t_loc.size
-    opening = x[:, -1]                       # the contact coordinate u, last (FORMULATION §9)
     M = prob.system.M
     if prob.bar.crack_at is not None:        # a crack's contact coordinates are not its DOFs: x = B y
         x, v, M = prob.structure.physical(x), prob.structure.physical(v), prob.structure.M
     u, vel = _full(x, at, pts.size), _full(v, at, pts.size)
     em, sen, ped, ked = _densities(u, vel, pts, cells, ctype, EA, rA)
-    inI = state == 1
-    zero = np.zeros(K)
-    field = {
-        "time": t_abs, "phase_time": t_loc, "state": state.astype(np.int32),
-        "contact_reaction": np.where(inI, margin, zero), "gap": np.where(inI, zero, -opening),
-        "kinetic_energy": ek, "potential_energy": ep, **(extra or {}),
-    }
     zeros2 = np.zeros_like(u)
     point = {
         "displacement": u, "displacement_vec": np.stack([u, zeros2, zeros2], axis=-1),

@@ -15,7 +15,8 @@ cell data
 field data (``.vtu`` only; also in ``<name>_steps.csv``)
     ``time``, ``phase_time`` (time within the period), ``state`` (1 stuck,
     2 free), ``contact_reaction`` (``-R >= 0``, the force the wall pushes
-    with, Eq. (4); zero in state II), ``gap`` (``-x_c >= 0``, zero in state I),
+    with, Eq. (4); zero in state II), ``gap`` (the opening ``d - u >= 0`` of the contact coordinate ``u``:
+    ``-x_c`` at ``d = 0``; zero in state I),
     ``kinetic_energy``, ``potential_energy`` (Eqs. (12)-(13)),
     ``T1``, ``T2``, ``phi``, ``T``; a simulated motion (:func:`plbar.io.motion_data`)
     adds ``event`` (0 a regular sample, 1 the gap opens, 2 an impact, 3 an
