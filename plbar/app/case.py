@@ -28,8 +28,6 @@ __all__ = ["Case", "MODELS", "SIGNATURES"]
 MODELS = ("chain", "fe", "continuum", "beam", "matrices", "structure")
 #: grid steps per travel time L / c of the continuum's characteristics (its ``n``) when not given
 CONTINUUM_STEPS = 32
-#: default load of an FE bar: a unit point force at this fraction of the length (mid-bar, whatever the mesh)
-DEFAULT_FE_LOAD = 0.5
 
 
 def _refuse_zero(ld: Load) -> None:
@@ -80,7 +78,7 @@ class Case:
     load_points : tuple of (s, amplitude)
         Point forces at positions ``s`` in ``(0, L]``.  Without any load: a unit
         force on DOF 1 for the chain (the paper's case), a unit point force at
-        ``s = L / 2`` for an FE bar (a fixed physical position, whatever the mesh).
+        ``s = L / 2`` for an FE bar (a fixed physical position, whatever the mesh; :meth:`plbar.Bar.default_load`).
     grid : (int, int)
         Scan grid over ``(T^I, T^II)``.
     T1, T2 : (float, float), optional
@@ -241,7 +239,7 @@ class Case:
             if self.model == "chain":
                 object.__setattr__(self, "load_nodes", ((1, 1.0),))
             else:
-                object.__setattr__(self, "load_points", ((DEFAULT_FE_LOAD * bar.length, 1.0),))
+                object.__setattr__(self, "load_points", ((bar.default_load(), 1.0),))
         ld = Load(points=self.load_points, nodes=self.load_nodes, base=self.base)   # validates types and signs
         _refuse_zero(ld)
         ld.check(bar)

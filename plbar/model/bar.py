@@ -195,10 +195,7 @@ class Bar:
         x.setflags(write=False)
         object.__setattr__(self, "nodes", x)
 
-    @property
-    def length(self) -> float:
-        """Bar length ``L``."""
-        return float(self.nodes[-1])
+    length = property(lambda self: float(self.nodes[-1]), doc="Bar length ``L``.")
 
     @property
     def transit(self) -> float:
@@ -206,9 +203,7 @@ class Bar:
         ``N`` for the chain): forcing periods in units of it, ``T c / L``, are dimensionless in any units."""
         return float(np.sum(np.diff(self.nodes) / np.sqrt(np.asarray(self.EA, float) / np.asarray(self.rhoA, float))))
 
-    @property
-    def n_elements(self) -> int:
-        return self.nodes.size - 1
+    n_elements = property(lambda self: self.nodes.size - 1, doc="Number of elements.")
 
     @property
     def bar_mass(self) -> float:
@@ -220,6 +215,12 @@ class Bar:
         """Free DOFs (every node but the clamp; P2 adds a midside node per element; a crack adds its second face)."""
         return (self.n_elements * (1 if self.element == "P1" else 2) + (self.crack_at is not None)
                 - (self.supports == "clamped-clamped"))
+
+    def default_load(self) -> float:
+        """Where a unit force acts unless told: mid-bar (a fixed position, whatever the mesh), or mid-way along the
+        outer part of a bar cracked at mid-bar."""
+        s = 0.5 * self.length
+        return s if s != self.crack_at else 0.5 * (self.crack_at + self.length)
 
     def describe(self) -> str:
         return (f"{self.name}: {self.n_elements} {self.element} elements, {self.mass} mass, L = {self.length:g}"

@@ -109,6 +109,20 @@ def test_loads_and_models_a_crack_does_not_take_are_refused():
             plbar.Case(model=model, crack_at=0.5)
 
 
+def test_a_cracked_bars_loads_avoid_the_crack():
+    """The default load moves off a crack at mid-bar (to the outer part's middle); the load study's positions skip
+    the crack and a far clamp; sweep-loads (a bar against a stop at x = L) refuses a crack by name."""
+    from plbar.studies.loads import sweep_loads
+    from plbar.studies.survey.loads import load_positions
+
+    c = plbar.Case(model="fe", n=8, crack_at=0.5, supports="clamped-clamped")
+    assert c.load_points == ((0.75, 1.0),) and plbar.Case(model="fe").load_points == ((0.5, 1.0),)
+    s = load_positions(c, 2)
+    assert s.size == 16 - 2 and 0.5 not in s and 1.0 not in s and 0.4375 in s
+    with pytest.raises(InputError, match="sweep-loads"):
+        sweep_loads(c)
+
+
 def test_the_case_of_a_crack_round_trips_and_the_default_has_none():
     c = plbar.Case(model="fe", crack_at=0.5, supports="clamped-clamped", load_points=((0.25, 1.0),))
     d = c.to_dict()
@@ -160,15 +174,18 @@ def test_the_floating_part_leaves_the_crack_for_good(T):
 
 # -- an independent route between two clamps -------------------------------------------------------------------------
 
-@pytest.mark.parametrize("mass, e", [("lumped", 0.0), ("consistent", 0.0), ("consistent", 0.8)])
-def test_a_crack_between_two_clamps_is_the_integrators(mass, e):
+@pytest.mark.parametrize("mass, e, gap", [("lumped", 0.0, 0.0), ("consistent", 0.0, 0.0), ("consistent", 0.8, 0.0),
+                                          ("lumped", 0.0, 0.02), ("lumped", 0.0, -0.02)])
+def test_a_crack_between_two_clamps_is_the_integrators(mass, e, gap):
+    """Plastic and with rebounds; a crack open at rest (gap > 0) and one squeezed shut (gap < 0: held in its static
+    equilibrium with a compressive reaction)."""
     st = bar_structure(Bar(np.linspace(0.0, 1.0, 7), "P1", mass, crack_at=0.5, supports="clamped-clamped"),
-                       point(1 / 6), restitution=e)
+                       point(1 / 6), restitution=e, gap=gap)
     prob = plbar.problem(st)
     T, periods = 1.9, 6
     r = run(padded(prob), np.array([T]), 0.0, periods, periods)
     assert (r.events["kind"] == (REBOUND if e else IMPACT)).sum() >= periods
-    assert_same_motion(st, r, T, periods, state=0)
+    assert_same_motion(st, r, T, periods, state=1 if gap > 0 else 0)
 
 
 def test_the_cracks_xi_eq_halves_with_the_element_size():

@@ -260,6 +260,10 @@ def _paper_scan_only(case) -> None:
     if case.base:
         raise InputError(f"base = {case.base:g}: sweep-loads sweeps a unit force over the bar, and a shaking support "
                          "is not a force at a position; the periodic responses under the base: plbar run --base A")
+    if case.structure is None and case.model == "fe" and case.crack_at is not None:
+        raise InputError(f"crack_at = {case.crack_at:g}: sweep-loads sweeps a unit force over a bar against a stop at "
+                         "x = L (its load forms); a cracked bar's real motion at every load position: plbar survey "
+                         "--crack-at S --per-element K")
 
 
 def sweep_loads(case=None, out=None, positions=None, per_element: int = 50, pairs: bool = True, loads=(),

@@ -59,8 +59,8 @@ DEFAULT_POSITIONS = 20
 
 def load_positions(case: Case, per_element: int | None = None) -> np.ndarray:
     """Unit-force positions over the bar: ``per_element`` per element, ``left + k h / per_element`` for
-    ``k = 1 .. per_element`` (every node but the clamp, and points between; the chain's elements are its
-    springs).  Default: the fewest per element that give at least :data:`DEFAULT_POSITIONS`."""
+    ``k = 1 .. per_element`` (every node but the clamps and a crack, and points between; the chain's elements are
+    its springs).  Default: the fewest per element that give at least :data:`DEFAULT_POSITIONS`."""
     bar = case.bar()
     x = np.asarray(bar.nodes, float)
     x = np.unique(x[np.isfinite(x)])
@@ -70,7 +70,10 @@ def load_positions(case: Case, per_element: int | None = None) -> np.ndarray:
         raise InputError(f"per_element = {per_element!r} must be a positive integer (positions per element, "
                          "--per-element K)")
     k = np.arange(1, int(per_element) + 1) / int(per_element)
-    return (x[:-1, None] + k[None, :] * np.diff(x)[:, None]).ravel()
+    s = (x[:-1, None] + k[None, :] * np.diff(x)[:, None]).ravel()
+    held = ([bar.crack_at] if getattr(bar, "crack_at", None) is not None else []) + \
+        ([bar.length] if getattr(bar, "supports", "clamped-free") == "clamped-clamped" else [])
+    return s[~np.isin(s, held)]             # not on a crack (both faces) nor on a far clamp
 
 
 def _check_positions(case: Case, positions) -> np.ndarray:
