@@ -13,7 +13,7 @@ from ..util.record import Record, events
 from .accounts import bar_energy, strobe, velocity_square, work
 from .bar import ContinuumBar
 from .fields import Line
-from .stepper import IMPACT, OPENING, Start, march
+from .stepper import IMPACT, OPENING, Field, Start, march
 
 __all__ = ["ContinuumRun", "simulate"]
 
@@ -110,7 +110,9 @@ def simulate(bar: ContinuumBar, T: float, periods: int = 20, steps_per_L: int = 
         The last periods whose ``v2`` and grid states are kept (default ``min(periods, 10)``).
     hold : {None, "closed", "open"}
         Forbid opening (clamped-clamped) or impacts (free end with its mass) - the linear checks.
-    start : Start, optional
+    start : Start or Field, optional
+        A harmonic state (:class:`Start`), or a given field of displacement and velocity on the grid
+        (:class:`Field`: ``steps_per_L + 1`` values each); default the rest against the wall.
 
     Returns
     -------
@@ -129,10 +131,11 @@ def simulate(bar: ContinuumBar, T: float, periods: int = 20, steps_per_L: int = 
     mc = march(bar, T, periods, steps_per_L, phi, hold, start)
     h = mc.line
     ln = Line(h["t0"], h["t1"], h["a0"], h["a1"], h["C"], h["D"], mc.omega, phi, bar.q, bar.L, bar.c, bar.Z,
-              bar.s, start is None)
+              bar.s, not isinstance(start, Start))      # from rest, or a field: the load starts at t = 0
     keep = mc.events["time"] <= periods * T
     ev = events(*(mc.events[k][keep] for k in ("time", "kind", "loss")), v=mc.events["v"][keep])
-    st = start or Start()
+    st = Start(float(start.u[-1]), float(start.v[-1]), start.u[-1] == 0.0) if isinstance(start, Field) else \
+        start or Start()
     end = np.concatenate([[(st.u, st.v, float(st.stuck))], mc.strobes[:periods]])
     bounds = T * np.arange(periods + 1)
     energy = bar_energy(ln, bounds) + 0.5 * bar.end_mass * end[:, 1] ** 2

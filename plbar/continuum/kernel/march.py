@@ -208,10 +208,12 @@ def step(rec, ev, sv, k, nc, prm, ws):
 
 
 def _march(stamp):
-    def march(bar, load, start, T, periods, n, hold, merge):
+    def march(bar, load, start, T, periods, n, hold, merge, seed):
         """The whole march of ``bar`` under ``load`` from ``start`` at ``t = 0`` (:class:`.records.MarchBar`,
         :class:`.records.MarchLoad`, :class:`.records.MarchStart`) for ``periods`` of ``T`` on the grid
-        ``dt = L / (c n)``; ``hold`` 0 none, 1 closed, 2 open.  Returns ``(rec, ev, strobes, amp, status, t_err)``:
+        ``dt = L / (c n)``; ``hold`` 0 none, 1 closed, 2 open; ``seed`` (3, 2n) the delay line's past from a given
+        field (``a0, a1, jump`` of each grid step before ``t = 0``; ``seed.shape[1] == 0``: the harmonic past
+        ``C cos + D sin`` of ``start``).  Returns ``(rec, ev, strobes, amp, status, t_err)``:
         the record; ``ev`` (4, events) rows ``time, kind, v, loss``; ``strobes`` (3, periods) ``u, v, stuck`` at the
         period boundaries; ``amp`` (periods + 1) the largest ``-u`` per period; ``status`` 0, or 1 for chatter in the
         step at ``t_err``."""
@@ -228,6 +230,8 @@ def _march(stamp):
         for i in range(off):
             rec[0, i], rec[1, i], rec[2, i], rec[3, i], rec[4, i] = i - off, 0.0, dt, 0.0, 0.0
             rec[5, i], rec[6, i], rec[7, i] = sC, sD, 0.0
+            if seed.shape[1] == off:
+                rec[3, i], rec[4, i], rec[7, i] = seed[0, i], seed[1, i], seed[2, i]
             first[i] = i
         ev, strobes, amp = np.empty((4, 64)), np.zeros((3, periods)), np.zeros(periods + 1)
         ix = np.array([off, 0, 0, 1, 0], np.int64)
