@@ -19,5 +19,5 @@ from .series import ContinuumSeries
 from .simulate import ContinuumRun, simulate
 from .stepper import Field, Start
 
-__all__ = ["ContinuumBar", "from_case", "natural_periods", "simulate", "ContinuumRun", "ContinuumSeries", "Start", "Field",
-           "Harmonic", "held_closed", "held_open", "simulate_modal", "ModalRun", "ModalOptions"]
+__all__ = ["ContinuumBar", "from_case", "natural_periods", "simulate", "ContinuumRun", "ContinuumSeries", "Start",
+           "Field", "Harmonic", "held_closed", "held_open", "simulate_modal", "ModalRun", "ModalOptions"]
