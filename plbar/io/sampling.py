@@ -290,7 +290,8 @@ def _sampled(prob, times, sm: _Samples, info, extra=None) -> ResponseData:
         "kinetic_energy_nodal": _full(_nodal_kinetic(M, v), at, pts.size),
     }
     cell = {"strain": em, "stress": EA * em, "strain_energy": sen}
-    return ResponseData(pts, cells, ctype, times, point, cell, field, dict(info, cell_type=ctype))
+    crack = {} if prob.bar.crack_at is None else {"crack_at": prob.bar.crack_at, "supports": prob.bar.supports}
+    return ResponseData(pts, cells, ctype, times, point, cell, field, dict(info, cell_type=ctype, **crack))
 
 
 def motion_data(series, steps: int = 40, info: dict | None = None) -> ResponseData:

@@ -96,6 +96,8 @@ class _Scene:
     per_seg: int
     seg_cell: np.ndarray
     state: np.ndarray
+    crack: int | None = None      #: a cracked bar's inner face (the outer one is the next point): no segment joins them
+    far: str = "wall"             #: what is at x = L: the stop ("wall"), a clamp ("clamp") or nothing ("free")
 
     @property
     def L(self) -> float:
@@ -103,8 +105,13 @@ class _Scene:
 
 
 def _scene(data, field: str, scale) -> _Scene:
+    if "deflection" in data.point_data:
+        raise InputError("render draws a bar's axial motion; a beam's response is for ParaView: plbar export "
+                         "(Warp By Vector with displacement_vec)")
     vals, on_points = _field(data, field)
     x = np.asarray(data.points, float)
+    if np.any(np.diff(x) == 0):                               # a crack's two faces
+        return _cracked(data, field, scale, vals, on_points, x)
     u = np.asarray(data.point_data["displacement"])
     u = u[..., 0] if u.ndim == 3 else u
     T = float(data.info.get("T", data.times[-1] + (data.times[1] - data.times[0])))
@@ -119,6 +126,26 @@ def _scene(data, field: str, scale) -> _Scene:
                   data.field_data.get("state", np.zeros(data.n_steps, int)))
 
 
+def _cracked(data, field, scale, vals, on_points, x) -> _Scene:
+    """:func:`_scene` of a cracked bar: each segment between consecutive points is in the cell holding both, the
+    crack's (two coincident points) in none."""
+    i = int(np.flatnonzero(np.diff(x) == 0)[0])
+    cells = np.sort(np.asarray(data.cells), axis=1)
+    seg_cell = np.zeros(x.size - 1, int)
+    for c, cell in enumerate(cells):
+        seg_cell[cell[0]:cell[-1]] = c
+    u = np.asarray(data.point_data["displacement"])
+    T = float(data.info.get("T", data.times[-1] + (data.times[1] - data.times[0])))
+    t_loc = np.mod(data.times, T) if "phase_time" not in data.field_data else data.field_data["phase_time"]
+    umax = float(np.max(np.abs(u)))
+    scale = (0.1 * float(x[-1]) / umax if umax > 0 else 1.0) if scale is None else scale
+    clim, cmap = _clim(vals, field in SIGNED)
+    far = "clamp" if data.info.get("supports") == "clamped-clamped" else "free"
+    return _Scene(data, field, vals, on_points, x, u, T, t_loc, np.flatnonzero(data.times < T * (1 - 1e-12)),
+                  float(scale), clim, cmap, 1 if cells.shape[1] == 2 else 2, seg_cell,
+                  data.field_data.get("state", np.zeros(data.n_steps, int)), i, far)
+
+
 def _geometry(sc: _Scene, k: int, ref: np.ndarray, r: float):
     """The bar at frame ``k``: tube coloured by the field, node dots, and links to the undeformed nodes."""
     import pyvista as pv
@@ -126,11 +153,13 @@ def _geometry(sc: _Scene, k: int, ref: np.ndarray, r: float):
     x = sc.x
     verts_idx = np.r_[0:x.size:sc.per_seg]
     pts = np.c_[x + sc.scale * sc.u[k], np.zeros_like(x), np.zeros_like(x)]
-    line = pv.lines_from_points(pts)
+    seg = np.arange(x.size - 1) if sc.crack is None else np.delete(np.arange(x.size - 1), sc.crack)
+    line = pv.lines_from_points(pts) if sc.crack is None else \
+        pv.PolyData(pts, lines=np.c_[np.full(seg.size, 2), seg, seg + 1].ravel())   # no segment across a crack
     if sc.on_points:
         line.point_data[sc.field] = sc.vals[k]
     else:
-        line.cell_data[sc.field] = sc.vals[k][sc.seg_cell]
+        line.cell_data[sc.field] = sc.vals[k][sc.seg_cell[seg]]
     conn = np.empty((2 * verts_idx.size, 3))
     conn[0::2] = ref[verts_idx]
     conn[1::2] = pts[verts_idx] + np.array([0.0, -r, 0.0])
@@ -147,7 +176,10 @@ def _static(p, sc: _Scene, ref: np.ndarray) -> None:
     with _quiet():
         p.enable_anti_aliasing("msaa")
     p.add_mesh(pv.Box((-0.04 * L, 0.0, -0.12 * L, 0.12 * L, -0.05 * L, 0.05 * L)), color="#6b6b6b")
-    p.add_mesh(pv.Box((L, L + 0.03 * L, -0.12 * L, 0.12 * L, -0.05 * L, 0.05 * L)), color="#3a3a3a")
+    if sc.far == "wall":                                      # the stop; a far clamp as the one at x = 0
+        p.add_mesh(pv.Box((L, L + 0.03 * L, -0.12 * L, 0.12 * L, -0.05 * L, 0.05 * L)), color="#3a3a3a")
+    elif sc.far == "clamp":
+        p.add_mesh(pv.Box((L, L + 0.04 * L, -0.12 * L, 0.12 * L, -0.05 * L, 0.05 * L)), color="#6b6b6b")
     p.add_mesh(pv.lines_from_points(ref), color="#9a9a9a", line_width=2)
     p.add_mesh(pv.PolyData(ref[np.r_[0:sc.x.size:sc.per_seg]]), color="#9a9a9a", point_size=7,
                render_points_as_spheres=True)

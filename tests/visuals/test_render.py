@@ -51,3 +51,30 @@ def render_(*a, **k):
 def _stats_img(im):
     a = np.asarray(im.convert("RGB"), dtype=float)
     return a.std(), np.unique(a.reshape(-1, 3), axis=0).shape[0], a.shape
+
+
+def test_a_cracked_bar_is_drawn_open_at_its_crack(tmp_path):
+    """A crack between two clamps: no segment joins the faces (the tube splits where the crack opens), a clamp and no
+    stop at x = L; the scene's segments map to the cells that hold them; a beam is refused by name."""
+    import plbar
+    from plbar import io as pio
+    from plbar.visuals.render import _scene
+
+    c = plbar.Case(model="fe", n=8, crack_at=0.5, supports="clamped-clamped", load_points=((0.25, 1.0),),
+                   signatures="paper", grid=(60, 60))
+    b = max(plbar.solve(c).paths.branches, key=lambda b: b.xi.max())
+    d = pio.response_data(b.orbits.take([0]), {}, steps=8)
+    sc = _scene(d, "strain", None)
+    assert sc.crack == 4 and sc.far == "clamp" and sc.x[4] == sc.x[5] == 0.5
+    assert np.array_equal(sc.seg_cell[np.r_[0:4, 5:9]], np.arange(8))
+    from plbar.visuals.render import render
+
+    f = render(d, tmp_path, field="strain", snapshots=2, gif=False)
+    std, colours, _ = _stats(f.montage)
+    assert std > 10 and colours > 20
+    from plbar.io.beamfields import BEAM_POINT_FIELDS
+
+    beam = pio.ResponseData(d.points, d.cells, d.cell_type, d.times, {k: d.point_data["displacement"]
+                                                                     for k in BEAM_POINT_FIELDS}, {}, d.field_data, {})
+    with pytest.raises(InputError, match="beam"):
+        render(beam, tmp_path / "beam", gif=False)
