@@ -110,8 +110,6 @@ def _scene(data, field: str, scale) -> _Scene:
                          "(Warp By Vector with displacement_vec)")
     vals, on_points = _field(data, field)
     x = np.asarray(data.points, float)
-    if np.any(np.diff(x) == 0):                               # a crack's two faces
-        return _cracked(data, field, scale, vals, on_points, x)
     u = np.asarray(data.point_data["displacement"])
     u = u[..., 0] if u.ndim == 3 else u
     T = float(data.info.get("T", data.times[-1] + (data.times[1] - data.times[0])))
@@ -121,29 +119,23 @@ def _scene(data, field: str, scale) -> _Scene:
         scale = 0.1 * float(x[-1]) / umax if umax > 0 else 1.0
     clim, cmap = _clim(vals, field in SIGNED)
     per_seg = (x.size - 1) // data.cells.shape[0]             # 1 for P1, 2 for P2
+    seg_cell, crack, far = np.arange(x.size - 1) // per_seg, None, "wall"
+    if np.any(np.diff(x) == 0):                               # a crack's two faces
+        per_seg, seg_cell, crack, far = _cracked(data, x)
     return _Scene(data, field, vals, on_points, x, u, T, t_loc, np.flatnonzero(data.times < T * (1 - 1e-12)),
-                  float(scale), clim, cmap, per_seg, np.arange(x.size - 1) // per_seg,
-                  data.field_data.get("state", np.zeros(data.n_steps, int)))
+                  float(scale), clim, cmap, per_seg, seg_cell,
+                  data.field_data.get("state", np.zeros(data.n_steps, int)), crack, far)
 
 
-def _cracked(data, field, scale, vals, on_points, x) -> _Scene:
-    """:func:`_scene` of a cracked bar: each segment between consecutive points is in the cell holding both, the
-    crack's (two coincident points) in none."""
-    i = int(np.flatnonzero(np.diff(x) == 0)[0])
+def _cracked(data, x):
+    """A cracked bar's ``per_seg, seg_cell, crack, far`` (:class:`_Scene`): each segment between consecutive points
+    is in the cell holding both, the crack's (two coincident points) in none; a clamp or nothing at ``x = L``."""
     cells = np.sort(np.asarray(data.cells), axis=1)
     seg_cell = np.zeros(x.size - 1, int)
     for c, cell in enumerate(cells):
         seg_cell[cell[0]:cell[-1]] = c
-    u = np.asarray(data.point_data["displacement"])
-    T = float(data.info.get("T", data.times[-1] + (data.times[1] - data.times[0])))
-    t_loc = np.mod(data.times, T) if "phase_time" not in data.field_data else data.field_data["phase_time"]
-    umax = float(np.max(np.abs(u)))
-    scale = (0.1 * float(x[-1]) / umax if umax > 0 else 1.0) if scale is None else scale
-    clim, cmap = _clim(vals, field in SIGNED)
     far = "clamp" if data.info.get("supports") == "clamped-clamped" else "free"
-    return _Scene(data, field, vals, on_points, x, u, T, t_loc, np.flatnonzero(data.times < T * (1 - 1e-12)),
-                  float(scale), clim, cmap, 1 if cells.shape[1] == 2 else 2, seg_cell,
-                  data.field_data.get("state", np.zeros(data.n_steps, int)), i, far)
+    return 1 if cells.shape[1] == 2 else 2, seg_cell, int(np.flatnonzero(np.diff(x) == 0)[0]), far
 
 
 def _geometry(sc: _Scene, k: int, ref: np.ndarray, r: float):
