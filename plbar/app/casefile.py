@@ -343,8 +343,8 @@ def dump_case(case, output: OutputSettings | None = None) -> str:
     elif case.model == "beam":
         keys = ("length", "EI", "rhoA", "supports", "contact_at")
     else:
-        keys = ("element", "mass", "length", "EA", "rhoA", "grading") + (("crack_at",) if case.crack_at is not None
-                                                                         else ())
+        keys = ("element", "mass", "length", "EA", "rhoA", "grading") + (("crack_at", "supports")
+                                                                         if case.crack_at is not None else ())
     for k in keys:
         lines.append(f"{k} = {_fmt(getattr(case, k))}")
     if case.model == "fe" and case.mesh_file:

@@ -25,7 +25,7 @@ SIGNATURES = ("default", "paper", "all")    #: which periodic responses a solve 
 #: matrices
 BAR_OPTIONS = ("n", "element", "mass", "length", "EA", "rhoA", "m", "k", "grading", "mesh_file", "point_masses",
                "end_mass", "end_mass_absolute", "load_nodes", "load_points", "rayleigh", "restitution", "load_scale",
-               "gap", "gravity", "base", "crack_at")
+               "gap", "gravity", "base", "crack_at", "supports")
 #: the options a structure holds itself (a case built from one carries the structure's values)
 OWN = ("rayleigh", "restitution", "gap")
 

@@ -241,3 +241,16 @@ def test_the_cli_takes_a_crack_and_answers_a_floating_one_by_the_theorem(tmp_pat
     assert summary["case"]["crack_at"] == 0.5 and summary["case"]["supports"] == "clamped-clamped"
     assert main(["run", "--model", "fe", "-N", "6", "--crack-at", "0.5", "--load-at", "1", "--no-plot", "--quiet",
                  "--out", str(tmp_path / "floating")]) == 2
+
+
+def test_a_cracks_case_file_round_trips():
+    from plbar.app.casefile import dump_case, loads_case
+
+    c = plbar.Case(model="fe", n=8, crack_at=0.5, supports="clamped-clamped", load_points=((0.25, 1.0),), gap=0.01)
+    text = dump_case(c)
+    assert "crack_at = 0.5" in text and 'supports = "clamped-clamped"' in text
+    back = loads_case(text)
+    back = back[0] if isinstance(back, tuple) else back
+    assert back.to_dict() == c.to_dict()
+    with pytest.raises(InputError, match="supports"):
+        plbar.Case(structure=c.problem().structure, supports="clamped-clamped")
