@@ -48,6 +48,7 @@ def test_the_static_equilibria_are_the_bars(element, mass):
     assert away.rest_state == 1 and away.x2[-1] == pytest.approx(-g / 2, rel=1e-12)
 
 
+@pytest.mark.slow                    # long: with the slow tests (the default suite under 10 minutes)
 def test_the_commands_take_it_or_say_why_not(tmp_path):
     run = [sys.executable, "-m", "plbar"]
     ok = subprocess.run(run + ["run", "--gravity", "0.05", "--no-plot", "--quiet", "--out", str(tmp_path / "r")],

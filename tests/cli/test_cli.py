@@ -111,7 +111,7 @@ CASES = sorted((__import__("pathlib").Path(__file__).resolve().parents[2] / "exa
 #: the load at another node; tests/app/test_casefile.py solves fe_p2_consistent; the damped case's every signature,
 #: 88 s, stands beside tests/periodic/test_hybrid.py's damped responses of every signature)
 SLOW_CASES = {"paper_sec41", "chain_N4_node1", "chain_N6_node1", "paper_sec42_node3", "paper_sec42_node4",
-              "fe_p2_consistent", "paper_sec41_rayleigh_2pct"}
+              "fe_p2_consistent", "paper_sec41_rayleigh_2pct", "paper_sec42_node2", "paper_sec42_split_075_025"}
 
 
 @pytest.mark.parametrize("path", [pytest.param(p, marks=pytest.mark.slow) if p.stem in SLOW_CASES else p

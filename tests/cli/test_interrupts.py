@@ -138,7 +138,7 @@ def test_interrupted_while_compiling_exits_at_once(tmp_path, args):
 
 
 @pytest.mark.parametrize("args, name", [([*RUN, "--signatures", "paper"], "paths.csv"),
-                                        (["refine", *REFINE], "refine.csv"),
+                                        pytest.param(["refine", *REFINE], "refine.csv", marks=pytest.mark.slow),
                                         (SURVEY, "survey.csv")], ids=["run", "refine", "survey"])
 def test_interrupted_while_writing_leaves_no_partial_file(tmp_path, args, name):
     """Ctrl-C in the middle of writing the command's table: exit 130 within 2 s, the temporary removed, no table

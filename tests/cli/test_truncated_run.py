@@ -20,6 +20,7 @@ CASE = ["--model", "fe", "-N", "20", "--modes", "5"]
 
 
 @pytest.mark.filterwarnings("ignore::plbar.errors.TruncationWarning")
+@pytest.mark.slow                    # long: with the slow tests (the default suite under 10 minutes)
 def test_a_truncated_fe_case_with_every_signature_is_solved():
     """As cheap as the full model's search, and its paper's class the same as without the search."""
     case = plbar.Case(model="fe", n=20, modes=5)

@@ -47,6 +47,7 @@ def test_the_fields_sum_to_the_beams_energies():
     np.testing.assert_allclose(point["kinetic_energy_nodal"].sum(axis=1), ke, rtol=1e-12)
 
 
+@pytest.mark.slow                    # long: with the slow tests (the default suite under 10 minutes)
 def test_plbar_export_writes_a_beams_response(tmp_path):
     meshio = pytest.importorskip("meshio")
     from plbar.cli import main

@@ -41,6 +41,7 @@ def test_a_structure_file_round_trips_exactly(tmp_path):
     assert back.fingerprint == st.fingerprint
 
 
+@pytest.mark.slow                    # long: with the slow tests (the default suite under 10 minutes)
 def test_the_default_case_from_its_matrices_is_the_default_case(tmp_path):
     """Every branch of every signature, bit for bit (the contact row e_c: nothing is transformed)."""
     f = _chain_file(tmp_path)

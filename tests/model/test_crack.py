@@ -152,7 +152,7 @@ def test_a_floating_crack_has_no_periodic_contact_by_brute_force():
     assert sum(len(b.T) for b in paths.branches) == 0
 
 
-@pytest.mark.parametrize("T", [1.3, 3.1])
+@pytest.mark.parametrize("T", [1.3, pytest.param(3.1, marks=pytest.mark.slow)])
 def test_the_floating_part_leaves_the_crack_for_good(T):
     """From rest, held: the test's integrator and plbar's simulator agree event by event, every impact pushes the
     outer part away (its momentum along the rigid mode grows), and after a few contacts none comes again."""

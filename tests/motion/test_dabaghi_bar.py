@@ -38,7 +38,7 @@ def _first_period(n: int, element: str, mass: str):
     return release, t[kind == 2].min(), ev["loss"].sum() / E0
 
 
-@pytest.mark.parametrize("element", ["P1", "P2"])
+@pytest.mark.parametrize("element", ["P1", pytest.param("P2", marks=pytest.mark.slow)])   # P2: the longest
 @pytest.mark.parametrize("mass", ["lumped", "consistent"])
 def test_the_fe_bar_converges_to_dabaghis_closed_form(element, mass):
     rows = np.array([_first_period(n, element, mass) for n in NS])

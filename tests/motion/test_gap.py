@@ -31,7 +31,8 @@ def _gapped(case: plbar.Case, d: float, scale: float = 1.0) -> plbar.Problem:
 CASES = {"chain": plbar.Case(), "fe consistent": plbar.Case(model="fe", n=6, element="P1", mass="consistent")}
 
 
-@pytest.mark.parametrize("name", list(CASES))
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n == "fe consistent" else n
+                                  for n in CASES])     # the FE bar's, the longest, with the slow tests
 @pytest.mark.parametrize("d", [0.4, -0.3])
 def test_the_motion_with_a_gap_is_the_integrators(name, d):
     case = CASES[name]

@@ -33,7 +33,8 @@ CASES = {"chain, gap 0.5": lambda: plbar.Case(gap=0.5),
          "fe consistent, gap 0.02": lambda: plbar.Case(model="fe", n=6, mass="consistent", gap=0.02)}
 
 
-@pytest.mark.parametrize("name", list(CASES))
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n.startswith("fe") else n
+                                  for n in CASES])     # the FE bar's, the longest, with the slow tests
 def test_every_branch_replays(name):
     res = plbar.solve(CASES[name]())
     st = res.prob.structure

@@ -18,8 +18,9 @@ def test_every_figure_family_has_a_script():
         assert k in names
 
 
-#: the longest scripts run with the slow tests (fig_2 and fig_4 keep the scripts' path in the default run)
-SLOW = {"fig_3_time_histories", "fig_5_6_damping", "fig_7_load_responses", "fig_8_xi_per_load", "fig_9_xi_position"}
+#: the longest scripts run with the slow tests (fig_2 keeps the scripts' path in the default run)
+SLOW = {"fig_3_time_histories", "fig_4_energies", "fig_5_6_damping", "fig_7_load_responses", "fig_8_xi_per_load",
+        "fig_9_xi_position"}
 
 
 @pytest.mark.parametrize("script", [pytest.param(s, marks=pytest.mark.slow) if s.stem in SLOW else s

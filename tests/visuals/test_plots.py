@@ -167,6 +167,7 @@ def test_render_scalar_bar_title_is_above_its_top_label():
         assert px + 10 * len("kinetic energy density") <= size[0]
 
 
+@pytest.mark.slow                    # long: with the slow tests (the default suite under 10 minutes)
 def test_refine_plot_titles_have_no_internal_names(tmp_path, monkeypatch):
     from plbar.cli import main
     from plbar.visuals import convergence as vc

@@ -81,6 +81,7 @@ def test_summary_lists_every_signature_once_the_papers_first(default_run):
     assert f"the paper's class (1P): {n1p} branches" in text and int(rows[0][1]) == n1p
 
 
+@pytest.mark.slow                    # long: with the slow tests (the default suite under 10 minutes)
 def test_times_of_the_papers_class_and_the_search_apart(monkeypatch):
     """The search's own work (here a stand-in taking 0.4 s) is not charged to the paper's class."""
     from plbar.app import run as app_run
