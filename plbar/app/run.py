@@ -133,6 +133,13 @@ NO_PERIODIC_CONTACT = ("no periodic response with a contact exists: the free sta
                        "crack that keeps breathing")
 
 
+#: the answer of :func:`solve` for a structure whose constant load pushes a rigid motion of the free state
+RIGID_LOAD = ("the constant load (gravity, a prestress) pushes a rigid-body motion of the free state (a body dropped "
+              "on the stop, a crack pressed shut): the periodic solvers do not take it yet; the motion from rest or "
+              "from a given start is exact (plbar.simulate, plbar survey), and over any periodic motion the mean "
+              "contact force equals the load on the rigid motion (docs/free_body.md)")
+
+
 def solve(case: Case | Structure | None = None, progress: bool = False) -> Result:
     """Solve ``case`` (default: the paper's chain N = 5, unit force on DOF 1): every periodic response.
 
@@ -165,6 +172,8 @@ def solve(case: Case | Structure | None = None, progress: bool = False) -> Resul
     check_grid(case.grid, stacklevel=3)
     t0 = time.perf_counter()
     prob = case.problem()
+    if prob.statics.accel is not None:
+        raise InputError(RIGID_LOAD)
     if prob.system.floating:
         raise InputError(NO_PERIODIC_CONTACT)
     domain = case.domain(prob)

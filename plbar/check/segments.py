@@ -73,6 +73,10 @@ def _model(prob) -> _Model:
     n = M.shape[0]
     if q.shape != (n,) or not np.all(np.isfinite(q)):
         raise InputError(f"load vector prob.q must be finite and of length {n}, got shape {q.shape}")
+    if getattr(prob, "affine", False):
+        raise InputError(f"plbar.simulate (the sampling check) takes no gap and no constant load ({prob.static_part}):"
+                         " its flows are the paper's; simulate the case with plbar.motion.run (a given start: "
+                         "plbar.motion.given), which takes both")
     Mrr = M[:-1, :-1]
     Mrr_inv = np.linalg.inv(Mrr)
     V1, V2 = np.asarray(s.V1, float), np.asarray(s.V2, float)

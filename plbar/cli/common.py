@@ -152,9 +152,11 @@ def _section_args(g) -> None:
                         "c = sqrt(EA/rhoA) [1]")
     g.add_argument("--EI", type=float, default=None, metavar="EI",
                    help="the beam's bending stiffness E I (--model beam) [1]")
-    g.add_argument("--supports", choices=("clamped-free", "pinned-pinned", "clamped-clamped"), default=None,
-                   help="the beam's supports (--model beam), or a cracked FE bar's (clamped-free, "
-                        "clamped-clamped; with --crack-at) [clamped-free: a cantilever]")
+    g.add_argument("--supports", choices=("clamped-free", "pinned-pinned", "clamped-clamped", "free-free"),
+                   default=None,
+                   help="the beam's supports (--model beam), a cracked FE bar's (clamped-free, clamped-clamped; "
+                        "with --crack-at), or free-free: an FE bar with no support, a free body (dropped on the "
+                        "stop with --gravity) [clamped-free: a cantilever]")
     g.add_argument("--contact-at", type=float, default=None, metavar="S",
                    help="the stop's position on the beam (--model beam) [the tip of a cantilever, else mid-span]")
     g.add_argument("--crack-at", type=float, default=None, metavar="S",
@@ -227,7 +229,8 @@ def note_no_contact_mass(a, case) -> None:
     bar = case.bar()
     if bar.crack_at is not None:
         message(CRACK_NO_MASS)
-        if case.problem().system.floating:
+        prob = case.problem()
+        if prob.system.floating and prob.statics.accel is None:
             message(FLOATING)
         return
     x = np.asarray(bar.nodes, float)

@@ -86,7 +86,7 @@ def _mesh(prob):
     bar, asm = prob.bar, prob.asm
     if bar is None or asm is None:
         raise InputError("export needs a Problem built from a Bar (plbar.problem or Case.problem)")
-    if bar.crack_at is not None:
+    if bar.crack_at is not None or bar.supports == "free-free":
         return _split_mesh(bar, asm)
     xd = np.asarray(asm.basis.doflocs[0], float)
     pts = np.sort(xd)
@@ -104,9 +104,9 @@ def _mesh(prob):
 
 
 def _split_mesh(bar, asm):
-    """:func:`_mesh` of a cracked bar (:mod:`plbar.model.crack`): every basis DOF a point, sorted as the free DOFs
-    are (the crack's inner face before its outer one), the cells the basis' own elements (the two faces are two
-    points of no common cell: the opening shows), a far clamp a point held at 0."""
+    """:func:`_mesh` of a cracked bar (:mod:`plbar.model.crack`) or one with no support: every basis DOF a point,
+    sorted as the free DOFs are (the crack's inner face before its outer one), the cells the basis' own elements
+    (the two faces are two points of no common cell: the opening shows), a clamp a point held at 0."""
     xd = np.asarray(asm.basis.doflocs[0], float)
     order = np.argsort(xd, kind="stable")
     at = np.empty(xd.size, int)

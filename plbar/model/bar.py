@@ -10,7 +10,7 @@ A cracked bar (``crack_at = s``, issue 41 item 3) has no stop: its node at ``s``
 crack's faces (the inner one ends the elements on ``[0, s]``, the outer one starts those on ``[s, L]``: the
 mesh is split there, so no element couples them), and the contact is their relative displacement, which closes
 the crack (:meth:`Assembled.contact_row`); the end ``x = L`` is free.  Held, the faces move together and the bar
-is whole; open, the outer part floats (a rigid-body mode, FORMULATION §9).
+is whole; open, the outer part floats (a rigid-body mode, FORMULATION §9); so does a bar with no support at all.
 """
 
 from __future__ import annotations
@@ -22,14 +22,15 @@ import numpy as np
 from ..util.check import choice, finite, integer, pairs, positive, show
 from ..util.reprs import build, rng
 from ..errors import InputError
-from .crack import crack_position, split_mesh
+from .crack import split_mesh, supported_crack
 
 __all__ = ["BAR_SUPPORTS", "Bar", "Assembled", "assemble", "chain", "uniform_bar", "graded_nodes", "uniform_nodes",
            "redistributed_block"]
 
 ELEMENTS = ("P1", "P2")
-#: a bar's supports: clamped at x = 0, and at x = L free (the stop there, or a crack's free end) or clamped
-BAR_SUPPORTS = ("clamped-free", "clamped-clamped")
+#: a bar's supports: clamped at x = 0, and at x = L free (the stop there, or a crack's free end) or clamped; or no
+#: support at all (a free body: the bar dropped or thrown at the stop at x = L)
+BAR_SUPPORTS = ("clamped-free", "clamped-clamped", "free-free")
 MASSES = ("lumped", "consistent", "redistributed")
 
 
@@ -144,8 +145,10 @@ class Bar:
     crack_at : float, optional
         A breathing crack at the interior vertex ``s`` (module docstring): the contact is the crack, the end
         ``x = L`` is free.  None (the default): no crack, the stop at ``x = L``.
-    supports : {"clamped-free", "clamped-clamped"}
-        The end ``x = L`` free (the default) or clamped too (a cracked bar only: its contact is the crack).
+    supports : {"clamped-free", "clamped-clamped", "free-free"}
+        The end ``x = L`` free (the default) or clamped too (a cracked bar only: its contact is the crack); or
+        ``"free-free"``, no clamp at all: a free body (its free state moves as a rigid body), the stop at ``x = L``
+        (Doyen, Ern and Piperno's falling bar, with ``gravity``).
     """
 
     nodes: np.ndarray
@@ -177,17 +180,13 @@ class Bar:
             xp = finite("point mass position x", xp, f"a free vertex of the mesh in (0, {x[-1]:g}]")
             mp = positive("point mass", mp)
             j = np.flatnonzero(np.isclose(x, xp, rtol=0, atol=1e-12 * x[-1]))
-            if j.size != 1 or j[0] == 0:
+            if j.size != 1 or (j[0] == 0 and self.supports != "free-free"):
                 raise InputError(f"point mass position x = {show(xp)} is not allowed; it must be a free vertex "
                                  f"of the mesh in (0, {x[-1]:g}]")
             pm.append((float(x[j[0]]), mp))
         object.__setattr__(self, "point_masses", tuple(pm))
         choice("supports", self.supports, BAR_SUPPORTS)
-        if self.crack_at is not None:
-            object.__setattr__(self, "crack_at", crack_position(x, self.crack_at, self.mass, pm, self.supports))
-        elif self.supports != "clamped-free":
-            raise InputError(f"supports = {self.supports!r}: a bar clamped at both ends has no stop; its contact "
-                             "can only be a crack (crack_at = S, --crack-at S)")
+        object.__setattr__(self, "crack_at", supported_crack(x, self.crack_at, self.mass, pm, self.supports))
         if self.mass == "redistributed" and not any(xp == x[-1] for xp, _ in pm):
             raise InputError("mass = 'redistributed' leaves the contact node without the bar's inertia, so it "
                              "needs an end mass there: give end_mass > 0 (--end-mass M, or a point mass at "
@@ -214,7 +213,7 @@ class Bar:
     def n_dofs(self) -> int:
         """Free DOFs (every node but the clamp; P2 adds a midside node per element; a crack adds its second face)."""
         return (self.n_elements * (1 if self.element == "P1" else 2) + (self.crack_at is not None)
-                - (self.supports == "clamped-clamped"))
+                - (self.supports == "clamped-clamped") + (self.supports == "free-free"))
 
     def default_load(self) -> float:
         """Where a unit force acts unless told: mid-bar (a fixed position, whatever the mesh), or mid-way along the
@@ -226,7 +225,8 @@ class Bar:
         return (f"{self.name}: {self.n_elements} {self.element} elements, {self.mass} mass, L = {self.length:g}"
                 + (f", point masses {list(self.point_masses)}" if self.point_masses else "")
                 + (f", a crack at x = {self.crack_at:g}" if self.crack_at is not None else "")
-                + (", clamped at both ends" if self.supports == "clamped-clamped" else ""))
+                + (", clamped at both ends" if self.supports == "clamped-clamped" else "")
+                + (", free at both ends (no support)" if self.supports == "free-free" else ""))
 
 
 
@@ -391,7 +391,8 @@ def assemble(bar: Bar) -> Assembled:
     for xp, mp in bar.point_masses:
         j = int(np.argmin(np.abs(xd - xp)))
         M[j, j] += mp
-    free = np.flatnonzero((xd > 0.0) & ((xd < bar.length) if bar.supports == "clamped-clamped" else True))
+    free = np.flatnonzero(((xd > 0.0) | (bar.supports == "free-free"))
+                          & ((xd < bar.length) if bar.supports == "clamped-clamped" else True))
     free = free[np.argsort(xd[free], kind="stable")]     # a crack's inner face (a lower DOF index) before its outer
     xf = xd[free]
     crack = None if bar.crack_at is None else int(np.flatnonzero(xf == bar.crack_at)[0])

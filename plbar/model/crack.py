@@ -16,7 +16,22 @@ import numpy as np
 from ..errors import InputError
 from ..util.check import finite, show
 
-__all__ = ["crack_position", "split_mesh"]
+__all__ = ["crack_position", "split_mesh", "supported_crack"]
+
+
+def supported_crack(x: np.ndarray, s, mass: str, point_masses, supports: str) -> float | None:
+    """A bar's crack (None: none) checked with its supports (:data:`plbar.model.bar.BAR_SUPPORTS`): a crack needs
+    the clamp at ``x = 0`` (with none both parts would float), and a bar clamped at both ends needs a crack (it has
+    no stop otherwise)."""
+    if s is not None:
+        if supports == "free-free":
+            raise InputError("a crack in a bar with no support: both parts would float; clamp it at x = 0 "
+                             "(supports = 'clamped-free' or 'clamped-clamped')")
+        return crack_position(x, s, mass, point_masses, supports)
+    if supports == "clamped-clamped":
+        raise InputError(f"supports = {supports!r}: a bar clamped at both ends has no stop; its contact "
+                         "can only be a crack (crack_at = S, --crack-at S)")
+    return None
 
 
 def crack_position(x: np.ndarray, s, mass: str, point_masses, supports: str = "clamped-free") -> float:

@@ -92,10 +92,12 @@ class Load:
     def check(self, bar: Bar) -> None:
         """Raise unless every force acts on ``bar``: positions in ``(0, L]`` away from the clamp, DOFs in range."""
         L = bar.length
+        free = bar.supports == "free-free"                       # no clamp at x = 0: a force may act there
         for s, _ in self.points:
-            if not (0.0 < s <= L * (1 + 1e-14)):
-                raise InputError(f"load position s = {show(s)} is outside the bar; it must lie in (0, {L:g}]")
-            if s < MIN_POSITION * L:
+            if not ((0.0 <= s if free else 0.0 < s) and s <= L * (1 + 1e-14)):
+                raise InputError(f"load position s = {show(s)} is outside the bar; it must lie in "
+                                 f"{'[' if free else '('}0, {L:g}]")
+            if s < MIN_POSITION * L and not free:
                 raise InputError(f"load position s = {show(s)} is at the clamped end x = 0; it must lie in "
                                  f"[{MIN_POSITION:g} L, L] = [{MIN_POSITION * L:g}, {L:g}]")
             if bar.supports == "clamped-clamped" and s > L * (1 - MIN_POSITION):
@@ -104,6 +106,9 @@ class Load:
             if bar.crack_at is not None and s == bar.crack_at:
                 raise InputError(f"load position s = {show(s)} is at the crack, on both faces; put the force on one "
                                  "side of it")
+        if self.base and bar.supports == "free-free":
+            raise InputError("a base excitation shakes the bar's support, and a bar with supports = 'free-free' "
+                             "has none; load it by forces (or clamp it)")
         for k, _ in self.nodes:
             if not 1 <= k <= bar.n_dofs:
                 raise InputError(f"load node = {k} is out of range; free DOFs are numbered 1..{bar.n_dofs}")

@@ -88,10 +88,12 @@ def floats(w: np.ndarray, V: np.ndarray) -> bool:
 
     Over one period of a periodic motion the momentum ``p = v^T M x'`` of a rigid mode ``v`` (``K v = 0``, and
     ``C v = 0``: Rayleigh ``alpha = 0``, the only damping taken with rigid modes) returns to its value, and
-    ``p' = v^T q cos(W t - phi) + v^T q_s + v_c lam``: the harmonic force integrates to 0 over the period and
-    ``v^T q_s = 0`` (a constant load on the rigid motion is refused, :func:`plbar.model.statics.statics`), so
-    ``v_c int lam dt = 0`` while ``lam <= 0`` (the stop only pushes, impulses included): the contact force and every
-    impulse vanish.  Every contact pushes the floating part away, and nothing brings it back on average.
+    ``p' = v^T q cos(W t - phi) + v^T q_s + v_c lam``: the harmonic force integrates to 0 over the period, so
+    without a constant load on the rigid motion (``v^T q_s = 0``) ``v_c int lam dt = 0`` while ``lam <= 0`` (the stop
+    only pushes, impulses included): the contact force and every impulse vanish.  Every contact pushes the floating
+    part away, and nothing brings it back on average.  With one (gravity pressing a dropped body or a crack shut,
+    :attr:`plbar.model.Statics.accel`) the same balance says that the mean contact force over a period is
+    ``-v^T q_s / v_c``: the load on the rigid motion, all of it carried by the stop.
     """
     k = int(np.sum(w == 0.0))
     if not k:

@@ -22,6 +22,12 @@ flows, their derivatives (hence Newton's Jacobians and the Floquet multipliers),
   (the constant load's potential included) less the state's static energy ``x_s^T K x_s / 2 - q_s^T x_s``: with
   ``x = x_s + y``, the cross term ``y^T (K x_s - q_s)`` is 0 in state II and ``R_I y_c = 0`` in state I.
 
+A free state with rigid-body modes (a free body, a cracked bar's floating part) has no equilibrium under a constant
+load that pushes its rigid motion: its elastic part has one (``x2``, with no rigid-body part), and each rigid mode
+accelerates uniformly, ``eta_r'' = g_r = v_r^T q_s`` (:attr:`Statics.accel`: the flows gain ``g u^2 / 2``, the
+velocities ``g u``); the mechanical energy is then the modal one plus ``x2``'s static energy less ``g . eta``
+(the cross term ``y^T (K x2 - q_s) = -g . eta``).
+
 At ``d = 0`` without a constant load every constant is 0: the paper's system, bit for bit (a constant 0 added
 changes no double).
 """
@@ -33,7 +39,6 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
-from ..errors import InputError
 from ..util.check import finite
 
 __all__ = ["Statics", "check_gap", "rest_state", "statics"]
@@ -67,6 +72,9 @@ class Statics:
         Added to ``P12 eta^I`` at an opening: ``V2^T M (x1 - x2)``.
     impact_offset : ndarray, shape (m1,)
         Added to ``P21 eta^II`` at an impact: ``V1^T M_rr (x2 - x1)_r``.
+    accel : ndarray, shape (m2,) or None
+        The constant modal accelerations ``g_r = v_r^T q_s`` of state II's rigid-body modes (0 on its elastic
+        modes); None where the constant load pushes no rigid motion (every definite free state).
     """
 
     gap: float
@@ -78,6 +86,7 @@ class Statics:
     margin: np.ndarray
     open_offset: np.ndarray
     impact_offset: np.ndarray
+    accel: np.ndarray | None = None
 
     @property
     def zero(self) -> bool:
@@ -87,29 +96,41 @@ class Statics:
     @property
     def rest_state(self) -> int:
         """The state of the static equilibrium (:func:`rest_state`)."""
-        return rest_state(self.margin)
+        return rest_state(self.margin, self.accel is not None)
 
 
-def rest_state(margin) -> int:
+def rest_state(margin, pushed: bool = False) -> int:
     """The state of the static equilibrium from the margins' constants ``(-R_I, d - u_II)``: 1 (state II, free)
     where the opening at rest is positive (a clearance), else 0 (state I, held: no gap, at the stop with no
-    reaction; an interference)."""
+    reaction; an interference).  ``pushed``: a constant load moves a rigid-body motion of state II, which then has
+    no equilibrium: the body rests on the stop (0) where the stop holds it (``-R_I >= 0``), else it has no rest
+    at all and starts free (1)."""
+    if pushed:
+        return 0 if margin[0] >= 0.0 else 1
     return 1 if margin[1] > 0.0 else 0
 
 
-def _free_equilibrium(system, q_s: np.ndarray) -> np.ndarray:
-    """``x2`` with ``K x2 = q_s``: a solve where ``K`` is definite; least squares, less its rigid-body part, where the
-    free state has rigid-body modes (a free body), which the constant load must not push (else there is no
-    equilibrium: the body accelerates)."""
+def _free_equilibrium(system, q_s: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+    """``x2`` with ``K x2 = q_s`` (a solve where ``K`` is definite) and the rigid modes' accelerations (None: none).
+
+    Where the free state has rigid-body modes (a free body) the elastic part's equilibrium: least squares, less its
+    rigid-body part (any equilibrium would do); the load's share on the rigid modes, ``g_r = v_r^T q_s``, moves
+    them with a constant acceleration (:attr:`Statics.accel`; zeros elsewhere, None where every ``g_r`` is
+    round-off)."""
     if not system.rigid:
-        return sla.solve(system.K, q_s, assume_a="pos")
-    Z = system.V2[:, system.w2 == 0.0]                 # the rigid-body modes (the lowest: kept by a truncation)
-    if np.any(np.abs(Z.T @ q_s) > 1e-12 * np.sum(np.abs(q_s)) * np.max(np.abs(Z))):
-        raise InputError("the constant load (gravity, a prestress) pushes the free state's rigid-body motion: a "
-                         "free body then accelerates without an equilibrium, which plbar does not model yet; "
-                         "give a constant load that the free state can hold, or none")
-    x = np.linalg.lstsq(system.K, q_s, rcond=None)[0]
-    return x - Z @ (Z.T @ (system.M @ x))             # no rigid-body part (any equilibrium would do)
+        return sla.solve(system.K, q_s, assume_a="pos"), None
+    rigid = system.w2 == 0.0
+    Z = system.V2[:, rigid]                        # the rigid-body modes (the lowest: kept by a truncation)
+    g = Z.T @ q_s
+    pushed = np.any(np.abs(g) > 1e-12 * np.sum(np.abs(q_s)) * np.max(np.abs(Z)))
+    q_e = q_s - system.M @ (Z @ g) if pushed else q_s          # what the elastic part holds
+    x = np.linalg.lstsq(system.K, q_e, rcond=None)[0]
+    x = x - Z @ (Z.T @ (system.M @ x))
+    if not pushed:
+        return x, None
+    accel = np.zeros(system.w2.size)
+    accel[rigid] = g
+    return x, accel
 
 
 def statics(system, gap: float = 0.0, q_s=None) -> Statics:
@@ -120,8 +141,9 @@ def statics(system, gap: float = 0.0, q_s=None) -> Statics:
     n = M.shape[0]
     q_s = None if q_s is None or not np.any(q_s) else np.asarray(q_s, float)
     x1, x2 = np.zeros(n), np.zeros(n)
+    accel = None
     if q_s is not None:
-        x2 = _free_equilibrium(system, q_s)
+        x2, accel = _free_equilibrium(system, q_s)
     if d != 0.0 or q_s is not None:
         rhs = -K[:-1, -1] * d + (q_s[:-1] if q_s is not None else 0.0)
         x1[:-1] = sla.solve(K[:-1, :-1], rhs, assume_a="pos") if n > 1 else 0.0
@@ -131,4 +153,4 @@ def statics(system, gap: float = 0.0, q_s=None) -> Statics:
     energy = np.array([0.5 * float(x1 @ K @ x1) - float(qs @ x1), 0.5 * float(x2 @ K @ x2) - float(qs @ x2)])
     dx = x1 - x2
     return Statics(d, q_s, x1, x2, reaction, energy, np.array([-reaction, d - x2[-1]]), V2.T @ (M @ dx),
-                   V1.T @ (M[:-1, :-1] @ -dx[:-1]))
+                   V1.T @ (M[:-1, :-1] @ -dx[:-1]), accel)

@@ -78,7 +78,10 @@ class Padded:
     xs : ndarray, shape (2, n)
         Each state's static equilibrium: the physical positions are ``V[s] eta + xs[s]``.
     es : ndarray, shape (2,)
-        Each state's static energy: the mechanical energy is the modal one plus ``es[s]``.
+        Each state's static energy: the mechanical energy is the modal one plus ``es[s]`` (less ``g . eta``).
+    g : ndarray, shape (2, m)
+        Constant modal accelerations: a constant load's on the rigid-body modes of state II
+        (:attr:`plbar.model.Statics.accel`); zeros elsewhere (every definite free state).
     """
 
     w: np.ndarray
@@ -101,17 +104,18 @@ class Padded:
     offsets: np.ndarray | None = None
     xs: np.ndarray | None = None
     es: np.ndarray | None = None
+    g: np.ndarray | None = None
 
     def __post_init__(self):
         m, n = self.m, self.n
-        for name, shape in (("g0", (2,)), ("offsets", (2, m)), ("xs", (2, n)), ("es", (2,))):
+        for name, shape in (("g0", (2,)), ("offsets", (2, m)), ("xs", (2, n)), ("es", (2,)), ("g", (2, m))):
             if getattr(self, name) is None:
                 object.__setattr__(self, name, np.zeros(shape))   # no gap: every constant 0
 
     @property
     def rest_state(self) -> int:
         """The state of the static equilibrium (:func:`plbar.model.statics.rest_state`)."""
-        return rest_state(self.g0)
+        return rest_state(self.g0, bool(np.any(self.g)))
 
     @property
     def m(self) -> int:
@@ -219,8 +223,11 @@ def padded(prob: Problem) -> Padded:
     open_pos, open_vel, impact_pos, impact_vel = (np.asarray(a, float) for a in maps)
     st = prob.statics
     g0 = np.asarray(st.margin, float)
+    g = np.zeros((2, m))
+    if st.accel is not None:
+        g[1, :m2] = st.accel
     # a rigid-body mode (w = 0) has no static response: its share of the size is its forced one at w = 1
-    size = np.sum(np.abs(c * f) / np.where(w > 0, w * w, 1.0), axis=1) + np.abs(rq) + np.abs(g0)
+    size = np.sum(np.abs(c * (np.abs(f) + np.abs(g))) / np.where(w > 0, w * w, 1.0), axis=1) + np.abs(rq) + np.abs(g0)
     offsets = np.vstack([_pad(st.open_offset, (m,)), _pad(st.impact_offset, (m,))])
     damped = bool(getattr(s, "damped", False))
     zeta = np.vstack([_pad(s.zeta1, (m,)), _pad(s.zeta2, (m,))]) if damped else None
@@ -228,4 +235,4 @@ def padded(prob: Problem) -> Padded:
     return Padded(w, f, c, rq, _pad(open_pos, (m, m)), _pad(impact_pos, (m, m)), _pad(impact_vel, (m, m)),
                   _pad(s.gap_row, (m,)), S, V, bool(s.truncated), size, zeta, cv, _pad(open_vel, (m, m)),
                   float(getattr(prob, "restitution", 0.0)), g0, offsets, np.vstack([st.x1, st.x2]),
-                  np.asarray(st.energy, float))
+                  np.asarray(st.energy, float), g)

@@ -332,6 +332,9 @@ def _on_threads(step, rc, idx, stop: int) -> None:
 
 def energy(pad: Padded, state, eta, vel) -> np.ndarray:
     """Mechanical energy ``sum (etadot^2 + w^2 eta^2) / 2`` (Eqs. (12)-(13)) of rows in ``state``, plus the state's
-    static energy (a gap's, :class:`plbar.model.Statics`; 0 without one)."""
+    static energy (a gap's, :class:`plbar.model.Statics`; 0 without one), less ``g . eta`` (the potential of a
+    constant load on a rigid-body mode, :attr:`Padded.g`; 0 without one)."""
     w = pad.w[state]
-    return 0.5 * np.sum(vel * vel + (w * eta) ** 2, axis=-1) + pad.es[state]
+    out = 0.5 * np.sum(vel * vel + (w * eta) ** 2, axis=-1) + pad.es[state]
+    g = pad.g[state]
+    return out - np.sum(g * eta, axis=-1) if np.any(g) else out

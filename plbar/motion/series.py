@@ -127,7 +127,8 @@ class Series:
             m, js = w.size, j[sel]
             ts = self.starts[js][:, None]
             eta[sel, :m], vel[sel, :m] = segment(w, f, W, ts, t[sel, None] - ts, self.eta[js, :m], self.vel[js, :m],
-                                                 np.cos(self.phi), np.sin(self.phi), zeta=zeta)
+                                                 np.cos(self.phi), np.sin(self.phi), zeta=zeta,
+                                                 accel=self.prob.statics.accel if s == 2 else None)
         return st, eta, vel
 
     # -- what the export asks ---------------------------------------------------------------------------------
@@ -153,13 +154,15 @@ class Series:
         """Kinetic and potential energy (Eqs. (12)-(13)) at ``times``; each (K,).  The potential energy is the
         structure's, ``x^T K x / 2``: the modal one plus the state's static energy (a gap's,
         :class:`plbar.model.Statics`)."""
-        sy, es = self.prob.system, self.prob.statics.energy
+        sy, es, g = self.prob.system, self.prob.statics.energy, self.prob.statics.accel
         st, eta, vel = self.modal(times)
         ek, ep = np.zeros(st.size), np.zeros(st.size)
         for s, w in ((1, sy.w1), (2, sy.w2)):
             sel, m = st == s, w.size
             ek[sel] = 0.5 * _dots(vel[sel, :m], vel[sel, :m])
             ep[sel] = 0.5 * np.sum((w * eta[sel, :m]) ** 2, axis=1) + es[s - 1]
+            if s == 2 and g is not None:        # a constant load's potential on the rigid-body modes
+                ep[sel] -= _dots(eta[sel, :m], g)
         return ek, ep
 
 
@@ -265,7 +268,7 @@ class _Flow:
         w, f, zeta = (sy.w1, prob.f1, sy.zeta1 if damped else None) if s == 1 else \
             (sy.w2, prob.f2, sy.zeta2 if damped else None)
         return segment(w, np.asarray(f, float), 2 * np.pi / self.T, ts, tau, e, v, np.cos(self.phi),
-                       np.sin(self.phi), zeta=zeta)
+                       np.sin(self.phi), zeta=zeta, accel=prob.statics.accel if s == 2 else None)
 
     def switch(self, s: int, kind: int, e, v):
         sy, st = self.prob.system, self.prob.statics

@@ -153,22 +153,28 @@ def forced_coeffs(w, f, W, ts, tau, zeta=None):
             f * (c0 * Cp - s0 * W * C), f * (s0 * Cp + c0 * W * C))
 
 
-def segment(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta=None):
+def segment(w, f, W, ts, tau, eta0, v0, cphi, sphi, zeta=None, accel=None):
     """Exact modal displacement and velocity at ``ts + tau``.
 
     ``cphi, sphi`` are ``cos(phi), sin(phi)`` of the forcing phase; ``zeta``
-    (optional) the damping ratio of each mode.
+    (optional) the damping ratio of each mode; ``accel`` (optional) each mode's
+    constant acceleration ``g`` (a constant load on a rigid-body mode,
+    :attr:`plbar.model.Statics.accel`): ``g tau^2 / 2`` and ``g tau`` added.
     """
     if zeta is not None:
         p11, p12, p21, p22 = _damped.flow_matrix(w, zeta, tau)
         ec, es, vc, vs = forced_coeffs(w, f, W, ts, tau, zeta)
-        return (p11 * eta0 + p12 * v0 + ec * cphi + es * sphi,
-                p21 * eta0 + p22 * v0 + vc * cphi + vs * sphi)
-    co, si_w, mwsi, _ = free_flow(w, tau)
-    ec, es, vc, vs = forced_coeffs(w, f, W, ts, tau)
-    eta = co * eta0 + si_w * v0 + ec * cphi + es * sphi
-    v = mwsi * eta0 + co * v0 + vc * cphi + vs * sphi
-    return eta, v
+        eta, v = (p11 * eta0 + p12 * v0 + ec * cphi + es * sphi,
+                  p21 * eta0 + p22 * v0 + vc * cphi + vs * sphi)
+    else:
+        co, si_w, mwsi, _ = free_flow(w, tau)
+        ec, es, vc, vs = forced_coeffs(w, f, W, ts, tau)
+        eta = co * eta0 + si_w * v0 + ec * cphi + es * sphi
+        v = mwsi * eta0 + co * v0 + vc * cphi + vs * sphi
+    if accel is None:
+        return eta, v
+    tau = np.asarray(tau, float)
+    return eta + 0.5 * accel * tau * tau, v + accel * tau
 
 
 def psi_closed_form(modes: Modes, forcing: Forcing, ts, tau, eta0, v0):

@@ -178,13 +178,20 @@ def test_a_free_state_with_mass_proportional_damping_is_refused():
         plbar.problem(plbar.Structure(st.M, st.K, st.contact, st.q, rayleigh=(0.1, 0.0)))
 
 
-def test_a_constant_load_that_pushes_the_rigid_body_is_refused_one_it_can_hold_is_not():
+def test_a_constant_load_that_pushes_the_rigid_body_accelerates_it_one_it_can_hold_is_held():
+    """A load on the rigid motion moves it with ``g_r = v_r^T q_s`` (tests/motion/test_falling_bar.py follows it);
+    the elastic part's equilibrium holds the rest: ``K x2 = q_s - M v_r g_r``, with no rigid-body part."""
     st = _free_chain()
-    with pytest.raises(InputError, match="rigid-body motion"):
-        plbar.problem(plbar.Structure(st.M, st.K, st.contact, st.q, q_s=np.ones(st.n)))      # at once
+    push = np.ones(st.n)
+    p = plbar.problem(plbar.Structure(st.M, st.K, st.contact, st.q, q_s=push))
+    Z, g = p.system.V2[:, 0], p.statics.accel
+    assert g[0] == pytest.approx(Z @ push, rel=1e-14) and np.all(g[1:] == 0.0)
+    assert np.allclose(st.K @ p.statics.x2, push - st.M @ Z * g[0], atol=1e-12)
+    assert abs(Z @ st.M @ p.statics.x2) < 1e-12
     held = np.array([1.0, 0, 0, 0, 0, -1.0])            # a self-equilibrated pair: the chain stretched
     p = plbar.problem(plbar.Structure(st.M, st.K, st.contact, st.q, q_s=held))
     x2 = p.statics.x2
+    assert p.statics.accel is None
     assert np.allclose(st.K @ x2, held, atol=1e-12)
 
 

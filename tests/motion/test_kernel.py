@@ -56,7 +56,7 @@ def test_flow_psi_and_work_equal_the_numpy_closed_forms(zeta):
         ref_p = psi(Modes(w, f, zeta), Forcing(W, cp, sp), ts, u, e0, v0)[0]
         ref_w = segment_work(Modes(w, f, zeta), Forcing(W, cp, sp), ts, u, e0, v0)
         for j in range(5):
-            mode, at = data.Mode(w[j], f[j], z), data.ModeState(e0[j], v0[j])
+            mode, at = data.Mode(w[j], f[j], z, 0.0), data.ModeState(e0[j], v0[j])
             e, v = closed.mode_flow(mode, ld, u, at, hf, damping)
             size = abs(e0[j]) + abs(v0[j]) / w[j] + abs(f[j]) * (1 + u * u)
             assert e == pytest.approx(ref_e[j], abs=1e-13 * size)
@@ -70,7 +70,7 @@ def test_flow_psi_and_work_equal_the_numpy_closed_forms(zeta):
 def test_exact_resonance_is_finite_and_right():
     """W = w exactly: the flow keeps its limit (t sin), Psi and the work fall back to quadrature, no nan."""
     w, f, W, u = 0.8, 1.3, 0.8, 7.0
-    mode, ld, rest = data.Mode(w, f, 0.0), data.Forcing(W, 1.0, 0.0, 1.0, 0.0), data.ModeState(0.0, 0.0)
+    mode, ld, rest = data.Mode(w, f, 0.0, 0.0), data.Forcing(W, 1.0, 0.0, 1.0, 0.0), data.ModeState(0.0, 0.0)
     hf = closed.half(W, u)
     e, v = closed.mode_flow(mode, ld, u, rest, hf, None)
     assert e == pytest.approx(f * u * np.sin(w * u) / (2 * w), rel=1e-13)
@@ -104,7 +104,7 @@ def _certified(pad, s, eta, vel, W, t, phi, cap, K=8):
 
 
 def _modes(pad, s):
-    return data.Modes(pad.w[s], pad.f[s], pad.c[s])
+    return data.Modes(pad.w[s], pad.f[s], pad.c[s], pad.g[s])
 
 
 def _load(pad, s, W, t, phi):

@@ -4,11 +4,12 @@
 ``g(t) = c . eta(t) + cv . eta'(t) + rq cos(W t - phi)`` (``-R`` in state I, Eq. (4), with the
 damper's share ``cv`` under Rayleigh damping; ``-x_c`` in state II, Eq. (5)); the state holds
 while ``g >= 0``.  Its derivatives follow from the modal equation
-``eta'' = f cos(W t - phi) - w^2 eta - 2 zeta w eta'``:
-``eta^(k) = f W^(k-2) cos(W t - phi + (k-2) pi/2) - w^2 eta^(k-2) - 2 zeta w eta^(k-1)``.
+``eta'' = f cos(W t - phi) + g - w^2 eta - 2 zeta w eta'`` (``g`` a constant load's acceleration, on a rigid-body
+mode only): ``eta^(k) = f W^(k-2) cos(W t - phi + (k-2) pi/2) - w^2 eta^(k-2) - 2 zeta w eta^(k-1)``, plus ``g`` at
+``k = 2``.
 
 **Remainder bound.**  For each mode the amplitude ``a = |(w eta, eta')|`` obeys
-``|da/dt| <= |f|`` (damping only takes energy out), so over a step of length ``s`` it stays
+``|da/dt| <= |f| + |g|`` (damping only takes energy out), so over a step of length ``s`` it stays
 below ``a + |f| s``; then ``|eta| <= a / w``, ``|eta'| <= a`` and, by the same recursion,
 ``|eta^(k)| <= |f| W^(k-2) + w^2 |eta^(k-2)| + 2 zeta w |eta^(k-1)|``.  Summed with the weights
 this bounds ``|g^(K+1)|`` over the whole step.  Everything is scaled by ``Om = max(w_max, W)``
@@ -90,7 +91,7 @@ def taylor(modes, damp, eta, vel, load, s, K, d, scale):
     that cancels to round-off is seen as such; the load's terms by their amplitude: at a zero of ``cos(W t - phi)``
     its value is the round-off of the phase, not a size).
     """
-    c, w, f = modes.c, modes.w, modes.f
+    c, w, f, gr = modes.c, modes.w, modes.f, modes.g
     W, ca, sa, rq, rs, g0 = load
     m = w.size
     Om = W
@@ -106,15 +107,16 @@ def taylor(modes, damp, eta, vel, load, s, K, d, scale):
     scale[0] += abs(g0)
     rem = (abs(rq) + abs(rs)) * wk
     for j in range(m):
-        amp = sqrt((w[j] * eta[j]) ** 2 + vel[j] ** 2) + abs(f[j]) * s
+        amp = sqrt((w[j] * eta[j]) ** 2 + vel[j] ** 2) + (abs(f[j]) + abs(gr[j])) * s
         # |eta| over the step: amp / w, or for a rigid-body mode (w = 0) |eta| + amp s (it enters only times w^2)
         b0 = amp / w[j] if w[j] != 0.0 else abs(eta[j]) + amp * s
         if damp is None:
-            sm = Scaled(c[j], 0.0, w[j] / Om, f[j] / (Om * Om), 0.0, eta[j], vel[j] / Om, b0, amp / Om)
+            sm = Scaled(c[j], 0.0, w[j] / Om, f[j] / (Om * Om), 0.0, eta[j], vel[j] / Om, b0, amp / Om,
+                        gr[j] / (Om * Om))
             rem += _mode(sm, Wr, ca, sa, K, False, d, scale)
         else:
             sm = Scaled(c[j], damp.cv[j] * Om, w[j] / Om, f[j] / (Om * Om), 2.0 * damp.zeta[j] * w[j] / Om, eta[j],
-                        vel[j] / Om, b0, amp / Om)
+                        vel[j] / Om, b0, amp / Om, gr[j] / (Om * Om))
             rem += _mode(sm, Wr, ca, sa, K, True, d, scale)
     return rem, Om
 
@@ -123,7 +125,7 @@ def taylor(modes, damp, eta, vel, load, s, K, d, scale):
 def _mode(sm, Wr, ca, sa, K, damped, d, scale):
     """Add the terms of one mode (:class:`.data.Scaled`) to ``d`` and ``scale``; return its share of the remainder
     bound (``Wr = W / Om``, ``ca, sa = cos, sin(W t - phi)``)."""
-    cj, cvs, wr, load, damp, e0, e1 = sm.c, sm.cv, sm.w, sm.f, sm.damp, sm.eta, sm.v
+    cj, cvs, wr, load, damp, e0, e1, acc = sm.c, sm.cv, sm.w, sm.f, sm.damp, sm.eta, sm.v, sm.g
     top = K + 2 if damped else K + 1
     ep, e = e0, e1                         # e[k-2], e[k-1]
     mp, mg = abs(e0), abs(e1)
@@ -138,10 +140,11 @@ def _mode(sm, Wr, ca, sa, K, damped, d, scale):
         scale[0] += abs(cvs) * mg
     wk = 1.0                               # Wr^(k-2)
     for k in range(2, top + 1):
+        ga = acc if k == 2 else 0.0          # a constant acceleration: in eta'' alone (0 but on a loaded rigid mode)
         if k < top:
             lk = load * wk * _cyc(ca, sa, k - 2)
-            en = lk - wr2 * ep - damp * e
-            mn = abs(load) * wk + wr2 * mp + damp * mg
+            en = lk + ga - wr2 * ep - damp * e
+            mn = abs(load) * wk + abs(ga) + wr2 * mp + damp * mg
             if k <= K:
                 d[k] += cj * en
                 scale[k] += abs(cj) * mn
@@ -149,7 +152,7 @@ def _mode(sm, Wr, ca, sa, K, damped, d, scale):
                 d[k - 1] += cvs * en
                 scale[k - 1] += abs(cvs) * mn
             ep, e, mp, mg = e, en, mg, mn
-        bn = abs(load) * wk + wr2 * bp + damp * b
+        bn = abs(load) * wk + abs(ga) + wr2 * bp + damp * b
         bp, b = b, bn
         wk *= Wr
     if damped:                              # b is b[K + 2], bp is b[K + 1]

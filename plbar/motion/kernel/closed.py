@@ -1,8 +1,9 @@
 """Closed-form flow of one modal oscillator, compiled (the kernel's scalar form of :mod:`plbar.response`).
 
-Each mode obeys ``eta'' + 2 zeta w eta' + w^2 eta = f cos(W t - phi)`` (Eq. (1) in modal
-form; ``zeta = 0`` undamped).  Over a segment that starts at ``ts`` with ``eta0, v0`` its
-state at ``ts + u`` is the free flow plus the Duhamel kernels ``C, S, C'`` (Appendix 1,
+Each mode obeys ``eta'' + 2 zeta w eta' + w^2 eta = f cos(W t - phi) + g`` (Eq. (1) in modal
+form; ``zeta = 0`` undamped; ``g`` a constant load's acceleration, on a rigid-body mode only, where
+``zeta = 0`` too: it adds ``g u^2 / 2`` and ``g u``, and 0 changes no double).  Over a segment that starts
+at ``ts`` with ``eta0, v0`` its state at ``ts + u`` is the free flow plus the Duhamel kernels ``C, S, C'`` (Appendix 1,
 Eqs. (26)-(27)), written as in :func:`plbar.response.flow.kernels`: undamped in the
 factorised ``sinc`` form that stays exact at and near resonance ``W = w``; damped with
 the divided differences of :mod:`plbar.response.damped` (exact through critical damping).
@@ -105,8 +106,8 @@ def flow_at(mode, ld, u, z, ca, sa, hf):
     C, S, Cp, co, si = kernels_at(w, W, u, ca, sa, hf)
     ec, es = f * (c0 * C - s0 * S), f * (s0 * C + c0 * S)
     vc, vs = f * (c0 * Cp - s0 * W * C), f * (s0 * Cp + c0 * W * C)
-    return (co * eta0 + sinw(si, w, u) * v0 + ec * cphi + es * sphi,
-            -w * si * eta0 + co * v0 + vc * cphi + vs * sphi)
+    return (co * eta0 + sinw(si, w, u) * v0 + ec * cphi + es * sphi + 0.5 * mode.g * u * u,
+            -w * si * eta0 + co * v0 + vc * cphi + vs * sphi + mode.g * u)
 
 
 @jit
@@ -193,8 +194,8 @@ def damped_flow(mode, ld, u, z):
     C, S, Cp, p11, ss, p22 = damped_kernels(w, W, u, mode.zeta)
     ec, es = f * (c0 * C - s0 * S), f * (s0 * C + c0 * S)
     vc, vs = f * (c0 * Cp - s0 * W * C), f * (s0 * Cp + c0 * W * C)
-    return (p11 * eta0 + ss * v0 + ec * cphi + es * sphi,
-            -w * w * ss * eta0 + p22 * v0 + vc * cphi + vs * sphi)
+    return (p11 * eta0 + ss * v0 + ec * cphi + es * sphi + 0.5 * mode.g * u * u,
+            -w * w * ss * eta0 + p22 * v0 + vc * cphi + vs * sphi + mode.g * u)
 
 
 @jit

@@ -4,10 +4,11 @@ Small records of plain arrays (NamedTuples: numba passes them as typed tuples) k
 its first compile short); the fields and the column names below are the only way the kernel and
 :mod:`plbar.motion.run` reach them.
 
-* :class:`Model` (``md``, :func:`model`): ``md.modal[W | F | C, state]`` the frequencies, modal loads and margin
-  weights, ``md.margin[RQ | SIZE | G0, state]``, ``md.maps[OPEN | IMPACT_POS | IMPACT_VEL | OPEN_VEL]`` the switch maps
-  and ``md.offsets[OPEN_OFF | IMPACT_OFF]`` what they add (a gap's; :class:`plbar.motion.Padded`), the contact
-  row, the impact mass, whether truncated, the restitution;
+* :class:`Model` (``md``, :func:`model`): ``md.modal[W | F | C | G, state]`` the frequencies, modal loads, margin
+  weights and constant accelerations (a constant load's on a rigid-body mode), ``md.margin[RQ | SIZE | G0,
+  state]``, ``md.maps[OPEN | IMPACT_POS | IMPACT_VEL | OPEN_VEL]`` the switch maps and ``md.offsets[OPEN_OFF |
+  IMPACT_OFF]`` what they add (a gap's; :class:`plbar.motion.Padded`), the contact row, the impact mass, whether
+  truncated, the restitution;
 * damping: None (undamped: no damped code is compiled) or ``damping[state, ZETA | CV]``;
 * :class:`Trajectories` (``tr``): ``tr.tf[b, T | OMEGA | PHI | TP | P]``, ``tr.ti[b, PERIOD | STATE | ZEROS |
   STALL | STATUS | ROUNDS | NEED | EVENTS | SHORT]``, the modal state ``tr.z[b, 0 | 1]`` (``eta, eta'``) at the
@@ -40,7 +41,7 @@ __all__ = ["Current", "Damping", "Forcing", "Half", "LoadTerm", "Mode", "ModeSta
            "Scaled", "Segment", "Trajectories", "Work", "accounts", "damping", "grow_events", "model", "records",
            "trajectories"]
 
-W, F, C = 0, 1, 2
+W, F, C, G = 0, 1, 2, 3
 RQ, SIZE, G0 = 0, 1, 2
 OPEN_OFF, IMPACT_OFF = 0, 1
 OPEN, IMPACT_POS, IMPACT_VEL, OPEN_VEL = 0, 1, 2, 3
@@ -58,8 +59,9 @@ class Model(NamedTuple):
 
     Attributes
     ----------
-    modal : ndarray, shape (3, 2, m)
-        ``modal[W | F | C, state, j]``: frequencies, modal loads, margin weights.
+    modal : ndarray, shape (4, 2, m)
+        ``modal[W | F | C | G, state, j]``: frequencies, modal loads, margin weights, constant accelerations (a
+        constant load on a rigid-body mode of state II, :attr:`plbar.model.Statics.accel`; 0 elsewhere).
     margin : ndarray, shape (3, 2)
         ``margin[RQ | SIZE | G0, state]``: the margin's load term, its own size and its constant (a gap's,
         :class:`plbar.model.Statics`; 0 without one).
@@ -178,12 +180,13 @@ class Half(NamedTuple):
 
 
 class Mode(NamedTuple):
-    """One modal oscillator ``eta'' + 2 zeta w eta' + w^2 eta = f cos(W t - phi)``: ``w``, ``f``, ``zeta`` (0
-    undamped)."""
+    """One modal oscillator ``eta'' + 2 zeta w eta' + w^2 eta = f cos(W t - phi) + g``: ``w``, ``f``, ``zeta`` (0
+    undamped) and ``g``, a constant acceleration (a constant load on a rigid-body mode, ``w = 0``; 0 elsewhere)."""
 
     w: float
     f: float
     zeta: float
+    g: float
 
 
 class ModeState(NamedTuple):
@@ -195,11 +198,12 @@ class ModeState(NamedTuple):
 
 class Modes(NamedTuple):
     """A state's modes as the Taylor model of its margin takes them (:func:`.certify.taylor`): the frequencies ``w``,
-    the modal loads ``f`` and the margin's weights ``c`` (arrays of one length)."""
+    the modal loads ``f``, the margin's weights ``c`` and the constant accelerations ``g`` (arrays of one length)."""
 
     w: np.ndarray
     f: np.ndarray
     c: np.ndarray
+    g: np.ndarray
 
 
 class Damping(NamedTuple):
@@ -223,8 +227,8 @@ class LoadTerm(NamedTuple):
 
 class Scaled(NamedTuple):
     """One mode in the units of a Taylor model (``Om``, :func:`.certify.taylor`): the margin's weights ``c`` and
-    ``cv`` (times ``Om``), ``w / Om``, ``f / Om^2``, ``damp = 2 zeta w / Om``, ``eta``, ``v = eta' / Om`` and the
-    bounds ``b0, b1`` of ``|eta|`` and ``|eta'| / Om`` over the step."""
+    ``cv`` (times ``Om``), ``w / Om``, ``f / Om^2``, ``damp = 2 zeta w / Om``, ``eta``, ``v = eta' / Om``, the
+    bounds ``b0, b1`` of ``|eta|`` and ``|eta'| / Om`` over the step and ``g / Om^2`` (a constant acceleration)."""
 
     c: float
     cv: float
@@ -235,6 +239,7 @@ class Scaled(NamedTuple):
     v: float
     b0: float
     b1: float
+    g: float
 
 
 def _f64(a):
@@ -244,7 +249,7 @@ def _f64(a):
 def model(pad) -> Model:
     """The kernel's view of a :class:`plbar.motion.Padded`."""
     maps = [pad.open_map, pad.impact_pos, pad.impact_vel, pad.open_map if pad.open_vel is None else pad.open_vel]
-    return Model(_f64(np.stack([pad.w, pad.f, pad.c])), _f64(np.stack([pad.rq, pad.size, pad.g0])),
+    return Model(_f64(np.stack([pad.w, pad.f, pad.c, pad.g])), _f64(np.stack([pad.rq, pad.size, pad.g0])),
                  _f64(np.stack(maps)), _f64(pad.offsets), _f64(pad.vc_row), float(0.0 if pad.truncated else pad.S),
                  bool(pad.truncated), float(pad.restitution))
 

@@ -8,7 +8,9 @@ sums of exponentials (:mod:`plbar.response.damped`).  Where a closed form cancel
 near critical damping) Gauss-Legendre quadrature of the exact velocity takes over,
 composite with at most 100 nodes a piece, exact to round-off (the bound of
 :func:`plbar.response.flow.psi_quadrature`).  The work is independent of the energies,
-so the energy budget of a simulation is a check, not an identity.  A mode is a :class:`.data.Mode`, the
+so the energy budget of a simulation is a check, not an identity.  A rigid-body mode under a constant
+acceleration ``g`` (:class:`.data.Mode`; its velocity gains ``g u``) takes the quadrature: its velocity is
+exact in it, a polynomial and sinusoids that the rule integrates to round-off.  A mode is a :class:`.data.Mode`, the
 forcing a :class:`.data.Forcing`, the state at the piece's start a :class:`.data.ModeState`, the forcing's half
 angle over the piece a :class:`.data.Half` (:func:`.closed.half` of its length).
 """
@@ -225,12 +227,13 @@ def psi(mode, ld, u, z, damping, hf):
     quadrature where it cancels.
 
     ``hf = half(W, u)`` (once per piece)."""
-    if damping is not None:
-        p, cancel = _psi_damped(mode, ld, u, z)
-    else:
-        p, cancel = _psi_undamped(mode, ld, u, z, hf)
-    if cancel < CANCEL_LIMIT:
-        return p
+    if mode.g == 0.0:
+        if damping is not None:
+            p, cancel = _psi_damped(mode, ld, u, z)
+        else:
+            p, cancel = _psi_undamped(mode, ld, u, z, hf)
+        if cancel < CANCEL_LIMIT:
+            return p
     return _quadrature(mode, ld, u, z, damping, 2 * max(_rate(mode.w, mode.zeta), ld.W) * u, False)
 
 
@@ -238,11 +241,12 @@ def psi(mode, ld, u, z, damping, hf):
 def work(mode, ld, u, z, damping, hf):
     """Work of the load on ``mode`` over a piece: closed form, or quadrature where it cancels (arguments as for
     :func:`psi`)."""
-    if damping is not None:
-        p, cancel = _work_damped(mode, ld, u, z)
-    else:
-        p, cancel = _work_undamped(mode, ld, u, z, hf)
-    if cancel < CANCEL_LIMIT:
-        return p
+    if mode.g == 0.0:
+        if damping is not None:
+            p, cancel = _work_damped(mode, ld, u, z)
+        else:
+            p, cancel = _work_undamped(mode, ld, u, z, hf)
+        if cancel < CANCEL_LIMIT:
+            return p
     W = ld.W
     return _quadrature(mode, ld, u, z, damping, 2 * (max(_rate(mode.w, mode.zeta), W) + W) * u, True)

@@ -38,14 +38,14 @@ def margin_at(md, st, seg, u, z0, e, v, damping):
     for j in range(e.size):
         w, f, c = modal[D.W, st, j], modal[D.F, st, j], modal[D.C, st, j]
         z = 0.0 if damping is None else damping[st, D.ZETA, j]
-        e[j], v[j] = mode_flow(D.Mode(w, f, z), ld, u, D.ModeState(z0[0, j], z0[1, j]), hf, damping)
+        e[j], v[j] = mode_flow(D.Mode(w, f, z, modal[D.G, st, j]), ld, u, D.ModeState(z0[0, j], z0[1, j]), hf, damping)
         g += c * e[j]
         g1 += c * v[j]
         size += abs(c * e[j])
         if damping is not None:
             cv = damping[st, D.CV, j]
             g += cv * v[j]
-            g1 += cv * (f * ca - w * w * e[j] - 2.0 * z * w * v[j])
+            g1 += cv * (f * ca + modal[D.G, st, j] - w * w * e[j] - 2.0 * z * w * v[j])
             size += abs(cv * v[j])
     return g, g1, size
 
@@ -63,7 +63,7 @@ def _polish(md, seg, x, dx, hi, e, v, damping):
     load = cos(seg.ld.W * (seg.ts + x) - seg.phi)
     for j in range(e.size):
         w, f = modal[D.W, FREE, j], modal[D.F, FREE, j]
-        a = f * load - w * w * e[j]
+        a = f * load + modal[D.G, FREE, j] - w * w * e[j]
         if damping is not None:
             a -= 2.0 * damping[FREE, D.ZETA, j] * w * v[j]
         e[j] -= v[j] * dx

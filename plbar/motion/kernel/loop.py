@@ -81,7 +81,7 @@ def flow_at(md, st, ld, u, hf, z0, out_e, out_v, damping):
     modal = md.modal
     for j in range(modal.shape[2]):
         z = 0.0 if damping is None else damping[st, D.ZETA, j]
-        out_e[j], out_v[j] = mode_flow(D.Mode(modal[D.W, st, j], modal[D.F, st, j], z), ld, u,
+        out_e[j], out_v[j] = mode_flow(D.Mode(modal[D.W, st, j], modal[D.F, st, j], z, modal[D.G, st, j]), ld, u,
                                        D.ModeState(z0[0, j], z0[1, j]), hf, damping)
 
 
@@ -93,7 +93,7 @@ def _model(md, st, W, T, ca, sa, K, wk, damping):
     :func:`.certify.bracket`)."""
     modal, margin, d, scale, work = md.modal, md.margin, wk.d, wk.scale, wk.taylor
     cap = CAP * T
-    modes = D.Modes(modal[D.W, st], modal[D.F, st], modal[D.C, st])
+    modes = D.Modes(modal[D.W, st], modal[D.F, st], modal[D.C, st], modal[D.G, st])
     load = D.LoadTerm(W, ca, sa, margin[D.RQ, st], 0.0, margin[D.G0, st])
     if damping is None:
         rem, Om = taylor(modes, None, wk.e, wk.v, load, cap, K, d, scale)
@@ -186,7 +186,7 @@ def rebound(md, eta, vel, out_e, out_v, load, damping):
         w = modal[D.W, FREE, j]
         out_e[j] = eta[j]
         out_v[j] = vel[j] - k * vc_row[j]
-        acc = modal[D.F, FREE, j] * load - w * w * eta[j]
+        acc = modal[D.F, FREE, j] * load + modal[D.G, FREE, j] - w * w * eta[j]
         if damping is not None:
             acc -= 2.0 * damping[FREE, D.ZETA, j] * w * out_v[j]
         a += vc_row[j] * acc

@@ -37,7 +37,7 @@ def piece_accounts(md, st, ld, tau, z0, full, damping):
     for j in range(modal.shape[2]):
         w, f = modal[D.W, st, j], modal[D.F, st, j]
         z = 0.0 if damping is None else damping[st, D.ZETA, j]
-        mode, at = D.Mode(w, f, z), D.ModeState(z0[0, j], z0[1, j])
+        mode, at = D.Mode(w, f, z, modal[D.G, st, j]), D.ModeState(z0[0, j], z0[1, j])
         wk += work(mode, ld, tau, at, damping, hf)
         if full or damping is not None:
             p = psi(mode, ld, tau, at, damping, hf)
@@ -57,10 +57,10 @@ def gap(md, seg, u, z0, damping):
     for j in range(modal.shape[2]):
         w, f, c = modal[D.W, FREE, j], modal[D.F, FREE, j], modal[D.C, FREE, j]
         z = 0.0 if damping is None else damping[FREE, D.ZETA, j]
-        e, v = mode_flow(D.Mode(w, f, z), ld, u, D.ModeState(z0[0, j], z0[1, j]), hf, damping)
+        e, v = mode_flow(D.Mode(w, f, z, modal[D.G, FREE, j]), ld, u, D.ModeState(z0[0, j], z0[1, j]), hf, damping)
         g += c * e
         g1 += c * v
-        g2 += c * (f * load - w * w * e - 2.0 * z * w * v)
+        g2 += c * (f * load + modal[D.G, FREE, j] - w * w * e - 2.0 * z * w * v)
     return g, g1, g2
 
 
@@ -90,7 +90,7 @@ def _samples(md, seg, tau, z0, work, damping):
     for i in range(AMP_SAMPLES + 1):
         g = 0.0
         for j in range(m):
-            e, _ = flow_at(D.Mode(modal[D.W, FREE, j], modal[D.F, FREE, j], 0.0), ld, i * h,
+            e, _ = flow_at(D.Mode(modal[D.W, FREE, j], modal[D.F, FREE, j], 0.0, modal[D.G, FREE, j]), ld, i * h,
                            D.ModeState(z0[0, j], z0[1, j]), ca[j], sa[j], D.Half(cW, sW, 2.0 * sW * cW))
             g += modal[D.C, FREE, j] * e
             ca[j], sa[j] = ca[j] * cr[j] - sa[j] * sr[j], sa[j] * cr[j] + ca[j] * sr[j]

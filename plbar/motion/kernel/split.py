@@ -100,7 +100,7 @@ def split_step(md, st, W, ct, s_t, cap, wk, damping):
         cvj = 0.0 if damping is None else damping[st, D.CV, j]
         Rc += c[j] * P[st, 0, j] - cvj * W * P[st, 1, j]
         Rs += -c[j] * P[st, 1, j] - cvj * W * P[st, 0, j]
-    low, load = D.Modes(w[:J], f[:J], c[:J]), D.LoadTerm(W, ct, s_t, Rc, Rs, g0)
+    low, load = D.Modes(w[:J], f[:J], c[:J], modal[D.G, st, :J]), D.LoadTerm(W, ct, s_t, Rc, Rs, g0)
     if damping is None:
         rem, Om = taylor(low, None, eta[:J], vel[:J], load, cap, K, d, scale)
     else:

@@ -37,7 +37,7 @@ def _energy(stamp):
                     hf = half(Om, tau)
                     for j in range(m):
                         w, zeta = tab[W, j], tab[ZETA, j]
-                        p = psi(Mode(w, tab[LOAD, j], zeta), ld, tau, ModeState(z[j], z[m + j]), damping, hf)
+                        p = psi(Mode(w, tab[LOAD, j], zeta, 0.0), ld, tau, ModeState(z[j], z[m + j]), damping, hf)
                         a, b, c = a + w * p, b + p, c + 2.0 * zeta * w * p
                 elif s == 1 or dwell[i] != 1:
                     for k in range(samples):
@@ -45,7 +45,7 @@ def _energy(stamp):
                         hf = half(Om, u)
                         g = 0.0
                         for j in range(m):
-                            g += tab[C, j] * mode_flow(Mode(tab[W, j], tab[LOAD, j], tab[ZETA, j]), ld, u,
+                            g += tab[C, j] * mode_flow(Mode(tab[W, j], tab[LOAD, j], tab[ZETA, j], 0.0), ld, u,
                                                        ModeState(z[j], z[m + j]), hf, damping)[0]
                         a = max(a, abs(g))
         return a, b, c

@@ -40,7 +40,7 @@ def _free(tab, damping, Om, tau, P, Pn):
     hf = half(Om, tau)
     free = Forcing(Om, 1.0, 0.0, 0.0, 0.0)      # no load
     for j in range(m):
-        mode = Mode(tab[W, j], tab[LOAD, j], tab[ZETA, j])
+        mode = Mode(tab[W, j], tab[LOAD, j], tab[ZETA, j], 0.0)
         p11, p21 = mode_flow(mode, free, tau, ModeState(1.0, 0.0), hf, damping)
         p12, p22 = mode_flow(mode, free, tau, ModeState(0.0, 1.0), hf, damping)
         for k in range(P.shape[1]):

@@ -38,8 +38,8 @@ def _flow(tab, damping, ld, tau, z, z1):
     m = tab.shape[1]
     hf = half(ld.W, tau)
     for j in range(m):
-        z1[j], z1[m + j] = mode_flow(Mode(tab[W, j], tab[LOAD, j], tab[ZETA, j]), ld, tau, ModeState(z[j], z[m + j]),
-                                     hf, damping)
+        z1[j], z1[m + j] = mode_flow(Mode(tab[W, j], tab[LOAD, j], tab[ZETA, j], 0.0), ld, tau,
+                                     ModeState(z[j], z[m + j]), hf, damping)
 
 
 @jit
@@ -58,7 +58,7 @@ def _flow_jac(tab, damping, seg, tau, src, dst, tcol, dcol):
     load = cos(Om * (seg.ts + tau) - seg.phi)
     for j in range(m):
         w, f, zeta = tab[W, j], tab[LOAD, j], tab[ZETA, j]
-        mode = Mode(w, f, zeta)
+        mode = Mode(w, f, zeta, 0.0)
         e, v = mode_flow(mode, ld, tau, ModeState(z[j], z[m + j]), hf, damping)
         p11, p21 = mode_flow(mode, free, tau, ModeState(1.0, 0.0), hf, damping)
         p12, p22 = mode_flow(mode, free, tau, ModeState(0.0, 1.0), hf, damping)

@@ -136,11 +136,13 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
     T = np.asarray(T, float)
     r = run(pad, T, 0.0, periods, record, start, progress)
     s = steady(r)
-    exact = True                           # the exact orbits (plbar.periodic), with rebounds where e > 0
+    # the exact orbits (plbar.periodic), with rebounds where e > 0; none where a constant load pushes a rigid-body
+    # motion (the periodic solvers do not take it: the simulated motion's own statistics stand alone)
+    exact = prob.statics.accel is None
     settled = {b: settle(prob, r, b) for b in np.flatnonzero(s.kind == KINDS.index("irregular"))} if exact else {}
     settled = {b: a for b, a in settled.items() if a is not None}
     # the exact orbit of each periodic motion (any restitution: R in the signature for a rebound)
-    orbit = {b: a for b in np.flatnonzero(s.kind == KINDS.index("periodic"))
+    orbit = {b: a for b in (np.flatnonzero(s.kind == KINDS.index("periodic")) if exact else ())
              if (a := _polish(prob, r, b, int(s.m[b]), float(s.loss_per_T[b])))}
     orbit.update({b: _orbit_fields(a) for b, a in settled.items()})
     # a row names its orbit's period: its statistics are taken over whole orbits of it (not the window's repeat)
