@@ -8,6 +8,7 @@
 from .case import Case
 from .cost import Cost, cost_note, estimate_cost
 from .casefile import OutputSettings, dump_case, load_case, loads_case
+from .start import case_start
 from .run import CSV_HEADER, TEXT_COLUMNS, Result, case_fingerprint, check_output, read_paths, solve, write_results
 
 #: the names of :mod:`.export` and :mod:`.job`, imported on first use (a run that exports nothing does not import
@@ -26,4 +27,4 @@ def __getattr__(name: str):
 __all__ = ["Case", "Cost", "cost_note", "estimate_cost", "OutputSettings", "dump_case", "load_case", "loads_case",
            "from_run", "case_of_run", "render_response", "select", "write_response", "write_response_data", "files_of",
            "run_case_file", "CSV_HEADER", "TEXT_COLUMNS", "Result", "case_fingerprint", "check_output", "read_paths",
-           "solve", "write_results"]
+           "solve", "write_results", "case_start"]

@@ -6,7 +6,7 @@ from __future__ import annotations
 from ..errors import InputError
 from ..util.check import show
 
-__all__ = ["FE_ONLY", "FLAGS", "STATIC_PARTS", "check_applies", "refuse_static_part"]
+__all__ = ["FE_ONLY", "FLAGS", "STATIC_PARTS", "check_applies", "refuse_static_part", "refuse_zero"]
 
 #: the options of an FE bar and their defaults: on a chain, any other value is refused (it would be ignored)
 FE_ONLY = {"element": "P1", "mass": "lumped", "EA": 1.0, "rhoA": 1.0, "grading": 1.0, "mesh_file": None,
@@ -19,6 +19,14 @@ FLAGS = {"n": "-N", "element": "--element", "mass": "--mass", "grading": "--grad
 
 #: what gives a case's motion a static part: (field, in words, its flag); the paper's scan is written for neither
 STATIC_PARTS = (("gap", "gap at the stop", "--gap D"), ("gravity", "constant load", "--gravity G"))
+
+
+def refuse_zero(ld) -> None:
+    """A case answers forced responses (xi_eq, the survey): a load of zero amplitude has none (a
+    :class:`plbar.Load` takes it, for a free motion from a given start)."""
+    if all(a == 0.0 for _, a in ld.points + ld.nodes) and not ld.base:
+        raise InputError("every load amplitude is 0.0; give a non-zero amplitude (a case's answers are forced "
+                         "responses)")
 
 
 def refuse_static_part(case, what: str, instead: str) -> None:

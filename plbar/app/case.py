@@ -19,23 +19,16 @@ from ..model import (ELEMENTS, MASSES, Bar, Load, Problem, Structure, chain, che
 from ..paths import Domain, default_domain
 from ..util.check import choice, finite, integer, interval, number, pairs, positive, show
 from ..util.check import grid as check_grid
-from .applies import FE_ONLY, check_applies
+from .applies import FE_ONLY, check_applies, refuse_zero
 from .beamcase import beam_dict, beam_fields
 from .given import SIGNATURES, matrices_fields, structure_dict, structure_fields
+from .start import start_dict, start_fields
 
 __all__ = ["Case", "MODELS", "SIGNATURES"]
 
 MODELS = ("chain", "fe", "continuum", "beam", "matrices", "structure")
 #: grid steps per travel time L / c of the continuum's characteristics (its ``n``) when not given
 CONTINUUM_STEPS = 32
-
-
-def _refuse_zero(ld: Load) -> None:
-    """A case answers forced responses (xi_eq, the survey): a load of zero amplitude has none (a
-    :class:`plbar.Load` takes it, for a free motion from a given start)."""
-    if all(a == 0.0 for _, a in ld.points + ld.nodes) and not ld.base:
-        raise InputError("every load amplitude is 0.0; give a non-zero amplitude (a case's answers are forced "
-                         "responses)")
 
 
 @dataclass(frozen=True)
@@ -149,6 +142,8 @@ class Case:
         ``model = "fe"``: a breathing crack at this interior vertex (:mod:`plbar.model.crack`): the contact is the
         crack's faces (open in tension, the outer part floating), the end ``x = L`` is free.  Default None: no crack,
         the stop at ``x = L``.  With ``supports = "clamped-clamped"`` the end ``x = L`` is clamped too.
+    start_x, start_v : float or sequence of float, optional
+        The motion's start (:mod:`plbar.app.start`): a number (every DOF) or one per DOF.  Default None: at rest.
     """
 
     model: str = "chain"
@@ -187,8 +182,14 @@ class Case:
     supports: str = "clamped-free"
     contact_at: float | None = None
     crack_at: float | None = None
+    start_x: float | tuple | None = None
+    start_v: float | tuple | None = None
 
     def __post_init__(self):
+        self._validate()
+        self._set(start_fields(self))
+
+    def _validate(self):
         if self.model == "beam":
             return self._set(beam_fields(self))
         if self.model == "matrices" or self.matrices is not None:
@@ -241,7 +242,7 @@ class Case:
             else:
                 object.__setattr__(self, "load_points", ((bar.default_load(), 1.0),))
         ld = Load(points=self.load_points, nodes=self.load_nodes, base=self.base)   # validates types and signs
-        _refuse_zero(ld)
+        refuse_zero(ld)
         ld.check(bar)
         object.__setattr__(self, "load_nodes", ld.nodes)
         object.__setattr__(self, "load_points", ld.points)
@@ -358,10 +359,8 @@ class Case:
         no ``m, k``, and a mesh file stands for ``n``, ``grading`` and ``length``; ``rayleigh`` appears only for a
         damped case, ``restitution`` only where it is not 0.
         """
-        if self.model == "beam":
-            return beam_dict(self)
-        if self.structure is not None:
-            return structure_dict(self)
+        if self.model == "beam" or self.structure is not None:
+            return (beam_dict(self) if self.model == "beam" else structure_dict(self)) | start_dict(self)
         d = asdict(self)
         d.pop("structure")
         d["n"] = self.n_eff
@@ -374,11 +373,12 @@ class Case:
             drop += ("n", "grading", "length")
         drop += tuple(k for k in ("restitution", "gap", "gravity", "base") if not d[k])
         drop += ("crack_at",) if d["crack_at"] is None else ()
+        drop += ("start_x", "start_v")
         if d["rayleigh"] is None:
             drop += ("rayleigh",)
         else:
             d["rayleigh"] = list(d["rayleigh"])
-        return {k: v for k, v in d.items() if k not in drop}
+        return {k: v for k, v in d.items() if k not in drop} | start_dict(self)
 
 
 @lru_cache(maxsize=8)

@@ -11,6 +11,8 @@ A case file::
     amplitude = 1.0
     [[load]]
     at = 1.25                           # ... or a point force at s in (0, L]
+    [start]                             # optional: the motion's start (default: at rest)
+    x = -0.5                            # every DOF, or one number per DOF
     [search]                            # optional
     grid = [200, 200]
     T1 = [0.0, 5.0]
@@ -191,6 +193,10 @@ class _Ctx:
                     raise self.err(section, f"{bad} must be an array of [x, m] pairs; got {_fmt(item)}")
                 out.append(tuple(self._number(section, bad, x) for x in item))
             return tuple(out)
+        if kind == "vector":
+            if isinstance(v, list):
+                return tuple(self._number(section, bad, x) for x in v)
+            return self._number(section, bad, v)
         raise AssertionError(kind)  # pragma: no cover
 
     def _number(self, section, bad, v) -> float:
@@ -274,6 +280,7 @@ def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
     bar = _table(ctx, data, "bar")                 # every type first, then what is missing
     nodes, points, shake = _loads(ctx, data.get("load", []))
     search = _table(ctx, data, "search")
+    start = {f"start_{k}": v for k, v in _table(ctx, data, "start").items()}
     out = _table(ctx, data, "output")
     for sec in REQUIRED:
         if sec not in data:
@@ -285,7 +292,8 @@ def loads_case(text: str, fname: str = "<string>", base: Path | None = None):
             bar[key] = _mesh_path(ctx, bar[key], base, key)
     _damping_keys(ctx, bar)
     try:        # Case is the one validator of values (ranges, the mesh, the load against the bar)
-        case = Case(load_nodes=tuple(nodes), load_points=tuple(points), label=title, base=shake, **bar, **search)
+        case = Case(load_nodes=tuple(nodes), load_points=tuple(points), label=title, base=shake, **bar, **search,
+                    **start)
     except InputError as exc:
         raise CaseFileError(f"{fname}: {exc}") from None
     try:
@@ -322,6 +330,19 @@ def load_case(path):
     return loads_case(text, path.name, path.parent)
 
 
+def _bar_keys(case) -> tuple:
+    """The ``[bar]`` keys :func:`dump_case` writes beside ``model`` and ``n``, by model."""
+    if case.model == "matrices":
+        return ()
+    if case.model == "chain":
+        return ("m", "k")
+    if case.model == "beam":
+        return ("length", "EI", "rhoA", "supports", "contact_at")
+    crack = ("crack_at",) if case.crack_at is not None else ()
+    supports = ("supports",) if crack or case.supports != "clamped-free" else ()
+    return ("element", "mass", "length", "EA", "rhoA", "grading") + crack + supports
+
+
 def dump_case(case, output: OutputSettings | None = None) -> str:
     """The TOML text of ``case`` (and ``output`` if given); ``load_case`` reads it back equal."""
     lines = []
@@ -336,16 +357,7 @@ def dump_case(case, output: OutputSettings | None = None) -> str:
             lines.append(f"load_scale = {_fmt(float(case.load_scale))}")
     if case.n is not None:
         lines.append(f"n = {int(case.n)}")
-    if case.model == "matrices":
-        keys = ()
-    elif case.model == "chain":
-        keys = ("m", "k")
-    elif case.model == "beam":
-        keys = ("length", "EI", "rhoA", "supports", "contact_at")
-    else:
-        keys = ("element", "mass", "length", "EA", "rhoA", "grading") + (("crack_at", "supports")
-                                                                         if case.crack_at is not None else ())
-    for k in keys:
+    for k in _bar_keys(case):
         lines.append(f"{k} = {_fmt(getattr(case, k))}")
     if case.model == "fe" and case.mesh_file:
         lines.append(f"mesh_file = {_fmt(str(case.mesh_file))}")
@@ -370,6 +382,9 @@ def dump_case(case, output: OutputSettings | None = None) -> str:
         lines += ["", "[[load]]", f"base = {_fmt(float(case.base))}"]
     for s, a in case.load_points:
         lines += ["", "[[load]]", f"at = {_fmt(float(s))}", f"amplitude = {_fmt(float(a))}"]
+    start = [f"{k} = {_fmt(list(v) if isinstance(v, tuple) else float(v))}"
+             for k, v in (("x", case.start_x), ("v", case.start_v)) if v is not None]
+    lines += ["", "[start]", *start] if start else []
     lines += ["", "[search]", f"grid = {_fmt(list(case.grid))}"]
     for k in ("T1", "T2"):
         v = getattr(case, k)

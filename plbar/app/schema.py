@@ -11,9 +11,10 @@ __all__ = ["FORMATS", "SCHEMA", "REQUIRED", "HELP", "TYPES", "schema_table"]
 
 FORMATS = ("pvd", "xdmf", "both")
 
-#: expected types: "int", "float" (int accepted), "str", "bool", ("choice", values), "pair", "grid", "pairs"
+#: expected types: "int", "float" (int accepted), "str", "bool", ("choice", values), "pair", "grid", "pairs",
+#: "vector" (a number or an array of numbers)
 SCHEMA = {
-    "": {"title": "str", "bar": "table", "load": "tables", "search": "table", "output": "table"},
+    "": {"title": "str", "bar": "table", "load": "tables", "start": "table", "search": "table", "output": "table"},
     "bar": {"model": ("choice", ("chain", "fe", "continuum", "beam", "matrices")), "matrices": "str",
             "load_scale": "float", "n": "int", "element": ("choice", ("P1", "P2")),
             "mass": ("choice", MASSES), "length": "float", "EA": "float", "rhoA": "float",
@@ -21,9 +22,10 @@ SCHEMA = {
             "end_mass": "float", "end_mass_absolute": "bool", "modes": "int", "rayleigh": "pair",
             "damping_ratio": "float", "damping_at": "pair", "restitution": "float", "gap": "float",
             "gravity": "float", "EI": "float", "supports": ("choice", ("clamped-free", "pinned-pinned",
-                                                                          "clamped-clamped")),
+                                                                          "clamped-clamped", "free-free")),
             "contact_at": "float", "crack_at": "float"},
     "load": {"node": "int", "at": "float", "amplitude": "float", "base": "float"},
+    "start": {"x": "vector", "v": "vector"},
     "search": {"grid": "grid", "T1": "pair", "T2": "pair", "method": ("choice", ("continuation", "grid")),
                "signatures": ("choice", ("default", "paper", "all"))},
     "output": {"dir": "str", "vtk": "bool", "format": ("choice", FORMATS), "render": "bool", "field": "str",
@@ -37,6 +39,7 @@ HELP = {
     "": {"title": "a label for the case (optional)", "bar": "the bar (required)",
          "load": "one `[[load]]` table per force (optional: without one, the default load: DOF 1 of the chain, "
                  "a unit force at s = L/2 of an FE bar)",
+         "start": "the motion's start (optional: without it, at rest in the static equilibrium)",
          "search": "where to look for paths (optional)", "output": "what to write (optional)"},
     "bar": {"model": "the paper's chain of N masses (L = N), a finite-element bar, or the exact uniform bar by "
                      "characteristics (survey, export, render; n its steps per L/c; with Rayleigh damping by exact "
@@ -73,7 +76,8 @@ HELP = {
                        "under g, beside the harmonic load; the bar starts in its static equilibrium [0]",
             "EI": "model = \"beam\": the bending stiffness E I [1]",
             "supports": "model = \"beam\": clamped-free (a cantilever), pinned-pinned or clamped-clamped; a cracked "
-                        "FE bar (`crack_at`): clamped-free or clamped-clamped [clamped-free]",
+                        "FE bar (`crack_at`): clamped-free or clamped-clamped; an FE bar with no support (a free "
+                        "body, dropped with `gravity`): free-free [clamped-free]",
             "contact_at": "model = \"beam\": the stop's position on the beam [the tip of a cantilever, else "
                           "mid-span]",
             "crack_at": "model = \"fe\": a breathing crack at this vertex: the contact is the crack's faces (open in "
@@ -83,6 +87,9 @@ HELP = {
              "amplitude": "its amplitude, a force (N in SI) [1]",
              "base": "instead of a force: the support's acceleration amplitude along the bar (> 0 towards the "
                      "stop), the load -M t a_g cos(W t); responses relative to the support"},
+    "start": {"x": "the displacements at t = 0: a number (every DOF: a bar moved as a whole, a body dropped from "
+                   "x = -h) or one per DOF (from the clamp) [0]; the survey's motions start there",
+              "v": "the velocities at t = 0, as `x` [0]"},
     "search": {"grid": "scan grid over (T1, T2) [200, 200]",
                "T1": "search range of T1 [(0, T0_I/2]]", "T2": "search range of T2 [(0, T0_II/2]]",
                "method": "branches by continuation from the scan, or by linking its crossings [continuation]",
@@ -99,7 +106,8 @@ HELP = {
                "overwrite": "replace what another command or case owns in the folder [false]"},
 }
 TYPES = {"int": "integer", "float": "number", "str": "string", "bool": "boolean", "pair": "[low, high]",
-         "grid": "[N1, N2]", "pairs": "[[x, m], ...]", "table": "table", "tables": "array of tables"}
+         "grid": "[N1, N2]", "pairs": "[[x, m], ...]", "vector": "number or [numbers]", "table": "table",
+         "tables": "array of tables"}
 
 
 def schema_table() -> str:

@@ -89,7 +89,7 @@ def _cost(a, case, T) -> str:
     return skip
 
 
-def _lines(s, T, damped: bool = False) -> list[str]:
+def _lines(s, T, damped: bool = False, given: bool = False) -> list[str]:
     from ..motion import PERIODIC_TOL
 
     t = s.table
@@ -100,7 +100,8 @@ def _lines(s, T, damped: bool = False) -> list[str]:
         by_m = ", ".join(f"m = {m}: {c}" for m, c in e["periodic_by_m"].items())
         sel = (t["start"] == start) & (t["kind"] == "periodic") & (t["distance"] > PERIODIC_TOL)
         settling = f"; {int(sel.sum())} still settling on their orbit" if sel.any() else ""
-        lines.append(f"  from {start:4s}: {k['periodic']} periodic ({by_m or '-'}{settling}), {k['irregular']} "
+        name = "the case's start" if given and start == "rest" else f"{start:4s}"     # [start] of the case
+        lines.append(f"  from {name}: {k['periodic']} periodic ({by_m or '-'}{settling}), {k['irregular']} "
                      "irregular" + (f", {k['failed']} failed" if k["failed"] else ""))
     if s.summary["record"] < 2:                 # periodic needs two repeats of the period in the window
         lines.append("  1 recorded period cannot show a motion repeat: every motion is irregular (give --record 2 "
@@ -166,7 +167,8 @@ def _cmd_survey(a) -> int:
     with get_executor(kind, a.scheduler, a.workers) as ex:
         s = run_survey(case, T, a.periods, a.record, out, modes, a.chunks, paths, executor=ex, progress=progress(a),
                        overwrite=a.overwrite, plot=plot)
-    report(a, s.summary, s.files, "\n".join(_lines(s, T, case.rayleigh is not None)))
+    given = case.start_x is not None or case.start_v is not None
+    report(a, s.summary, s.files, "\n".join(_lines(s, T, case.rayleigh is not None, given)))
     return 0
 
 

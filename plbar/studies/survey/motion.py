@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...app import Case
+from ...app import Case, case_start
 from ...errors import InputError
 from ...motion import Series, motion_series, padded, run
 from ...util.outputs import read_owner
@@ -123,6 +123,7 @@ def survey_motion(folder, T: float, periods: int = 10, start: str = "rest") -> S
         grid = replace(case, model="fe").problem()     # P1 on the continuum's grid: the mesh the samples sit on
         return SurveyMotion(case, ContinuumSeries(cr, int(periods), grid), row, start, T)
     prob = case.problem()
+    s0 = case_start(case, prob, 1) if s0 is None else s0       # the case's start (a sweep's first period), or rest
     r = run(padded(prob), np.array([T]), 0.0, total, int(periods), s0)
     return SurveyMotion(case, motion_series(prob, r, 0, int(periods)), row, start, T)
 

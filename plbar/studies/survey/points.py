@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...app import Case
+from ...app import Case, case_start
 from ...motion import KINDS, Padded, Start, padded, run, steady
 from ...errors import InputError, PlbarError
 from ...model import rayleigh_ratio
@@ -127,13 +127,15 @@ def survey_chunk(case: Case, T, periods: int, record: int, start: Start | None =
     periods, record : int
         Forcing periods simulated, and the last ones recorded (:func:`plbar.motion.run`).
     start : Start, optional
-        Initial states (default: at rest against the wall, load ``q cos(2 pi t / T)``).
+        Initial states (default: the case's start, :mod:`plbar.app.start`, or at rest against the wall; load
+        ``q cos(2 pi t / T)``).
     """
     if case.model == "continuum":                      # the exact bar by characteristics: no exact orbits to polish
         return _continuum_rows(case, T, periods, record, start, progress), None
     prob = case.problem()
     pad = pad or padded(prob)
     T = np.asarray(T, float)
+    start = case_start(case, prob, T.size) if start is None else start     # the case's start, or rest
     r = run(pad, T, 0.0, periods, record, start, progress)
     s = steady(r)
     # the exact orbits (plbar.periodic), with rebounds where e > 0; none where a constant load pushes a rigid-body
